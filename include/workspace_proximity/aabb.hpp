@@ -1,0 +1,32 @@
+#pragma once
+/// Axis-aligned bounding boxes in double precision (metres).
+
+#include <Eigen/Core>
+
+namespace workspace_proximity {
+
+/// Closed axis-aligned box [lower, upper] in world coordinates, metres.
+/// Two boxes that share only a face, edge or corner overlap (closed intervals):
+/// touching counts as contact everywhere in this library.
+struct Aabb {
+  Eigen::Vector3d lower = Eigen::Vector3d::Zero();
+  Eigen::Vector3d upper = Eigen::Vector3d::Zero();
+
+  /// True when the closed boxes share at least one point.
+  bool overlaps(const Aabb& other) const {
+    return (lower.array() <= other.upper.array()).all() &&
+           (other.lower.array() <= upper.array()).all();
+  }
+
+  /// Smallest box containing both.
+  Aabb merged(const Aabb& other) const {
+    return Aabb{lower.cwiseMin(other.lower), upper.cwiseMax(other.upper)};
+  }
+
+  /// True when every component is finite and lower <= upper on every axis.
+  bool valid() const {
+    return lower.allFinite() && upper.allFinite() && (lower.array() <= upper.array()).all();
+  }
+};
+
+}  // namespace workspace_proximity

@@ -1,0 +1,76 @@
+#pragma once
+/// Bodies: a rigid shape, its pose and its constant velocity over the prediction horizon.
+
+#include <cstdint>
+#include <string>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace workspace_proximity {
+
+/// The shapes the narrow phase understands. Every shape is centred on the body origin;
+/// cylinders and capsules have their axis along the body's local z.
+enum class ShapeType : std::uint8_t { kBox = 0, kSphere = 1, kCylinder = 2, kCapsule = 3 };
+
+/// Shape dimensions, metres.
+struct Shape {
+  ShapeType type = ShapeType::kBox;
+  /// Box: half extents along local x, y, z. Other shapes ignore it.
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Constant(0.5);
+  /// Sphere, cylinder, capsule: radius.
+  double radius = 0.0;
+  /// Cylinder: full length of the side; capsule: length of the segment between the two
+  /// hemisphere centres (total length is length + 2 radius).
+  double length = 0.0;
+
+  static Shape box(const Eigen::Vector3d& half_extents);
+  static Shape sphere(double radius);
+  static Shape cylinder(double radius, double length);
+  static Shape capsule(double radius, double length);
+
+  /// Half extents of the shape's own bounding box in its local frame.
+  Eigen::Vector3d localHalfExtents() const;
+  /// Largest distance from the body origin to any point of the shape (bounding sphere).
+  double boundingRadius() const;
+  /// True when every dimension is finite and strictly positive where it matters.
+  bool valid() const;
+};
+
+/// Which side of the robot/world divide a body is on; pair rules use it.
+enum class BodyGroup : std::uint8_t { kRobot = 0, kObject = 1 };
+
+/// Pose and constant velocity of a body at the prediction instant (t = 0).
+/// Motion model over [0, H]: centre(t) = position + linear_velocity * t,
+/// orientation(t) = exp(angular_velocity * t) * orientation (angular velocity in the world frame).
+struct BodyMotion {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();                 ///< centre, m
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();    ///< unit quaternion
+  Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();          ///< m/s, world frame
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();         ///< rad/s, world frame
+
+  /// Pose at time t (seconds) under the constant-twist model above.
+  Eigen::Isometry3d poseAt(double t) const;
+  /// True when every number is finite and the quaternion is unit length within 1e-6.
+  bool valid() const;
+};
+
+/// Handle of a body in a ProximityWorld: a slot index plus a generation that changes
+/// whenever the slot is reused, so a stale handle is detected instead of aliasing a new body.
+struct BodyHandle {
+  std::int32_t index = -1;
+  std::uint32_t generation = 0;
+  bool operator==(const BodyHandle& o) const { return index == o.index && generation == o.generation; }
+  bool operator!=(const BodyHandle& o) const { return !(*this == o); }
+};
+
+/// Everything that describes a body except its motion.
+struct BodyDesc {
+  std::string id;            ///< caller's identifier, unique among live bodies
+  std::string label;         ///< class: "person", "forklift", "robot", ...
+  BodyGroup group = BodyGroup::kObject;
+  Shape shape;
+  double margin = 0.0;       ///< safety margin added around the shape, m (>= 0)
+};
+
+}  // namespace workspace_proximity

@@ -1,0 +1,61 @@
+#pragma once
+/// Turns per-cycle predictions into BEGIN / ONGOING / END events, earliest first.
+
+#include <cstdint>
+#include <vector>
+
+#include "workspace_proximity/contact_event.hpp"
+
+namespace workspace_proximity {
+
+/// Keeps one record per predicted pair between cycles, in a pool of recycled records
+/// addressed through an open-addressing index (no per-pair heap nodes). Usage per cycle:
+/// beginCycle(); report(...) for every pair predicted to touch; endCycle(); read events().
+/// Pairs not reported in a cycle get one END event and their record returns to the pool.
+class EventTracker {
+ public:
+  explicit EventTracker(int initial_capacity = 256);
+
+  void beginCycle();
+  /// `key` identifies the pair for its whole life (never reused for another pair).
+  /// The event's state is set by the tracker; everything else is copied.
+  void report(std::uint64_t key, const ContactEvent& prediction);
+  /// Emits END for unreported pairs and sorts the events by time to contact.
+  void endCycle();
+
+  /// This cycle's events, ordered by time_to_contact (END events, at +infinity, last).
+  const std::vector<ContactEvent>& events() const { return events_; }
+  /// Pairs currently predicted (BEGIN or ONGOING this cycle).
+  int activeCount() const { return static_cast<int>(active_.size()); }
+  /// Records the pool holds in all (grows only when exceeded).
+  int poolCapacity() const { return static_cast<int>(records_.size()); }
+  /// Forgets every pair without emitting END (e.g. after a reset of the caller's world).
+  void clear();
+
+ private:
+  struct Record {
+    std::uint64_t key;
+    ContactEvent event;
+    std::uint32_t stamp;     // cycle that last reported it
+    std::int32_t active_pos; // position in active_, -1 when free
+    std::int32_t next_free;
+  };
+  static constexpr std::int32_t kEmpty = -1;
+
+  std::int32_t find(std::uint64_t key) const;
+  std::int32_t allocate(std::uint64_t key);
+  void release(std::int32_t record);
+  void indexInsert(std::uint64_t key, std::int32_t record);
+  void indexErase(std::uint64_t key);
+  void growIndex();
+
+  std::vector<Record> records_;        // the pool
+  std::int32_t free_list_ = -1;
+  std::vector<std::int32_t> active_;   // records in use
+  std::vector<std::int32_t> index_;    // open addressing: record or kEmpty
+  std::uint32_t mask_ = 0;
+  std::uint32_t cycle_ = 0;
+  std::vector<ContactEvent> events_;
+};
+
+}  // namespace workspace_proximity

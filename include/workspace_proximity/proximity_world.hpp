@@ -1,0 +1,96 @@
+#pragma once
+/// The whole prediction pipeline: bodies in, contact events out. ROS-free.
+///
+/// predict(H): swept bounds over [0, H] -> incremental sweep-and-prune -> pair rules ->
+/// per-axis time of impact -> FCL narrow phase (conservative advancement) -> events.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "workspace_proximity/aabb.hpp"
+#include "workspace_proximity/body.hpp"
+#include "workspace_proximity/contact_event.hpp"
+#include "workspace_proximity/event_tracker.hpp"
+#include "workspace_proximity/narrow_phase.hpp"
+#include "workspace_proximity/pair_rules.hpp"
+#include "workspace_proximity/sweep_and_prune.hpp"
+
+namespace workspace_proximity {
+
+struct WorldConfig {
+  int initial_body_capacity = 256;
+  int initial_pair_capacity = 1024;
+  int initial_event_capacity = 256;
+  SweepAndPruneConfig broad_phase;   ///< capacities above override its capacities
+  NarrowPhaseConfig narrow_phase;
+  PairRules rules;                   ///< default: robot-robot pairs skipped
+};
+
+/// Counts and per-stage times (ns) of the last predict().
+struct WorldStats {
+  int bodies = 0;
+  int broad_pairs = 0;       ///< overlapping swept bounds
+  int allowed_pairs = 0;     ///< after the pair rules
+  int axis_candidates = 0;   ///< per-axis time of impact within the horizon
+  int contacts = 0;          ///< confirmed by the narrow phase
+  int narrow_iterations = 0; ///< FCL queries
+  std::int64_t ns_bounds = 0, ns_broad = 0, ns_axis = 0, ns_narrow = 0, ns_events = 0;
+  SweepAndPruneStats broad_phase;
+};
+
+class ProximityWorld {
+ public:
+  explicit ProximityWorld(const WorldConfig& config = WorldConfig());
+  ~ProximityWorld();
+  ProximityWorld(const ProximityWorld&) = delete;
+  ProximityWorld& operator=(const ProximityWorld&) = delete;
+
+  /// Adds a body. Throws std::invalid_argument if the shape, margin or motion is invalid
+  /// or the id is empty.
+  BodyHandle addBody(const BodyDesc& desc, const BodyMotion& motion);
+  /// Removes a body; its pairs get END events at the next predict(). The handle stays
+  /// readable (desc()) until the predict() after that, so END events can be named.
+  void removeBody(BodyHandle body);
+  /// New pose and velocity at the next prediction instant. Throws on an invalid motion.
+  void setMotion(BodyHandle body, const BodyMotion& motion);
+
+  /// True for a body that is live or removed but still nameable.
+  bool contains(BodyHandle body) const;
+  const BodyDesc& desc(BodyHandle body) const;
+  const BodyMotion& motion(BodyHandle body) const;
+  /// Swept bounds used by the last predict().
+  Aabb sweptBounds(BodyHandle body) const;
+  int bodyCount() const { return live_count_; }
+
+  /// Replaces the pair rules; takes effect at the next predict().
+  void setRules(const PairRules& rules);
+
+  /// Predicts contacts within `horizon` seconds (> 0... or 0 for "touching now" only).
+  /// The returned events are valid until the next call.
+  const std::vector<ContactEvent>& predict(double horizon);
+  const WorldStats& stats() const { return stats_; }
+
+ private:
+  struct BodyRecord;
+  BodyRecord& record(BodyHandle body);
+  const BodyRecord& record(BodyHandle body) const;
+  void freeRemovedSlots();
+
+  WorldConfig config_;
+  std::vector<BodyRecord> bodies_;
+  std::int32_t free_list_ = -1;
+  int live_count_ = 0;
+  std::uint32_t next_serial_ = 0;
+  std::vector<std::int32_t> removed_;       // removed this cycle, freed at the next predict
+  std::vector<std::int32_t> to_free_;
+  double last_horizon_ = -1.0;
+  bool rules_changed_ = true;
+
+  SweepAndPrune broad_phase_;
+  NarrowPhase narrow_phase_;
+  EventTracker tracker_;
+  WorldStats stats_;
+};
+
+}  // namespace workspace_proximity

@@ -1,0 +1,30 @@
+#pragma once
+/// Per-axis time of first and last contact of two translating axis-aligned boxes
+/// (the lecture's "time = distance / velocity" test, on three axes).
+
+#include <Eigen/Core>
+
+namespace workspace_proximity {
+
+/// A closed time interval in seconds; empty when first > last.
+struct TimeInterval {
+  double first = 1.0;
+  double last = 0.0;
+  bool empty() const { return !(first <= last); }
+};
+
+/// Times at which the closed 1-D intervals [lo_a + v_a t, hi_a + v_a t] and
+/// [lo_b + v_b t, hi_b + v_b t] overlap, over all real t. Unbounded sides are +-infinity;
+/// the result is empty when they never meet. Widened by a few ulps so rounding never shrinks it.
+TimeInterval axisContactInterval(double lo_a, double hi_a, double v_a, double lo_b, double hi_b,
+                                 double v_b);
+
+/// Conservative contact interval of two boxes, each centred at `center` with half extents
+/// `half` (m) and translating at `velocity` (m/s): the intersection of the three per-axis
+/// intervals clipped to [0, horizon]. Empty means "no contact within the horizon".
+TimeInterval boxContactInterval(const Eigen::Vector3d& center_a, const Eigen::Vector3d& half_a,
+                                const Eigen::Vector3d& velocity_a,
+                                const Eigen::Vector3d& center_b, const Eigen::Vector3d& half_b,
+                                const Eigen::Vector3d& velocity_b, double horizon);
+
+}  // namespace workspace_proximity

@@ -1,0 +1,101 @@
+#include "workspace_proximity/body.hpp"
+
+#include <cmath>
+
+namespace workspace_proximity {
+
+Shape Shape::box(const Eigen::Vector3d& half_extents) {
+  Shape s;
+  s.type = ShapeType::kBox;
+  s.half_extents = half_extents;
+  return s;
+}
+
+Shape Shape::sphere(double radius) {
+  Shape s;
+  s.type = ShapeType::kSphere;
+  s.radius = radius;
+  s.half_extents = Eigen::Vector3d::Constant(radius);
+  return s;
+}
+
+Shape Shape::cylinder(double radius, double length) {
+  Shape s;
+  s.type = ShapeType::kCylinder;
+  s.radius = radius;
+  s.length = length;
+  s.half_extents = Eigen::Vector3d(radius, radius, 0.5 * length);
+  return s;
+}
+
+Shape Shape::capsule(double radius, double length) {
+  Shape s;
+  s.type = ShapeType::kCapsule;
+  s.radius = radius;
+  s.length = length;
+  s.half_extents = Eigen::Vector3d(radius, radius, 0.5 * length + radius);
+  return s;
+}
+
+Eigen::Vector3d Shape::localHalfExtents() const {
+  switch (type) {
+    case ShapeType::kBox:
+      return half_extents;
+    case ShapeType::kSphere:
+      return Eigen::Vector3d::Constant(radius);
+    case ShapeType::kCylinder:
+      return Eigen::Vector3d(radius, radius, 0.5 * length);
+    case ShapeType::kCapsule:
+      return Eigen::Vector3d(radius, radius, 0.5 * length + radius);
+  }
+  return half_extents;
+}
+
+double Shape::boundingRadius() const {
+  switch (type) {
+    case ShapeType::kBox:
+      return half_extents.norm();
+    case ShapeType::kSphere:
+      return radius;
+    case ShapeType::kCylinder:
+      return std::hypot(radius, 0.5 * length);
+    case ShapeType::kCapsule:
+      return 0.5 * length + radius;
+  }
+  return half_extents.norm();
+}
+
+bool Shape::valid() const {
+  auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };
+  switch (type) {
+    case ShapeType::kBox:
+      return positive(half_extents.x()) && positive(half_extents.y()) && positive(half_extents.z());
+    case ShapeType::kSphere:
+      return positive(radius);
+    case ShapeType::kCylinder:
+      return positive(radius) && positive(length);
+    case ShapeType::kCapsule:
+      // A capsule of zero segment length is a sphere, which FCL handles.
+      return positive(radius) && std::isfinite(length) && length >= 0.0;
+  }
+  return false;
+}
+
+Eigen::Isometry3d BodyMotion::poseAt(double t) const {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = position + linear_velocity * t;
+  const double speed = angular_velocity.norm();
+  Eigen::Quaterniond q = orientation;
+  if (speed > 0.0 && t != 0.0) {
+    q = Eigen::Quaterniond(Eigen::AngleAxisd(speed * t, angular_velocity / speed)) * orientation;
+  }
+  pose.linear() = q.normalized().toRotationMatrix();
+  return pose;
+}
+
+bool BodyMotion::valid() const {
+  return position.allFinite() && linear_velocity.allFinite() && angular_velocity.allFinite() &&
+         orientation.coeffs().allFinite() && std::abs(orientation.norm() - 1.0) <= 1e-6;
+}
+
+}  // namespace workspace_proximity

@@ -1,0 +1,170 @@
+// Steady-state cycles of the broad phase and of event tracking allocate nothing.
+// Every global operator new in this test binary is counted.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+#include <random>
+#include <vector>
+
+#include "workspace_proximity/event_tracker.hpp"
+#include "workspace_proximity/proximity_world.hpp"
+#include "workspace_proximity/sweep_and_prune.hpp"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}
+
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) { return operator new(size); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+namespace wp = workspace_proximity;
+
+namespace {
+
+struct Scene {
+  std::vector<wp::Aabb> boxes;
+  std::vector<Eigen::Vector3d> velocity;
+  std::vector<wp::SweepAndPrune::ProxyId> ids;
+};
+
+// Bounces N boxes in a cube; `step` scales the motion per cycle.
+void advance(Scene* s, double step) {
+  for (std::size_t i = 0; i < s->boxes.size(); ++i) {
+    Eigen::Vector3d d = s->velocity[i] * step;
+    wp::Aabb& b = s->boxes[i];
+    for (int k = 0; k < 3; ++k) {
+      if (b.lower[k] + d[k] < 0 || b.upper[k] + d[k] > 30) {
+        s->velocity[i][k] = -s->velocity[i][k];
+        d[k] = -d[k];
+      }
+    }
+    b.lower += d;
+    b.upper += d;
+  }
+}
+
+}  // namespace
+
+TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> pos(1, 29), half(0.25, 0.75), vel(-1, 1);
+  wp::SweepAndPruneConfig config;
+  config.initial_proxy_capacity = 2048;
+  config.initial_pair_capacity = 8192;
+  wp::SweepAndPrune sap(config);
+  Scene s;
+  for (int i = 0; i < 2000; ++i) {
+    const Eigen::Vector3d c(pos(rng), pos(rng), pos(rng));
+    const Eigen::Vector3d h(half(rng), half(rng), half(rng));
+    s.boxes.push_back({c - h, c + h});
+    s.velocity.emplace_back(vel(rng), vel(rng), vel(rng));
+    s.ids.push_back(sap.createProxy(s.boxes.back(), static_cast<std::uint32_t>(i)));
+  }
+  auto cycle = [&](double step, bool churn) {
+    advance(&s, step);
+    for (std::size_t i = 0; i < s.boxes.size(); ++i) sap.moveProxy(s.ids[i], s.boxes[i]);
+    if (churn) {
+      // Tracks appear and disappear: remove and re-create a few per cycle.
+      for (int k = 0; k < 5; ++k) {
+        const std::size_t i = rng() % s.boxes.size();
+        sap.destroyProxy(s.ids[i]);
+        s.ids[i] = sap.createProxy(s.boxes[i], static_cast<std::uint32_t>(i));
+      }
+    }
+    sap.update();
+  };
+  // Warm up through every path: small motion, churn, and large jumps that force rebuilds.
+  for (int i = 0; i < 50; ++i) cycle(0.05, i % 2 == 0);
+  for (int i = 0; i < 5; ++i) cycle(20.0, true);
+  for (int i = 0; i < 50; ++i) cycle(0.05, true);
+
+  const long before = g_allocations.load();
+  bool rebuilt = false;
+  for (int i = 0; i < 200; ++i) {
+    cycle(i % 50 == 0 ? 20.0 : 0.05, true);
+    rebuilt |= sap.stats().rebuilt;
+  }
+  EXPECT_TRUE(rebuilt);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+TEST(Allocations, EventTrackerSteadyStateAllocatesNothing) {
+  wp::EventTracker tracker(64);
+  std::mt19937 rng(9);
+  auto cycle = [&] {
+    tracker.beginCycle();
+    const int n = static_cast<int>(rng() % 200);
+    std::uint64_t seen[256];
+    int count = 0;
+    for (int i = 0; i < n; ++i) {
+      const std::uint64_t key = rng() % 400;
+      bool dup = false;
+      for (int k = 0; k < count; ++k) dup |= seen[k] == key;
+      if (dup) continue;
+      seen[count++] = key;
+      wp::ContactEvent e;
+      e.time_to_contact = (rng() % 100) / 100.0;
+      tracker.report(key, e);
+    }
+    tracker.endCycle();
+  };
+  for (int i = 0; i < 500; ++i) cycle();
+  const long before = g_allocations.load();
+  for (int i = 0; i < 2000; ++i) cycle();
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+// The whole pipeline, FCL narrow phase included, on a moving scene with contacts.
+TEST(Allocations, WorldPredictSteadyStateAllocatesNothing) {
+  wp::WorldConfig config;
+  config.rules = wp::PairRules::allowAll();
+  wp::ProximityWorld world(config);
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> pos(-4, 4), vel(-1, 1), half(0.2, 0.6);
+  std::vector<wp::BodyHandle> handles;
+  for (int i = 0; i < 150; ++i) {
+    wp::BodyMotion m;
+    m.position = {pos(rng), pos(rng), pos(rng)};
+    m.linear_velocity = {vel(rng), vel(rng), vel(rng)};
+    m.angular_velocity = {0, 0, vel(rng)};
+    const wp::Shape shape = (i % 3 == 0)   ? wp::Shape::sphere(half(rng))
+                            : (i % 3 == 1) ? wp::Shape::box({half(rng), half(rng), half(rng)})
+                                           : wp::Shape::capsule(half(rng), half(rng));
+    handles.push_back(world.addBody(
+        wp::BodyDesc{"b" + std::to_string(i), "thing", wp::BodyGroup::kObject, shape, 0.05}, m));
+  }
+  int contacts = 0;
+  auto cycle = [&] {
+    for (const wp::BodyHandle& h : handles) {
+      wp::BodyMotion m = world.motion(h);
+      m.position += 0.03 * m.linear_velocity;
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(m.position[k]) > 4) m.linear_velocity[k] = -m.linear_velocity[k];
+      }
+      world.setMotion(h, m);
+    }
+    world.predict(1.0);
+    contacts += world.stats().contacts;
+  };
+  for (int i = 0; i < 100; ++i) cycle();
+  const long before = g_allocations.load();
+  for (int i = 0; i < 100; ++i) cycle();
+  EXPECT_GT(contacts, 0);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}

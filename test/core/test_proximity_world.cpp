@@ -1,0 +1,291 @@
+// The whole pipeline through ProximityWorld, on scenes with analytic answers.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+#include <set>
+#include <stdexcept>
+
+#include "workspace_proximity/proximity_world.hpp"
+
+namespace wp = workspace_proximity;
+
+namespace {
+
+wp::BodyMotion at(const Eigen::Vector3d& p, const Eigen::Vector3d& v = Eigen::Vector3d::Zero()) {
+  wp::BodyMotion m;
+  m.position = p;
+  m.linear_velocity = v;
+  return m;
+}
+
+wp::BodyDesc object(const std::string& id, const wp::Shape& shape, double margin = 0.0) {
+  return wp::BodyDesc{id, "thing", wp::BodyGroup::kObject, shape, margin};
+}
+
+const wp::Shape kCube = wp::Shape::box({0.5, 0.5, 0.5});
+
+}  // namespace
+
+TEST(ProximityWorld, HeadOnApproachHasTheAnalyticTimes) {
+  wp::ProximityWorld world;
+  world.addBody(object("a", kCube), at({0, 0, 0}, {1, 0, 0}));
+  world.addBody(object("b", kCube), at({5, 0, 0}, {-1, 0, 0}));
+  const auto& events = world.predict(5.0);
+  ASSERT_EQ(events.size(), 1u);
+  const wp::ContactEvent& e = events[0];
+  // Gap 4 m closing at 2 m/s: contact at 2 s. They pass through each other and separate when
+  // the relative displacement reaches 4 + 2 = 6 m: at 3 s.
+  EXPECT_LE(e.time_to_contact, 2.0);
+  EXPECT_GE(e.time_to_contact, 2.0 - 1e-3);
+  EXPECT_GE(e.time_to_separation, 3.0);
+  EXPECT_LE(e.time_to_separation, 3.0 + 1e-3);
+  EXPECT_NEAR(e.distance, 4.0, 1e-6);
+  EXPECT_NEAR(e.closing_speed, 2.0, 1e-6);
+  EXPECT_NEAR(e.normal.x(), 1.0, 1e-6);
+  EXPECT_NEAR(e.point_a.x(), 0.5, 1e-6);
+  EXPECT_NEAR(e.point_b.x(), 4.5, 1e-6);
+}
+
+TEST(ProximityWorld, SeparationIsTheHorizonWhenContactOutlastsIt) {
+  wp::ProximityWorld world;
+  world.addBody(object("a", kCube), at({0, 0, 0}, {1, 0, 0}));
+  world.addBody(object("b", kCube), at({5, 0, 0}, {-1, 0, 0}));
+  const auto& events = world.predict(2.5);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_DOUBLE_EQ(events[0].time_to_separation, 2.5);
+}
+
+TEST(ProximityWorld, NearMissGivesNoEvent) {
+  wp::ProximityWorld world;
+  // Crossing paths at different times: a overlaps b's x range during [1, 2] s, b reaches
+  // a's y range during [2.25, 3.25] s. The swept bounds overlap, the boxes never meet.
+  world.addBody(object("a", kCube), at({0, 0, 0}, {2, 0, 0}));
+  world.addBody(object("b", kCube), at({3, 5.5, 0}, {0, -2, 0}));
+  EXPECT_TRUE(world.predict(3.0).empty());
+  EXPECT_EQ(world.stats().broad_pairs, 1);
+}
+
+TEST(ProximityWorld, RotatedBoxesWhoseBoundsOverlapButNeverTouchGiveNoEvent) {
+  // Two long thin boxes turned 45 degrees, side by side 0.85 m apart centre to centre
+  // across their long axes, sliding along them. Their axis-aligned bounds overlap the whole
+  // time, so only the narrow phase can tell they never touch (gap 0.85 - 0.2 = 0.65 m).
+  wp::ProximityWorld world;
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()));
+  const Eigen::Vector3d along = q * Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d across = q * Eigen::Vector3d::UnitY();
+  wp::BodyMotion a = at({0, 0, 0}, along * 1.0);
+  a.orientation = q;
+  wp::BodyMotion b = at(across * 0.85, -along * 1.0);
+  b.orientation = q;
+  world.addBody(object("a", wp::Shape::box({2.0, 0.1, 0.5})), a);
+  world.addBody(object("b", wp::Shape::box({2.0, 0.1, 0.5})), b);
+  EXPECT_TRUE(world.predict(2.0).empty());
+  EXPECT_EQ(world.stats().broad_pairs, 1);
+  EXPECT_EQ(world.stats().axis_candidates, 1);
+  EXPECT_EQ(world.stats().contacts, 0);
+}
+
+TEST(ProximityWorld, MarginsBringContactForward) {
+  wp::ProximityWorld world;
+  // Spheres of radius 0.5, 1 m apart surface to surface, margins 0.25 each: the inflated gap
+  // is 0.5 m, closed at 1 m/s in 0.5 s.
+  world.addBody(object("a", wp::Shape::sphere(0.5), 0.25), at({0, 0, 0}, {1, 0, 0}));
+  world.addBody(object("b", wp::Shape::sphere(0.5), 0.25), at({2, 0, 0}));
+  const auto& events = world.predict(2.0);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_NEAR(events[0].distance, 0.5, 1e-6);
+  EXPECT_LE(events[0].time_to_contact, 0.5);
+  EXPECT_GE(events[0].time_to_contact, 0.5 - 1e-3);
+}
+
+TEST(ProximityWorld, RobotRobotPairsAreSkippedUnlessARuleAllowsThem) {
+  wp::ProximityWorld world;
+  wp::BodyDesc l1{"link1", "robot", wp::BodyGroup::kRobot, kCube, 0.0};
+  wp::BodyDesc l2{"link2", "robot", wp::BodyGroup::kRobot, kCube, 0.0};
+  world.addBody(l1, at({0, 0, 0}));
+  world.addBody(l2, at({0.5, 0, 0}));
+  EXPECT_TRUE(world.predict(1.0).empty());
+  wp::PairRules rules;
+  rules.add("id:link1", "id:link2", true);
+  world.setRules(rules);
+  EXPECT_EQ(world.predict(1.0).size(), 1u);
+}
+
+TEST(ProximityWorld, BeginOngoingEndAsBodiesMoveApart) {
+  wp::ProximityWorld world;
+  const wp::BodyHandle a = world.addBody(object("a", kCube), at({0, 0, 0}));
+  world.addBody(object("b", kCube), at({0.9, 0, 0}));
+  ASSERT_EQ(world.predict(1.0).size(), 1u);
+  EXPECT_EQ(world.predict(1.0)[0].state, wp::ContactState::kOngoing);
+  EXPECT_EQ(world.predict(1.0)[0].time_to_contact, 0.0);
+  world.setMotion(a, at({-5, 0, 0}));
+  const auto& events = world.predict(1.0);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].state, wp::ContactState::kEnd);
+  EXPECT_TRUE(world.predict(1.0).empty());
+}
+
+TEST(ProximityWorld, RemovedBodyEndsItsPairsAndStaysNameableForOneCycle) {
+  wp::ProximityWorld world;
+  const wp::BodyHandle a = world.addBody(object("a", kCube), at({0, 0, 0}));
+  world.addBody(object("b", kCube), at({0.9, 0, 0}));
+  ASSERT_EQ(world.predict(1.0).size(), 1u);
+  world.removeBody(a);
+  const auto& events = world.predict(1.0);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].state, wp::ContactState::kEnd);
+  EXPECT_EQ(world.desc(events[0].body_a).id, "a");
+  world.predict(1.0);
+  EXPECT_FALSE(world.contains(a));
+  EXPECT_THROW(world.desc(a), std::invalid_argument);
+  // The slot is reused with a new generation: the old handle stays stale.
+  const wp::BodyHandle c = world.addBody(object("c", kCube), at({0.9, 0, 0}));
+  EXPECT_NE(c, a);
+  EXPECT_FALSE(world.contains(a));
+}
+
+TEST(ProximityWorld, ZeroHorizonReportsOnlyWhatTouchesNow) {
+  wp::ProximityWorld world;
+  world.addBody(object("a", kCube), at({0, 0, 0}, {10, 0, 0}));
+  world.addBody(object("b", kCube), at({1.0, 0, 0}));  // faces touch exactly
+  world.addBody(object("c", kCube), at({0, 1.5, 0}, {0, -10, 0}));
+  const auto& events = world.predict(0.0);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(world.desc(events[0].body_b).id, "b");
+  EXPECT_EQ(events[0].time_to_contact, 0.0);
+}
+
+TEST(ProximityWorld, EventsAreOrderedEarliestFirst) {
+  wp::ProximityWorld world;
+  world.addBody(object("r", kCube), at({0, 0, 0}));
+  // Approaching from three directions, arriving at 1.5 s, 0.5 s and 1.0 s.
+  world.addBody(object("x", kCube), at({2.5, 0, 0}, {-1, 0, 0}));
+  world.addBody(object("y", kCube), at({0, 1.5, 0}, {0, -1, 0}));
+  world.addBody(object("z", kCube), at({0, 0, 2.0}, {0, 0, -1}));
+  const auto& events = world.predict(3.0);
+  for (std::size_t i = 1; i < events.size(); ++i) {
+    EXPECT_LE(events[i - 1].time_to_contact, events[i].time_to_contact);
+  }
+  // x, y and z also meet each other near the origin; r's own contacts come in this order.
+  std::vector<std::string> order;
+  for (const auto& e : events) {
+    if (world.desc(e.body_a).id == "r") order.push_back(world.desc(e.body_b).id);
+  }
+  EXPECT_EQ(order, (std::vector<std::string>{"y", "z", "x"}));
+}
+
+TEST(ProximityWorld, IdsOrderTheBodiesOfAnEventAndTheNormalFollows) {
+  wp::ProximityWorld world;
+  world.addBody(object("zeta", kCube), at({0, 0, 0}));
+  world.addBody(object("alpha", kCube), at({2, 0, 0}, {-1, 0, 0}));
+  const auto& events = world.predict(2.0);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(world.desc(events[0].body_a).id, "alpha");
+  EXPECT_NEAR(events[0].normal.x(), -1.0, 1e-6);  // from alpha (at x=2) towards zeta
+  EXPECT_NEAR(events[0].point_a.x(), 1.5, 1e-6);
+  EXPECT_NEAR(events[0].closing_speed, 1.0, 1e-6);
+}
+
+TEST(ProximityWorld, EveryShapeTypeMeetsABox) {
+  const wp::Shape shapes[] = {wp::Shape::sphere(0.4), wp::Shape::cylinder(0.3, 1.0),
+                              wp::Shape::capsule(0.25, 0.8), wp::Shape::box({0.3, 0.2, 0.1})};
+  // Each shape's x extent: the gap to the cube's face at x = 2.5 is known exactly.
+  const double half_x[] = {0.4, 0.3, 0.25, 0.3};
+  for (int i = 0; i < 4; ++i) {
+    wp::ProximityWorld world;
+    world.addBody(object("s", shapes[i]), at({0, 0, 0}, {1, 0, 0}));
+    world.addBody(object("t", kCube), at({3, 0, 0}));
+    const auto& events = world.predict(5.0);
+    ASSERT_EQ(events.size(), 1u) << i;
+    const double gap = 2.5 - half_x[i];
+    EXPECT_NEAR(events[0].distance, gap, 1e-5) << i;
+    EXPECT_LE(events[0].time_to_contact, gap + 1e-9) << i;
+    EXPECT_GE(events[0].time_to_contact, gap - 1e-3) << i;
+  }
+}
+
+TEST(ProximityWorld, InvalidInputIsRejectedWithAnException) {
+  wp::ProximityWorld world;
+  EXPECT_THROW(world.addBody(object("", kCube), at({0, 0, 0})), std::invalid_argument);
+  EXPECT_THROW(world.addBody(object("a", wp::Shape::box({0.5, -1, 0.5})), at({0, 0, 0})),
+               std::invalid_argument);
+  EXPECT_THROW(world.addBody(object("a", wp::Shape::sphere(0)), at({0, 0, 0})),
+               std::invalid_argument);
+  EXPECT_THROW(world.addBody(object("a", kCube, -0.1), at({0, 0, 0})), std::invalid_argument);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(world.addBody(object("a", kCube), at({nan, 0, 0})), std::invalid_argument);
+  wp::BodyMotion bad_q = at({0, 0, 0});
+  bad_q.orientation = Eigen::Quaterniond(2, 0, 0, 0);
+  EXPECT_THROW(world.addBody(object("a", kCube), bad_q), std::invalid_argument);
+  const wp::BodyHandle ok = world.addBody(object("a", kCube), at({0, 0, 0}));
+  EXPECT_THROW(world.setMotion(ok, at({0, 0, 0}, {nan, 0, 0})), std::invalid_argument);
+  EXPECT_THROW(world.predict(-1.0), std::invalid_argument);
+  EXPECT_THROW(world.predict(std::numeric_limits<double>::infinity()), std::invalid_argument);
+  EXPECT_THROW(world.setMotion(wp::BodyHandle{42, 0}, at({0, 0, 0})), std::invalid_argument);
+  EXPECT_EQ(world.bodyCount(), 1);
+  EXPECT_TRUE(world.predict(1.0).empty());
+}
+
+// Random churn: bodies appear, move and vanish. Every END must follow a BEGIN/ONGOING of the
+// same pair in the previous cycle, and every BEGIN must be new.
+TEST(ProximityWorld, EventsStayConsistentUnderChurn) {
+  wp::ProximityWorld world;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> pos(-4, 4), vel(-2, 2);
+  std::vector<wp::BodyHandle> live;
+  std::set<std::pair<std::string, std::string>> active;
+  int id = 0;
+  for (int cycle = 0; cycle < 300; ++cycle) {
+    const int adds = static_cast<int>(rng() % 4);
+    for (int i = 0; i < adds; ++i) {
+      live.push_back(world.addBody(object("b" + std::to_string(id++), kCube),
+                                   at({pos(rng), pos(rng), pos(rng)}, {vel(rng), vel(rng), 0})));
+    }
+    if (!live.empty() && rng() % 2) {
+      const std::size_t k = rng() % live.size();
+      world.removeBody(live[k]);
+      live.erase(live.begin() + static_cast<long>(k));
+    }
+    for (const wp::BodyHandle& h : live) {
+      wp::BodyMotion m = world.motion(h);
+      m.position += m.linear_velocity * 0.1;
+      if (m.position.cwiseAbs().maxCoeff() > 5) m.linear_velocity = -m.linear_velocity;
+      world.setMotion(h, m);
+    }
+    const auto& events = world.predict(1.0);
+    std::set<std::pair<std::string, std::string>> now;
+    for (const auto& e : events) {
+      const auto pair = std::make_pair(world.desc(e.body_a).id, world.desc(e.body_b).id);
+      ASSERT_LT(pair.first, pair.second);
+      if (e.state == wp::ContactState::kEnd) {
+        ASSERT_TRUE(active.count(pair)) << "END without a prior contact";
+      } else {
+        ASSERT_EQ(e.state == wp::ContactState::kBegin, active.count(pair) == 0);
+        ASSERT_GE(e.time_to_contact, 0.0);
+        ASSERT_LE(e.time_to_contact, e.time_to_separation);
+        ASSERT_LE(e.time_to_separation, 1.0);
+        now.insert(pair);
+      }
+    }
+    for (const auto& pair : active) {
+      if (!now.count(pair)) {
+        bool ended = false;
+        for (const auto& e : events) {
+          ended |= e.state == wp::ContactState::kEnd && world.desc(e.body_a).id == pair.first &&
+                   world.desc(e.body_b).id == pair.second;
+        }
+        ASSERT_TRUE(ended) << "pair vanished without END";
+      }
+    }
+    active = now;
+  }
+}
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
