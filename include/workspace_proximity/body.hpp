@@ -51,6 +51,9 @@ struct BodyMotion {
 
   /// Pose at time t (seconds) under the constant-twist model above.
   Eigen::Isometry3d poseAt(double t) const;
+  /// The same motion moved dt seconds along itself (latency compensation): pose at dt,
+  /// velocities unchanged. dt may be negative.
+  BodyMotion advanced(double dt) const;
   /// True when every number is finite and the quaternion is unit length within 1e-6.
   bool valid() const;
 };

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "workspace_proximity/contact_event.hpp"
+#include "workspace_proximity/pair_event.hpp"
 
 namespace workspace_proximity {
 
@@ -19,12 +19,12 @@ class EventTracker {
   void beginCycle();
   /// `key` identifies the pair for its whole life (never reused for another pair).
   /// The event's state is set by the tracker; everything else is copied.
-  void report(std::uint64_t key, const ContactEvent& prediction);
+  void report(std::uint64_t key, const PairEvent& prediction);
   /// Emits END for unreported pairs and sorts the events by time to contact.
   void endCycle();
 
   /// This cycle's events, ordered by time_to_contact (END events, at +infinity, last).
-  const std::vector<ContactEvent>& events() const { return events_; }
+  const std::vector<PairEvent>& events() const { return events_; }
   /// Pairs currently predicted (BEGIN or ONGOING this cycle).
   int activeCount() const { return static_cast<int>(active_.size()); }
   /// Records the pool holds in all (grows only when exceeded).
@@ -35,7 +35,7 @@ class EventTracker {
  private:
   struct Record {
     std::uint64_t key;
-    ContactEvent event;
+    PairEvent event;
     std::uint32_t stamp;     // cycle that last reported it
     std::int32_t active_pos; // position in active_, -1 when free
     std::int32_t next_free;
@@ -55,7 +55,7 @@ class EventTracker {
   std::vector<std::int32_t> index_;    // open addressing: record or kEmpty
   std::uint32_t mask_ = 0;
   std::uint32_t cycle_ = 0;
-  std::vector<ContactEvent> events_;
+  std::vector<PairEvent> events_;
 };
 
 }  // namespace workspace_proximity

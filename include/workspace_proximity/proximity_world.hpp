@@ -10,7 +10,7 @@
 
 #include "workspace_proximity/aabb.hpp"
 #include "workspace_proximity/body.hpp"
-#include "workspace_proximity/contact_event.hpp"
+#include "workspace_proximity/pair_event.hpp"
 #include "workspace_proximity/event_tracker.hpp"
 #include "workspace_proximity/narrow_phase.hpp"
 #include "workspace_proximity/pair_rules.hpp"
@@ -54,6 +54,10 @@ class ProximityWorld {
   void removeBody(BodyHandle body);
   /// New pose and velocity at the next prediction instant. Throws on an invalid motion.
   void setMotion(BodyHandle body, const BodyMotion& motion);
+  /// New shape and margin for a live body, keeping its identity (its pairs' events continue).
+  /// Builds a new FCL geometry, so callers should do it only when the size really changed.
+  /// Throws on an invalid shape or margin.
+  void setShape(BodyHandle body, const Shape& shape, double margin);
 
   /// True for a body that is live or removed but still nameable.
   bool contains(BodyHandle body) const;
@@ -68,7 +72,7 @@ class ProximityWorld {
 
   /// Predicts contacts within `horizon` seconds (> 0... or 0 for "touching now" only).
   /// The returned events are valid until the next call.
-  const std::vector<ContactEvent>& predict(double horizon);
+  const std::vector<PairEvent>& predict(double horizon);
   const WorldStats& stats() const { return stats_; }
 
  private:

@@ -15,7 +15,8 @@ struct TimeInterval {
 
 /// Times at which the closed 1-D intervals [lo_a + v_a t, hi_a + v_a t] and
 /// [lo_b + v_b t, hi_b + v_b t] overlap, over all real t. Unbounded sides are +-infinity;
-/// the result is empty when they never meet. Widened by a few ulps so rounding never shrinks it.
+/// the result is empty when they never meet. Each end is widened outward by 4 ulps plus
+/// 1 ps, so floating-point rounding never makes it narrower than the exact interval.
 TimeInterval axisContactInterval(double lo_a, double hi_a, double v_a, double lo_b, double hi_b,
                                  double v_b);
 

@@ -93,6 +93,14 @@ Eigen::Isometry3d BodyMotion::poseAt(double t) const {
   return pose;
 }
 
+BodyMotion BodyMotion::advanced(double dt) const {
+  BodyMotion m = *this;
+  const Eigen::Isometry3d pose = poseAt(dt);
+  m.position = pose.translation();
+  m.orientation = Eigen::Quaterniond(pose.linear()).normalized();
+  return m;
+}
+
 bool BodyMotion::valid() const {
   return position.allFinite() && linear_velocity.allFinite() && angular_velocity.allFinite() &&
          orientation.coeffs().allFinite() && std::abs(orientation.norm() - 1.0) <= 1e-6;

@@ -116,7 +116,7 @@ void EventTracker::beginCycle() {
   events_.clear();
 }
 
-void EventTracker::report(std::uint64_t key, const ContactEvent& prediction) {
+void EventTracker::report(std::uint64_t key, const PairEvent& prediction) {
   std::int32_t r = find(key);
   ContactState state = ContactState::kOngoing;
   if (r == kEmpty) {
@@ -135,7 +135,7 @@ void EventTracker::endCycle() {
   for (std::size_t i = active_.size(); i-- > 0;) {
     const std::int32_t r = active_[i];
     if (records_[r].stamp == cycle_) continue;
-    ContactEvent end = records_[r].event;
+    PairEvent end = records_[r].event;
     end.state = ContactState::kEnd;
     end.time_to_contact = std::numeric_limits<double>::infinity();
     end.time_to_separation = 0.0;
@@ -144,7 +144,7 @@ void EventTracker::endCycle() {
   }
   // Earliest contact first; ties (e.g. several touching now) by body handles for a
   // deterministic order. std::sort on a reserved vector allocates nothing.
-  std::sort(events_.begin(), events_.end(), [](const ContactEvent& x, const ContactEvent& y) {
+  std::sort(events_.begin(), events_.end(), [](const PairEvent& x, const PairEvent& y) {
     if (x.time_to_contact != y.time_to_contact) return x.time_to_contact < y.time_to_contact;
     if (x.body_a.index != y.body_a.index) return x.body_a.index < y.body_a.index;
     return x.body_b.index < y.body_b.index;

@@ -69,14 +69,14 @@ double axisLowerBound(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d&
   return n.dot(pose_b.translation() - pose_a.translation()) - extent_a - extent_b;
 }
 
+// Unit direction from a's centre to b's, the fallback when nearest points coincide.
 Eigen::Vector3d centreDirection(const Eigen::Isometry3d& pose_a, const Eigen::Isometry3d& pose_b) {
   const Eigen::Vector3d d = pose_b.translation() - pose_a.translation();
   const double n = d.norm();
   return n > 1e-12 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::UnitX();
 }
 
-// One FCL distance query with the given solver. Returns false when the solver reports the
-// shapes as intersecting (or throws); otherwise fills distance, points and lower bound.
+// One FCL distance answer plus the lower bound that checks it.
 struct Attempt {
   double distance = kInf;
   double lower_bound = -kInf;
@@ -85,6 +85,8 @@ struct Attempt {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitX();
 };
 
+// One FCL distance query with the given solver. Returns false when the solver reports the
+// shapes as intersecting (or throws); otherwise fills distance, points and lower bound.
 bool distanceAttempt(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& pose_a,
                      const fcl::CollisionGeometryd& b, const Eigen::Isometry3d& pose_b,
                      fcl::GJKSolverType solver, Attempt* out) {
@@ -97,7 +99,7 @@ bool distanceAttempt(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& 
     return false;
   }
   if (!(result.min_distance > 0.0)) return false;  // -1 means "intersecting"
-  out->point_a = result.nearest_points[0];  // FCL 0.7 returns world-frame points
+  out->point_a = result.nearest_points[0];         // FCL 0.7 returns world-frame points
   out->point_b = result.nearest_points[1];
   const Eigen::Vector3d delta = out->point_b - out->point_a;
   const double length = delta.norm();
@@ -119,9 +121,10 @@ struct Evaluation {
   int queries = 0;           ///< FCL calls spent
 };
 
-// FCL contact for overlapping shapes. The libccd solver is used here on purpose: FCL 0.7's
-// independent solver (GJK + EPA) returns negative depths and normals that do not separate the
-// shapes for every pair involving a cylinder or capsule, while libccd (MPR) is consistent.
+// FCL contact for overlapping shapes. The libccd solver is used here on purpose: for pairs
+// without a dedicated routine (a cylinder or capsule against a box, cylinder or capsule)
+// FCL 0.7's independent solver (GJK + EPA) returns negative depths and reversed normals,
+// while libccd (MPR) returns normals that point from a towards b.
 bool contactAttempt(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& pose_a,
                     const fcl::CollisionGeometryd& b, const Eigen::Isometry3d& pose_b,
                     ShapeDistance* out) {
@@ -138,8 +141,8 @@ bool contactAttempt(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& p
   out->point_b = contact.pos;
   // FCL's contact normal points from o1 (a) towards o2 (b): moving b along it separates them.
   const double length = contact.normal.norm();
-  out->normal = length > 1e-12 ? Eigen::Vector3d(contact.normal / length)
-                               : centreDirection(pose_a, pose_b);
+  out->normal =
+      length > 1e-12 ? Eigen::Vector3d(contact.normal / length) : centreDirection(pose_a, pose_b);
   return true;
 }
 
@@ -176,8 +179,7 @@ Evaluation evaluate(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& p
       return e;
     }
   } else if (gjk_inside) {
-    // The inner advancement loop needs no contact point: GJK's verdict is enough (and
-    // calling collide would allocate inside FCL).
+    // Without a contact request GJK's verdict is enough.
     e.shape.distance = 0.0;
     e.shape.overlapping = true;
     return e;
@@ -210,6 +212,23 @@ Eigen::Vector3d pointVelocity(const BodyMotion& motion, const Eigen::Vector3d& p
   return motion.linear_velocity + motion.angular_velocity.cross(p - motion.position);
 }
 
+// Gap between the margin-inflated shapes at time t for the advancement loops.
+struct GapProbe {
+  const NarrowBody& a;
+  const NarrowBody& b;
+  int* queries;
+
+  // Certified lower bound on the inflated gap at t, m (-inf when overlapping). No contact
+  // point is needed here, so fcl::collide (which allocates) is never called.
+  double gapAt(double t) const {
+    const Evaluation e =
+        evaluate(*a.geometry, a.motion->poseAt(t), *b.geometry, b.motion->poseAt(t), 0.0, false);
+    *queries += e.queries;
+    if (e.shape.overlapping) return -kInf;
+    return e.lower_bound - a.margin - b.margin;
+  }
+};
+
 }  // namespace
 
 std::shared_ptr<fcl::CollisionGeometryd> makeGeometry(const Shape& shape) {
@@ -238,27 +257,6 @@ ShapeDistance NarrowPhase::distance(const fcl::CollisionGeometryd& a,
   return evaluate(a, pose_a, b, pose_b, config_.distance_tolerance, true).shape;
 }
 
-namespace {
-
-// Gap between the margin-inflated shapes at time t for the advancement loops.
-struct GapProbe {
-  const NarrowBody& a;
-  const NarrowBody& b;
-  double tolerance;
-  int* queries;
-
-  // Certified lower bound on the inflated gap at t (<= 0 when touching or overlapping).
-  double gapAt(double t) const {
-    const Evaluation e = evaluate(*a.geometry, a.motion->poseAt(t), *b.geometry,
-                                  b.motion->poseAt(t), tolerance + a.margin + b.margin, false);
-    *queries += e.queries;
-    if (e.shape.overlapping) return -kInf;
-    return e.lower_bound - a.margin - b.margin;
-  }
-};
-
-}  // namespace
-
 ContactPrediction NarrowPhase::predict(const NarrowBody& a, const NarrowBody& b,
                                        TimeInterval window) const {
   checkBody(a);
@@ -275,8 +273,8 @@ ContactPrediction NarrowPhase::predict(const NarrowBody& a, const NarrowBody& b,
   out.point_a = now.shape.point_a;
   out.point_b = now.shape.point_b;
   out.normal = now.shape.normal;
-  out.closing_speed = out.normal.dot(pointVelocity(*a.motion, out.point_a) -
-                                     pointVelocity(*b.motion, out.point_b));
+  out.closing_speed =
+      out.normal.dot(pointVelocity(*a.motion, out.point_a) - pointVelocity(*b.motion, out.point_b));
   if (window.empty()) return out;
 
   // Upper bound on how fast the gap between any point of a and any point of b can shrink:
@@ -284,10 +282,16 @@ ContactPrediction NarrowPhase::predict(const NarrowBody& a, const NarrowBody& b,
   const double mu = (a.motion->linear_velocity - b.motion->linear_velocity).norm() +
                     a.motion->angular_velocity.norm() * a.bounding_radius +
                     b.motion->angular_velocity.norm() * b.bounding_radius;
+  if (!std::isfinite(mu)) {
+    // Non-finite motion (a caller bug): claim the whole window rather than miss a contact.
+    out.contact = true;
+    out.time_to_contact = window.first;
+    out.time_to_separation = window.last;
+    return out;
+  }
   const double tol = config_.distance_tolerance;
-  const GapProbe probe{a, b, tol, &out.iterations};
-  const double gap_now =
-      now.shape.overlapping ? -kInf : now.lower_bound - a.margin - b.margin;
+  const GapProbe probe{a, b, &out.iterations};
+  const double gap_now = now.shape.overlapping ? -kInf : now.lower_bound - a.margin - b.margin;
 
   // Forward advancement: every step is shorter than the time the gap needs to close, so no
   // contact is ever skipped.

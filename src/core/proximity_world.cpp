@@ -140,6 +140,22 @@ void ProximityWorld::setMotion(BodyHandle body, const BodyMotion& motion) {
   b.dirty = true;
 }
 
+void ProximityWorld::setShape(BodyHandle body, const Shape& shape, double margin) {
+  BodyRecord& b = record(body);
+  if (b.state != BodyRecord::State::kLive) {
+    throw std::invalid_argument("ProximityWorld::setShape: body '" + b.desc.id + "' was removed");
+  }
+  if (!shape.valid() || !std::isfinite(margin) || margin < 0.0) {
+    throw std::invalid_argument("ProximityWorld::setShape: body '" + b.desc.id +
+                                "' gets an invalid shape or margin");
+  }
+  b.desc.shape = shape;
+  b.desc.margin = margin;
+  b.geometry = makeGeometry(shape);
+  b.bounding_radius = shape.boundingRadius();
+  b.dirty = true;
+}
+
 const BodyDesc& ProximityWorld::desc(BodyHandle body) const { return record(body).desc; }
 const BodyMotion& ProximityWorld::motion(BodyHandle body) const { return record(body).motion; }
 Aabb ProximityWorld::sweptBounds(BodyHandle body) const { return record(body).swept; }
@@ -164,7 +180,7 @@ void ProximityWorld::freeRemovedSlots() {
   std::swap(to_free_, removed_);
 }
 
-const std::vector<ContactEvent>& ProximityWorld::predict(double horizon) {
+const std::vector<PairEvent>& ProximityWorld::predict(double horizon) {
   if (!std::isfinite(horizon) || horizon < 0.0) {
     throw std::invalid_argument("ProximityWorld::predict: horizon must be finite and >= 0");
   }
@@ -228,7 +244,7 @@ const std::vector<ContactEvent>& ProximityWorld::predict(double horizon) {
 
     // Name the pair so that body_a's id sorts first, as the message contract asks.
     const bool swap = b.desc.id < a.desc.id;
-    ContactEvent event;
+    PairEvent event;
     event.body_a = BodyHandle{swap ? ib : ia, swap ? b.generation : a.generation};
     event.body_b = BodyHandle{swap ? ia : ib, swap ? a.generation : b.generation};
     event.time_to_contact = prediction.time_to_contact;

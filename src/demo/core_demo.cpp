@@ -145,9 +145,9 @@ int main(int argc, char** argv) {
     world.setMotion(bob, bob_m);
     world.setMotion(forklift, Scene::walker(t, {2.0, 6.0, 1.0}, {2.0, -6.0, 1.0}, 10.0));
 
-    const std::vector<wp::ContactEvent>& events = world.predict(opt.horizon);
+    const std::vector<wp::PairEvent>& events = world.predict(opt.horizon);
     bool header = false;
-    for (const wp::ContactEvent& e : events) {
+    for (const wp::PairEvent& e : events) {
       if (e.state == wp::ContactState::kBegin) ++begins;
       if (e.state == wp::ContactState::kEnd) ++ends;
       if (opt.quiet && e.state == wp::ContactState::kOngoing) continue;

@@ -113,7 +113,7 @@ TEST(Allocations, EventTrackerSteadyStateAllocatesNothing) {
       for (int k = 0; k < count; ++k) dup |= seen[k] == key;
       if (dup) continue;
       seen[count++] = key;
-      wp::ContactEvent e;
+      wp::PairEvent e;
       e.time_to_contact = (rng() % 100) / 100.0;
       tracker.report(key, e);
     }

@@ -11,8 +11,8 @@
 namespace wp = workspace_proximity;
 
 namespace {
-wp::ContactEvent prediction(int a, int b, double ttc) {
-  wp::ContactEvent e;
+wp::PairEvent prediction(int a, int b, double ttc) {
+  wp::PairEvent e;
   e.body_a = wp::BodyHandle{a, 0};
   e.body_b = wp::BodyHandle{b, 0};
   e.time_to_contact = ttc;
@@ -40,7 +40,7 @@ TEST(EventTracker, BeginOngoingEndOnce) {
   tracker.beginCycle();
   tracker.endCycle();
   ASSERT_EQ(tracker.events().size(), 1u);
-  const wp::ContactEvent& end = tracker.events()[0];
+  const wp::PairEvent& end = tracker.events()[0];
   EXPECT_EQ(end.state, wp::ContactState::kEnd);
   EXPECT_TRUE(std::isinf(end.time_to_contact));
   EXPECT_EQ(end.body_a.index, 1);

@@ -51,7 +51,7 @@ TEST(LectureExample, WholePipelineReportsContactAtOneFifthOfTheFrame) {
 
   const auto& events = world.predict(1.0);
   ASSERT_EQ(events.size(), 1u);
-  const wp::ContactEvent& e = events[0];
+  const wp::PairEvent& e = events[0];
   EXPECT_EQ(e.state, wp::ContactState::kBegin);
   EXPECT_EQ(e.body_a, ha);  // "A" < "B"
   // Exact answer 0.2 of the frame; the narrow phase may only be early, by well under 1 ms.

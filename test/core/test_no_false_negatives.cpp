@@ -68,7 +68,7 @@ void checkScenes(int scenes, int n, bool rotate, unsigned seed, int* contacts_ch
     // A few cycles per scene, so the incremental broad phase is exercised too.
     for (int cycle = 0; cycle < 3; ++cycle) {
       std::map<std::pair<int, int>, Prediction> predicted;
-      for (const wp::ContactEvent& e : world.predict(horizon)) {
+      for (const wp::PairEvent& e : world.predict(horizon)) {
         if (e.state == wp::ContactState::kEnd) continue;
         const int a = e.body_a.index, b = e.body_b.index;
         predicted[{std::min(a, b), std::max(a, b)}] = {e.time_to_contact, e.time_to_separation};

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <iterator>
 #include <map>
 #include <random>
 #include <set>
@@ -239,6 +240,41 @@ TEST(PairTable, RandomOperationsMatchModelWideIdRange) {
   int max_size = 0;
   runRandomSequence(2, 1, 100000, 400, 4999, &max_size);
   EXPECT_GT(max_size, 5000);
+}
+
+TEST(PairTable, RandomChurnInTinyIndexMatchesModel) {
+  // At most 7 pairs live, drawn from 64 ids (2016 distinct keys), so the index stays at its
+  // smallest size: clusters often wrap past its last slot, exercising backward-shift deletion
+  // across the wrap. Fully checked after every operation.
+  std::mt19937_64 rng(4);
+  std::uniform_int_distribution<int> id(0, 63), coin(0, 2);
+  PairTable table(1);
+  std::map<Key, std::uint32_t> model;
+  std::uint32_t next_user = 1;
+  for (int i = 0; i < 100000; ++i) {
+    if (model.size() < 7 && coin(rng) != 0) {
+      int a = id(rng), b = id(rng);
+      if (a == b) continue;
+      bool inserted = false;
+      ProxyPair* p = table.insert(a, b, &inserted);
+      ASSERT_EQ(inserted, model.count(ordered(a, b)) == 0) << "op " << i;
+      if (inserted) model[ordered(a, b)] = p->user = next_user++;
+    } else if (!model.empty()) {
+      if (coin(rng) == 0) {
+        int pos = std::uniform_int_distribution<int>(0, table.size() - 1)(rng);
+        ProxyPair victim = table.pairs()[pos];
+        table.eraseAt(pos);
+        ASSERT_EQ(model.erase(Key(victim.proxy_a, victim.proxy_b)), 1u);
+      } else {
+        auto it = model.begin();
+        std::advance(it, std::uniform_int_distribution<int>(0, model.size() - 1)(rng));
+        ASSERT_TRUE(table.erase(it->first.second, it->first.first)) << "op " << i;
+        model.erase(it);
+      }
+    }
+    expectSameAsModel(table, model);
+    if (::testing::Test::HasFatalFailure()) return;
+  }
 }
 
 TEST(PairTable, RandomOperationsMatchModelDefaultCapacity) {

@@ -36,7 +36,7 @@ TEST(ProximityWorld, HeadOnApproachHasTheAnalyticTimes) {
   world.addBody(object("b", kCube), at({5, 0, 0}, {-1, 0, 0}));
   const auto& events = world.predict(5.0);
   ASSERT_EQ(events.size(), 1u);
-  const wp::ContactEvent& e = events[0];
+  const wp::PairEvent& e = events[0];
   // Gap 4 m closing at 2 m/s: contact at 2 s. They pass through each other and separate when
   // the relative displacement reaches 4 + 2 = 6 m: at 3 s.
   EXPECT_LE(e.time_to_contact, 2.0);

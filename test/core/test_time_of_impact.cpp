@@ -290,6 +290,40 @@ TEST(AxisContactInterval, MatchesBruteForceOnRandomCases) {
   }
 }
 
+// Exact-arithmetic oracle: with double inputs, the true interval ends are quotients of exact
+// differences. binary128 holds those differences exactly and rounds the quotient ~1e-34
+// relative, so the returned (double) interval must enclose the binary128 interval: rounding
+// may widen the answer, never shrink it.
+TEST(AxisContactInterval, EnclosesExactIntervalFromQuadPrecision) {
+  using Quad = __float128;
+  std::mt19937_64 rng(4711);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), len(0.0, 1.0);
+  std::uniform_int_distribution<int> scale_exp(-3, 4);
+  int checked = 0;
+  for (int trial = 0; trial < 200000; ++trial) {
+    double s = std::pow(10.0, scale_exp(rng)), vs = std::pow(10.0, scale_exp(rng));
+    double lo_a = s * unit(rng), hi_a = lo_a + s * len(rng);
+    double lo_b = s * unit(rng), hi_b = lo_b + s * len(rng);
+    double v_a = vs * unit(rng), v_b = vs * unit(rng);
+    TimeInterval got = axisContactInterval(lo_a, hi_a, v_a, lo_b, hi_b, v_b);
+    Quad dv = Quad(v_a) - Quad(v_b);
+    if (dv == 0) continue;
+    Quad behind = Quad(lo_b) - Quad(hi_a), ahead = Quad(hi_b) - Quad(lo_a);
+    Quad first = (dv > 0 ? behind : ahead) / dv, last = (dv > 0 ? ahead : behind) / dv;
+    ++checked;
+    ASSERT_FALSE(got.empty()) << "trial " << trial;
+    ASSERT_TRUE(Quad(got.first) <= first)
+        << "trial " << trial << std::hexfloat << " first " << got.first << " exact "
+        << static_cast<double>(first) << " inputs " << lo_a << " " << hi_a << " " << v_a << " "
+        << lo_b << " " << hi_b << " " << v_b;
+    ASSERT_TRUE(Quad(got.last) >= last)
+        << "trial " << trial << std::hexfloat << " last " << got.last << " exact "
+        << static_cast<double>(last) << " inputs " << lo_a << " " << hi_a << " " << v_a << " "
+        << lo_b << " " << hi_b << " " << v_b;
+  }
+  EXPECT_GT(checked, 190000);
+}
+
 TEST(BoxContactInterval, MatchesBruteForceOnRandomCases) {
   std::mt19937_64 rng(777);
   std::uniform_real_distribution<double> pos(-4.0, 4.0), half(0.0, 2.0), vel(-4.0, 4.0),

@@ -15,7 +15,7 @@ enum class ContactState : std::uint8_t { kBegin = 0, kOngoing = 1, kEnd = 2 };
 /// BEGIN: first cycle the pair is predicted to touch within the horizon.
 /// ONGOING: still predicted (numbers updated). END: no longer predicted; sent once, with
 /// time_to_contact = +infinity and time_to_separation = 0, other fields as last predicted.
-struct ContactEvent {
+struct PairEvent {
   ContactState state = ContactState::kBegin;
   BodyHandle body_a;               ///< body whose id sorts first
   BodyHandle body_b;

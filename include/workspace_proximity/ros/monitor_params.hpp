@@ -1,0 +1,71 @@
+#pragma once
+/// Parameters of the proximity_monitor node, as a plain struct checked before anything is
+/// built. Reading them from the parameter server lives in ros_params.hpp; this file has no
+/// ROS dependency so the checks are unit-testable.
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "workspace_proximity/body.hpp"
+#include "workspace_proximity/pair_rules.hpp"
+
+namespace workspace_proximity {
+
+/// Per-label settings. Times in seconds, distances and margin in metres.
+struct LabelSettings {
+  double margin = 0.10;            ///< added around the tracked box
+  double warning_time = 1.0;       ///< time_to_contact at or below -> WARNING
+  double critical_time = 0.4;      ///< time_to_contact at or below -> CRITICAL
+  double warning_distance = 0.5;   ///< distance at or below -> WARNING
+  double critical_distance = 0.2;  ///< distance at or below -> CRITICAL
+};
+
+/// A robot body declared in ~robot_bodies or taken from the URDF.
+struct RobotBodySpec {
+  std::string name;   ///< body id
+  std::string frame;  ///< tf frame it is attached to
+  Shape shape;
+  Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();  ///< shape pose in `frame`
+};
+
+struct MonitorParams {
+  std::string fixed_frame = "world";
+  double rate = 30.0;           ///< Hz
+  double horizon = 2.0;         ///< s
+  double track_timeout = 0.5;   ///< s
+  std::vector<std::string> input_topics;  ///< empty: the single topic "tracked_objects"
+
+  bool use_robot_description = true;
+  std::string robot_description_param = "robot_description";
+  std::vector<RobotBodySpec> robot_bodies;
+  double robot_margin = 0.02;     ///< m
+  double velocity_window = 0.1;   ///< s of tf history for robot link velocities
+  double tf_timeout = 0.5;        ///< s; older robot transforms are not used
+
+  std::vector<std::pair<std::string, std::string>> ignore_pairs;
+  std::vector<std::pair<std::string, std::string>> check_pairs;
+
+  std::map<std::string, LabelSettings> labels;  ///< always has "default" after reading
+  LabelSettings robot_thresholds;               ///< margin unused: robot_margin applies
+
+  bool publish_markers = true;
+  double marker_lifetime = 0.5;  ///< s
+
+  MonitorParams();
+  /// Settings for a label ("default" when not listed).
+  const LabelSettings& label(const std::string& name) const;
+};
+
+/// Every problem found, one message per problem naming the parameter and the allowed range.
+/// Empty means the parameters are usable.
+std::vector<std::string> validate(const MonitorParams& params);
+
+/// Pair rules: the default (robot-robot skipped), then ignore_pairs (deny), then check_pairs
+/// (allow). Throws std::invalid_argument on a bad selector (validate() reports those too).
+PairRules makePairRules(const MonitorParams& params);
+
+}  // namespace workspace_proximity

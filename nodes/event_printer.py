@@ -1,0 +1,181 @@
+#!/usr/bin/env python3
+"""Prints a readable live summary of the proximity monitor's contact events.
+
+Subscribes to `contacts` (workspace_proximity/ContactEventArray) and prints
+  * one line per BEGIN and END as they happen, and one when an ongoing contact's level rises;
+  * once per ~summary_period seconds (default 1.0) a one-line summary: the number of active
+    contacts, the earliest one and its level, or a warning when no array has arrived lately
+    (the monitor publishes every cycle, so silence never means "all clear").
+Parameters (private): ~summary_period (1.0 s), ~stale_after (1.0 s), ~color (auto: when a tty).
+"""
+
+import math
+import sys
+import threading
+
+import rospy
+
+from workspace_proximity.msg import ContactEvent, ContactEventArray
+
+LEVELS = {ContactEvent.NOTICE: 'NOTICE', ContactEvent.WARNING: 'WARNING', ContactEvent.CRITICAL: 'CRITICAL'}
+COLORS = {ContactEvent.NOTICE: '\033[36m', ContactEvent.WARNING: '\033[33m', ContactEvent.CRITICAL: '\033[1;31m'}
+RESET = '\033[0m'
+
+
+def level_name(level):
+    return LEVELS.get(level, 'LEVEL%d' % level)
+
+
+def fmt_time(seconds):
+    return 'inf' if math.isinf(seconds) else '%.2f s' % seconds
+
+
+class Printer(object):
+    def __init__(self, color):
+        self.color = color
+        self.lock = threading.Lock()
+        self.active = {}        # (id_a, id_b) -> latest BEGIN/ONGOING event
+        self.began = {}         # (id_a, id_b) -> header stamp of its BEGIN (s)
+        self.earliest = None    # earliest active event of the latest array
+        self.last_rx = None     # wall time of the latest array
+        self.last_stamp = None
+        self.frame = ''
+        self.n_arrays = 0
+        self.n_begin = 0
+        self.n_end = 0
+        self.worst = {}         # level -> count of contacts that reached it (by their peak)
+        self.peak = {}          # (id_a, id_b) -> highest level seen while active
+        self.anomalies = 0
+
+    def paint(self, text, level):
+        return (COLORS.get(level, '') + text + RESET) if self.color else text
+
+    def out(self, line):
+        print(line, flush=True)
+
+    def anomaly(self, text):
+        self.anomalies += 1
+        self.out('??     ' + text)
+
+    def on_contacts(self, msg):
+        stamp = msg.header.stamp.to_sec()
+        with self.lock:
+            self.n_arrays += 1
+            self.last_rx = rospy.get_time()
+            if self.last_stamp is not None and stamp < self.last_stamp:
+                self.anomaly('contacts stamp went backwards (%.3f -> %.3f)' % (self.last_stamp, stamp))
+            self.last_stamp = stamp
+            self.frame = msg.header.frame_id
+            seen = set()
+            for ev in msg.events:
+                key = (ev.id_a, ev.id_b)
+                pair = '%s <-> %s' % key
+                if key in seen:
+                    self.anomaly('pair %s appears twice in one array' % pair)
+                seen.add(key)
+                if ev.state == ContactEvent.BEGIN:
+                    if key in self.active:
+                        self.anomaly('BEGIN for %s, which is already active' % pair)
+                    self.n_begin += 1
+                    self.began[key] = stamp
+                    self.peak[key] = ev.level
+                    self.out(self.paint('BEGIN  %-28s in %s  dist %.2f m  %s'
+                                        % (pair, fmt_time(ev.time_to_contact), ev.distance,
+                                           level_name(ev.level)), ev.level))
+                    self.active[key] = ev
+                elif ev.state == ContactEvent.ONGOING:
+                    prev = self.active.get(key)
+                    if prev is None:
+                        if self.n_arrays == 1:  # started after its BEGIN: adopt it
+                            self.out(self.paint('ACTIVE %-28s in %s  dist %.2f m  %s  (began before we listened)'
+                                                % (pair, fmt_time(ev.time_to_contact), ev.distance,
+                                                   level_name(ev.level)), ev.level))
+                        else:
+                            self.anomaly('ONGOING for %s without a BEGIN' % pair)
+                        self.began.setdefault(key, stamp)
+                        self.peak.setdefault(key, ev.level)
+                    elif ev.level > prev.level:
+                        self.out(self.paint('RAISE  %-28s in %s  dist %.2f m  %s -> %s'
+                                            % (pair, fmt_time(ev.time_to_contact), ev.distance,
+                                               level_name(prev.level), level_name(ev.level)), ev.level))
+                    self.peak[key] = max(self.peak.get(key, ev.level), ev.level)
+                    self.active[key] = ev
+                elif ev.state == ContactEvent.END:
+                    if key not in self.active:
+                        if self.n_arrays > 1:
+                            self.anomaly('END for %s, which is not active' % pair)
+                        continue
+                    del self.active[key]
+                    self.n_end += 1
+                    lasted = stamp - self.began.pop(key, stamp)
+                    peak = self.peak.pop(key, ContactEvent.NOTICE)
+                    self.worst[peak] = self.worst.get(peak, 0) + 1
+                    self.out('END    %-28s after %.1f s  (peak %s)' % (pair, lasted, level_name(peak)))
+                else:
+                    self.anomaly('unknown state %d for %s' % (ev.state, pair))
+            # A pair that silently disappeared (neither ONGOING nor END) is a protocol error.
+            for key in [k for k in self.active if k not in seen]:
+                self.anomaly('%s <-> %s vanished without an END' % key)
+                del self.active[key]
+                self.began.pop(key, None)
+                self.peak.pop(key, None)
+            live = [ev for ev in msg.events if ev.state != ContactEvent.END]
+            self.earliest = min(live, key=lambda e: e.time_to_contact) if live else None
+
+    def summary(self, _event=None):
+        with self.lock:
+            now = rospy.get_time()
+            if self.last_rx is None:
+                self.out('----   no contacts received yet (is proximity_monitor running?)')
+                return
+            age = now - self.last_rx
+            if age > self.stale_after:
+                self.out(self.paint('----   NO DATA for %.1f s: the monitor is silent, state unknown' % age,
+                                    ContactEvent.CRITICAL))
+                return
+            n = len(self.active)
+            counts = {}
+            for ev in self.active.values():
+                counts[ev.level] = counts.get(ev.level, 0) + 1
+            if n == 0:
+                line = '----   0 active contacts  (clear)'
+                self.out(line)
+                return
+            e = self.earliest
+            split = ', '.join('%d %s' % (counts[l], level_name(l).lower())
+                              for l in sorted(counts, reverse=True))
+            line = '----   %d active (%s)  earliest: %s <-> %s in %s  dist %.2f m  %s' % (
+                n, split, e.id_a, e.id_b, fmt_time(e.time_to_contact), e.distance, level_name(e.level))
+            self.out(self.paint(line, max(counts)) if self.color else line)
+
+    def final(self):
+        with self.lock:
+            peaks = ', '.join('%d %s' % (self.worst.get(l, 0), level_name(l).lower())
+                              for l in (ContactEvent.CRITICAL, ContactEvent.WARNING, ContactEvent.NOTICE))
+            self.out('event_printer: %d arrays, %d BEGIN, %d END (peak levels: %s), %d still active%s'
+                     % (self.n_arrays, self.n_begin, self.n_end, peaks, len(self.active),
+                        ', %d anomalies' % self.anomalies if self.anomalies else ''))
+
+
+def main():
+    rospy.init_node('event_printer')
+    period = float(rospy.get_param('~summary_period', 1.0))
+    color = rospy.get_param('~color', 'auto')
+    if color == 'auto':
+        color = sys.stdout.isatty()
+    printer = Printer(bool(color))
+    printer.stale_after = float(rospy.get_param('~stale_after', 1.0))
+    rospy.Subscriber('contacts', ContactEventArray, printer.on_contacts, queue_size=50)
+    if period > 0:
+        rospy.Timer(rospy.Duration(period), printer.summary)
+    rospy.on_shutdown(printer.final)
+    rospy.loginfo('event_printer: listening on %s', rospy.resolve_name('contacts'))
+    rospy.spin()
+    return 0
+
+
+if __name__ == '__main__':
+    try:
+        sys.exit(main())
+    except (rospy.ROSInterruptException, KeyboardInterrupt):
+        pass

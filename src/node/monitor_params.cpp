@@ -1,0 +1,91 @@
+#include "workspace_proximity/ros/monitor_params.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace workspace_proximity {
+namespace {
+
+// "~name = value: must be in [lo, hi] unit"
+void checkRange(std::vector<std::string>* errors, const std::string& name, double value,
+                double lo, double hi, const char* unit) {
+  if (std::isfinite(value) && value >= lo && value <= hi) return;
+  std::ostringstream s;
+  s << "~" << name << " = " << value << ": must be in [" << lo << ", " << hi << "] " << unit;
+  errors->push_back(s.str());
+}
+
+void checkLabel(std::vector<std::string>* errors, const std::string& prefix,
+                const LabelSettings& l, bool check_margin) {
+  if (check_margin) checkRange(errors, prefix + "/margin", l.margin, 0.0, 10.0, "m");
+  checkRange(errors, prefix + "/warning_time", l.warning_time, 0.0, 60.0, "s");
+  checkRange(errors, prefix + "/critical_time", l.critical_time, 0.0, l.warning_time, "s");
+  checkRange(errors, prefix + "/warning_distance", l.warning_distance, 0.0, 100.0, "m");
+  checkRange(errors, prefix + "/critical_distance", l.critical_distance, 0.0, l.warning_distance,
+             "m");
+}
+
+}  // namespace
+
+MonitorParams::MonitorParams() { labels["default"] = LabelSettings(); }
+
+const LabelSettings& MonitorParams::label(const std::string& name) const {
+  auto it = labels.find(name);
+  if (it != labels.end()) return it->second;
+  return labels.at("default");
+}
+
+std::vector<std::string> validate(const MonitorParams& p) {
+  std::vector<std::string> errors;
+  if (p.fixed_frame.empty()) errors.push_back("~fixed_frame: must not be empty");
+  checkRange(&errors, "rate", p.rate, 0.1, 1000.0, "Hz");
+  checkRange(&errors, "horizon", p.horizon, 0.0, 60.0, "s");
+  checkRange(&errors, "track_timeout", p.track_timeout, 0.001, 3600.0, "s");
+  checkRange(&errors, "robot_margin", p.robot_margin, 0.0, 10.0, "m");
+  checkRange(&errors, "velocity_window", p.velocity_window, 0.005, 2.0, "s");
+  checkRange(&errors, "tf_timeout", p.tf_timeout, 0.001, 3600.0, "s");
+  checkRange(&errors, "marker_lifetime", p.marker_lifetime, 0.01, 3600.0, "s");
+  for (std::size_t i = 0; i < p.input_topics.size(); ++i) {
+    if (p.input_topics[i].empty()) {
+      errors.push_back("~input_topics[" + std::to_string(i) + "]: must not be empty");
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (p.input_topics[i] == p.input_topics[j]) {
+        errors.push_back("~input_topics: '" + p.input_topics[i] + "' is listed twice");
+      }
+    }
+  }
+  if (p.labels.count("default") == 0) errors.push_back("~labels: must have a 'default' entry");
+  for (const auto& kv : p.labels) checkLabel(&errors, "labels/" + kv.first, kv.second, true);
+  checkLabel(&errors, "robot_thresholds", p.robot_thresholds, false);
+
+  for (std::size_t i = 0; i < p.robot_bodies.size(); ++i) {
+    const RobotBodySpec& b = p.robot_bodies[i];
+    const std::string where = "~robot_bodies[" + std::to_string(i) + "]";
+    if (b.name.empty()) errors.push_back(where + "/name: must not be empty");
+    if (b.frame.empty()) errors.push_back(where + "/frame: must not be empty");
+    if (!b.shape.valid()) errors.push_back(where + "/size: every edge must be finite and > 0 m");
+    if (!b.offset.matrix().allFinite()) errors.push_back(where + "/offset: must be finite");
+    for (std::size_t j = 0; j < i; ++j) {
+      if (p.robot_bodies[j].name == b.name) {
+        errors.push_back(where + "/name: '" + b.name + "' is used twice");
+      }
+    }
+  }
+  try {
+    makePairRules(p);
+  } catch (const std::invalid_argument& e) {
+    errors.push_back(std::string("~ignore_pairs / ~check_pairs: ") + e.what());
+  }
+  return errors;
+}
+
+PairRules makePairRules(const MonitorParams& p) {
+  PairRules rules;  // default: robot-robot skipped
+  for (const auto& pair : p.ignore_pairs) rules.add(pair.first, pair.second, false);
+  for (const auto& pair : p.check_pairs) rules.add(pair.first, pair.second, true);
+  return rules;
+}
+
+}  // namespace workspace_proximity

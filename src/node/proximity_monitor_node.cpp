@@ -1,0 +1,36 @@
+// proximity_monitor: predicts contacts between robot links and tracked objects.
+// Parameters are read and checked before anything is built; nonsense stops the node with a
+// message naming the parameter.
+
+#include <ros/ros.h>
+
+#include "workspace_proximity/ros/proximity_monitor.hpp"
+#include "workspace_proximity/ros/ros_params.hpp"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "proximity_monitor");
+  ros::NodeHandle nh;
+  ros::NodeHandle pnh("~");
+
+  workspace_proximity::MonitorParams params;
+  try {
+    params = workspace_proximity::readParams(pnh);
+  } catch (const std::exception& e) {
+    ROS_FATAL("proximity_monitor: invalid parameter %s", e.what());
+    return 1;
+  }
+  const std::vector<std::string> errors = workspace_proximity::validate(params);
+  if (!errors.empty()) {
+    for (const std::string& e : errors) ROS_FATAL("proximity_monitor: invalid parameter %s", e.c_str());
+    return 1;
+  }
+
+  try {
+    workspace_proximity::ProximityMonitor monitor(nh, pnh, params);
+    ros::spin();
+  } catch (const std::exception& e) {
+    ROS_FATAL("proximity_monitor: %s", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,105 @@
+// Parameter checks: every nonsense value is reported, naming the parameter.
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "workspace_proximity/ros/monitor_params.hpp"
+
+namespace wp = workspace_proximity;
+
+namespace {
+bool mentions(const std::vector<std::string>& errors, const std::string& name) {
+  for (const std::string& e : errors) {
+    if (e.find(name) != std::string::npos) return true;
+  }
+  return false;
+}
+}  // namespace
+
+TEST(MonitorParams, DefaultsAreValid) { EXPECT_TRUE(wp::validate(wp::MonitorParams()).empty()); }
+
+TEST(MonitorParams, EachBadValueIsNamed) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Case {
+    const char* name;
+    void (*change)(wp::MonitorParams&);
+  };
+  const Case cases[] = {
+      {"~rate", [](wp::MonitorParams& p) { p.rate = -1; }},
+      {"~rate", [](wp::MonitorParams& p) { p.rate = 0; }},
+      {"~horizon", [](wp::MonitorParams& p) { p.horizon = -0.5; }},
+      {"~horizon", [](wp::MonitorParams& p) { p.horizon = 1e9; }},
+      {"~track_timeout", [](wp::MonitorParams& p) { p.track_timeout = 0; }},
+      {"~robot_margin", [](wp::MonitorParams& p) { p.robot_margin = -0.1; }},
+      {"~velocity_window", [](wp::MonitorParams& p) { p.velocity_window = 0; }},
+      {"~tf_timeout", [](wp::MonitorParams& p) { p.tf_timeout = -1; }},
+      {"~marker_lifetime", [](wp::MonitorParams& p) { p.marker_lifetime = 0; }},
+      {"~fixed_frame", [](wp::MonitorParams& p) { p.fixed_frame.clear(); }},
+      {"~input_topics", [](wp::MonitorParams& p) { p.input_topics = {"a", "a"}; }},
+      {"~labels", [](wp::MonitorParams& p) { p.labels.erase("default"); }},
+      {"labels/person/margin", [](wp::MonitorParams& p) { p.labels["person"].margin = -1; }},
+      {"labels/person/critical_time",
+       [](wp::MonitorParams& p) { p.labels["person"].critical_time = 5; }},  // > warning_time
+      {"robot_thresholds/warning_distance",
+       [](wp::MonitorParams& p) { p.robot_thresholds.warning_distance = -2; }},
+      {"~robot_bodies[0]/size",
+       [](wp::MonitorParams& p) {
+         wp::RobotBodySpec b;
+         b.name = "g";
+         b.frame = "tool0";
+         b.shape = wp::Shape::box({0.1, 0, 0.1});
+         p.robot_bodies.push_back(b);
+       }},
+      {"~robot_bodies[0]/frame",
+       [](wp::MonitorParams& p) {
+         wp::RobotBodySpec b;
+         b.name = "g";
+         b.shape = wp::Shape::box({0.1, 0.1, 0.1});
+         p.robot_bodies.push_back(b);
+       }},
+      {"~ignore_pairs", [](wp::MonitorParams& p) { p.ignore_pairs.push_back({"colour:red", "*"}); }},
+  };
+  for (const Case& c : cases) {
+    wp::MonitorParams p;
+    c.change(p);
+    const std::vector<std::string> errors = wp::validate(p);
+    EXPECT_TRUE(mentions(errors, c.name)) << c.name;
+  }
+  wp::MonitorParams p;
+  p.rate = nan;
+  EXPECT_TRUE(mentions(wp::validate(p), "~rate"));
+}
+
+TEST(MonitorParams, PairRulesComeFromIgnoreThenCheck) {
+  wp::MonitorParams p;
+  p.ignore_pairs = {{"label:person", "label:person"}};
+  p.check_pairs = {{"id:gripper", "group:robot"}};
+  const wp::PairRules rules = wp::makePairRules(p);
+  wp::BodyDesc a, b, g, l;
+  a.id = "a";
+  a.label = "person";
+  b.id = "b";
+  b.label = "person";
+  g.id = "gripper";
+  g.group = wp::BodyGroup::kRobot;
+  l.id = "link";
+  l.group = wp::BodyGroup::kRobot;
+  EXPECT_FALSE(rules.allowed(a, b));
+  EXPECT_TRUE(rules.allowed(g, l));
+  wp::BodyDesc l2 = l;
+  l2.id = "link2";
+  EXPECT_FALSE(rules.allowed(l, l2));
+}
+
+TEST(MonitorParams, UnknownLabelsUseDefault) {
+  wp::MonitorParams p;
+  p.labels["person"].margin = 0.3;
+  EXPECT_DOUBLE_EQ(p.label("person").margin, 0.3);
+  EXPECT_DOUBLE_EQ(p.label("unicorn").margin, p.labels.at("default").margin);
+}
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}

@@ -1,0 +1,449 @@
+"""Shared helpers for the proximity_monitor rostests (imported by the test_*.py scripts).
+
+Scenes are made of Tracks: oriented boxes moving with piecewise-constant linear velocity.
+A ScenePublisher publishes them as TrackedBoxArray at a fixed rate; every message carries the
+pose the box has at the message's stamp, so whichever message the node extrapolates from, the
+box is where the analytic model says it is at the prediction instant.
+"""
+import math
+import threading
+
+import rospy
+from geometry_msgs.msg import Pose, TransformStamped, Twist, Vector3
+from visualization_msgs.msg import Marker, MarkerArray
+
+from workspace_proximity.msg import ContactEvent, ContactEventArray, TrackedBox, TrackedBoxArray
+
+BEGIN = ContactEvent.BEGIN
+ONGOING = ContactEvent.ONGOING
+END = ContactEvent.END
+STATE_NAMES = {BEGIN: "BEGIN", ONGOING: "ONGOING", END: "END"}
+MARKER_NAMESPACES = {"bodies", "swept", "nearest", "ttc_text", "velocity"}
+
+# Tolerances of the analytic checks.
+TIME_TOL = 1e-3      # s, time_to_contact / time_to_separation
+DIST_TOL = 1e-4      # m, distance and nearest points
+SPEED_TOL = 1e-3     # m/s, closing speed
+NORMAL_TOL = 1e-3    # per component
+
+
+def quat_from_rpy(roll, pitch, yaw):
+    """(x, y, z, w) of the rotation R = Rz(yaw) Ry(pitch) Rx(roll)."""
+    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    return (sr * cp * cy - cr * sp * sy,
+            cr * sp * cy + sr * cp * sy,
+            cr * cp * sy - sr * sp * cy,
+            cr * cp * cy + sr * sp * sy)
+
+
+def vsub(a, b):
+    return tuple(x - y for x, y in zip(a, b))
+
+
+def vadd(a, b):
+    return tuple(x + y for x, y in zip(a, b))
+
+
+def vscale(a, s):
+    return tuple(x * s for x in a)
+
+
+def vdot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def vnorm(a):
+    return math.sqrt(vdot(a, a))
+
+
+def pt(p):
+    """geometry_msgs Point/Vector3 -> tuple."""
+    return (p.x, p.y, p.z)
+
+
+def fmt_event(ev):
+    return ("%s %s(%s)-%s(%s) ttc=%.6f tts=%.6f d=%.6f n=(%.4f,%.4f,%.4f) vc=%.4f lvl=%d" % (
+        STATE_NAMES.get(ev.state, str(ev.state)), ev.id_a, ev.label_a, ev.id_b, ev.label_b,
+        ev.time_to_contact, ev.time_to_separation, ev.distance, ev.normal.x, ev.normal.y,
+        ev.normal.z, ev.closing_speed, ev.level))
+
+
+class Track(object):
+    """A box with piecewise-constant linear velocity (no rotation over time).
+
+    position is the centre at rospy.Time t0; set_velocity(t, v) changes the velocity from
+    time t on while keeping the position continuous.
+    """
+
+    def __init__(self, box_id, label, position, size, velocity=(0.0, 0.0, 0.0),
+                 quat=(0.0, 0.0, 0.0, 1.0), t0=None):
+        self.id = box_id
+        self.label = label
+        self.size = tuple(float(s) for s in size)
+        self.quat = quat
+        self.active = True
+        self._t0 = t0
+        self._segments = [(0.0, tuple(float(p) for p in position),
+                           tuple(float(v) for v in velocity))]
+
+    @property
+    def half(self):
+        return tuple(0.5 * s for s in self.size)
+
+    def set_t0(self, t0):
+        self._t0 = t0
+
+    def rel(self, stamp):
+        return (stamp - self._t0).to_sec()
+
+    def set_velocity(self, stamp, velocity):
+        """From `stamp` on the box moves with `velocity`."""
+        t = self.rel(stamp)
+        pos, _ = self.state_rel(t)
+        self._segments.append((t, pos, tuple(float(v) for v in velocity)))
+
+    def state_rel(self, t):
+        seg = self._segments[0]
+        for s in self._segments:
+            if s[0] <= t:
+                seg = s
+        t_start, p_start, v = seg
+        return vadd(p_start, vscale(v, t - t_start)), v
+
+    def state(self, stamp):
+        """(centre, velocity) at the rospy.Time `stamp`."""
+        return self.state_rel(self.rel(stamp))
+
+    def switch_times(self):
+        return [s[0] for s in self._segments[1:]]
+
+    def to_msg(self, stamp):
+        pos, vel = self.state(stamp)
+        b = TrackedBox()
+        b.id = self.id
+        b.label = self.label
+        b.pose = Pose()
+        b.pose.position.x, b.pose.position.y, b.pose.position.z = pos
+        (b.pose.orientation.x, b.pose.orientation.y, b.pose.orientation.z,
+         b.pose.orientation.w) = self.quat
+        b.dimensions = Vector3(*self.size)
+        b.twist = Twist()
+        b.twist.linear = Vector3(*vel)
+        return b
+
+
+class ScenePublisher(object):
+    """Publishes a list of Tracks as TrackedBoxArray at `rate` Hz from a background thread.
+
+    Each message's stamp is now - latency, and each box's pose is its pose at that stamp.
+    """
+
+    def __init__(self, topic, tracks, frame_id="world", rate=20.0, latency=0.1):
+        self.pub = rospy.Publisher(topic, TrackedBoxArray, queue_size=10)
+        self.tracks = tracks
+        self.frame_id = frame_id
+        self.period = 1.0 / rate
+        self.latency = rospy.Duration(latency)
+        self.lock = threading.Lock()
+        self.t0 = None
+        self.last_stamp = {}  # track id -> stamp of the last message that carried it
+        self.last_wall = {}   # track id -> rospy time at which that message was published
+        self._stop = threading.Event()
+        self._thread = None
+
+    def start(self, t0=None):
+        """Fixes the scene's time origin (default: now) and starts publishing."""
+        self.t0 = t0 if t0 is not None else rospy.Time.now()
+        for tr in self.tracks:
+            tr.set_t0(self.t0)
+        self._thread = threading.Thread(target=self._run)
+        self._thread.daemon = True
+        self._thread.start()
+        return self.t0
+
+    def _run(self):
+        while not self._stop.is_set() and not rospy.is_shutdown():
+            self.publish_once()
+            self._stop.wait(self.period)
+
+    def publish_once(self):
+        with self.lock:
+            now = rospy.Time.now()
+            stamp = now - self.latency
+            msg = TrackedBoxArray()
+            msg.header.stamp = stamp
+            msg.header.frame_id = self.frame_id
+            for tr in self.tracks:
+                if tr.active:
+                    msg.boxes.append(tr.to_msg(stamp))
+                    self.last_stamp[tr.id] = stamp
+                    self.last_wall[tr.id] = now
+            self.pub.publish(msg)
+
+    def deactivate(self, track):
+        with self.lock:
+            track.active = False
+
+    def stop(self):
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(2.0)
+
+
+class Collector(object):
+    """Records every ContactEventArray and MarkerArray the node publishes."""
+
+    def __init__(self, contacts_topic="contacts", markers_topic="markers"):
+        self.lock = threading.Lock()
+        self.contacts = []   # (receipt rospy.Time, ContactEventArray)
+        self.markers = []    # (receipt rospy.Time, MarkerArray)
+        self.sub_c = rospy.Subscriber(contacts_topic, ContactEventArray, self._on_contacts,
+                                      queue_size=200)
+        self.sub_m = rospy.Subscriber(markers_topic, MarkerArray, self._on_markers,
+                                      queue_size=200)
+
+    def _on_contacts(self, msg):
+        with self.lock:
+            self.contacts.append((rospy.Time.now(), msg))
+
+    def _on_markers(self, msg):
+        with self.lock:
+            self.markers.append((rospy.Time.now(), msg))
+
+    def contact_msgs(self, since=None):
+        with self.lock:
+            return [m for t, m in self.contacts if since is None or m.header.stamp >= since]
+
+    def marker_msgs(self, since=None):
+        with self.lock:
+            return [m for t, m in self.markers if since is None or t >= since]
+
+    def wait_for_node(self, timeout=20.0):
+        """Waits until the node has published at least two contact arrays."""
+        deadline = rospy.Time.now() + rospy.Duration(timeout)
+        while rospy.Time.now() < deadline and not rospy.is_shutdown():
+            with self.lock:
+                if len(self.contacts) >= 2:
+                    return True
+            rospy.sleep(0.05)
+        return False
+
+    def wait_until(self, predicate, timeout):
+        """Waits until predicate(contact_msgs) is true; returns whether it became true."""
+        deadline = rospy.Time.now() + rospy.Duration(timeout)
+        while rospy.Time.now() < deadline and not rospy.is_shutdown():
+            if predicate(self.contact_msgs()):
+                return True
+            rospy.sleep(0.05)
+        return predicate(self.contact_msgs())
+
+
+def broadcast_static(transforms):
+    """transforms: list of (parent, child, xyz, rpy). Returns the broadcaster (keep it alive)."""
+    import tf2_ros
+    br = tf2_ros.StaticTransformBroadcaster()
+    msgs = []
+    for parent, child, xyz, rpy in transforms:
+        t = TransformStamped()
+        t.header.stamp = rospy.Time.now()
+        t.header.frame_id = parent
+        t.child_frame_id = child
+        t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = xyz
+        q = quat_from_rpy(*rpy)
+        (t.transform.rotation.x, t.transform.rotation.y, t.transform.rotation.z,
+         t.transform.rotation.w) = q
+        msgs.append(t)
+    br.sendTransform(msgs)
+    return br
+
+
+def aabb_prediction(ca, ha, va, cb, hb, vb, horizon):
+    """Exact prediction for two axis-aligned boxes translating at constant velocity.
+
+    ca/cb centres, ha/hb half extents, va/vb velocities (world, at the prediction instant).
+    Returns None when they do not touch within [0, horizon], else a dict with ttc, tts,
+    distance, normal (None when touching), closing_speed (None when touching), axis (the
+    single separating axis for a face-face configuration, else None).
+    """
+    lo, hi = -math.inf, math.inf
+    for k in range(3):
+        d = cb[k] - ca[k]
+        w = vb[k] - va[k]
+        s = ha[k] + hb[k]
+        if w == 0.0:
+            if abs(d) > s:
+                lo, hi = math.inf, -math.inf
+            continue
+        t1, t2 = (-s - d) / w, (s - d) / w
+        lo, hi = max(lo, min(t1, t2)), min(hi, max(t1, t2))
+    lo, hi = max(lo, 0.0), min(hi, horizon)
+    gaps = []
+    for k in range(3):
+        d = cb[k] - ca[k]
+        g = abs(d) - (ha[k] + hb[k])
+        gaps.append(math.copysign(g, d) if g > 0 else 0.0)
+    dist = vnorm(gaps)
+    res = {"distance": dist, "normal": None, "closing_speed": None, "axis": None}
+    if dist > 0:
+        n = vscale(gaps, 1.0 / dist)
+        res["normal"] = n
+        res["closing_speed"] = -vdot(vsub(vb, va), n)
+        nonzero = [k for k in range(3) if gaps[k] != 0.0]
+        if len(nonzero) == 1:
+            res["axis"] = nonzero[0]
+    if not lo <= hi:
+        return None
+    res["ttc"] = lo
+    res["tts"] = hi
+    return res
+
+
+def check_face_contact(tc, ev, exp, ca, ha, cb, hb, what=""):
+    """Compares an event with aabb_prediction() output `exp` for boxes a, b (as in the event's
+    id order). Nearest points are checked along the separating axis exactly and across it
+    loosely (inside both boxes' extents), since a face-face pair has no unique nearest points."""
+    ctx = "%s: %s vs expected %r" % (what, fmt_event(ev), exp)
+    tc.assertAlmostEqual(ev.time_to_contact, exp["ttc"], delta=TIME_TOL, msg="ttc " + ctx)
+    tc.assertAlmostEqual(ev.time_to_separation, exp["tts"], delta=TIME_TOL, msg="tts " + ctx)
+    tc.assertAlmostEqual(ev.distance, exp["distance"], delta=DIST_TOL, msg="distance " + ctx)
+    if exp["normal"] is not None:
+        for k in range(3):
+            tc.assertAlmostEqual(pt(ev.normal)[k], exp["normal"][k], delta=NORMAL_TOL,
+                                 msg="normal " + ctx)
+        tc.assertAlmostEqual(ev.closing_speed, exp["closing_speed"], delta=SPEED_TOL,
+                             msg="closing_speed " + ctx)
+    if exp["axis"] is not None:
+        k = exp["axis"]
+        sgn = 1.0 if cb[k] > ca[k] else -1.0
+        pa, pb = pt(ev.point_a), pt(ev.point_b)
+        tc.assertAlmostEqual(pa[k], ca[k] + sgn * ha[k], delta=DIST_TOL, msg="point_a " + ctx)
+        tc.assertAlmostEqual(pb[k], cb[k] - sgn * hb[k], delta=DIST_TOL, msg="point_b " + ctx)
+        for j in range(3):
+            if j == k:
+                continue
+            for p, name in ((pa, "point_a"), (pb, "point_b")):
+                for c, h in ((ca, ha), (cb, hb)):
+                    tc.assertLessEqual(abs(p[j] - c[j]), h[j] + DIST_TOL,
+                                       msg="%s outside the face overlap on axis %d %s" % (
+                                           name, j, ctx))
+
+
+def expected_level(ttc, dist, thr, margin_t=3e-3, margin_d=3e-3):
+    """Level from thresholds {warning_time, critical_time, warning_distance,
+    critical_distance}; None when too close to a threshold to decide."""
+    for key in ("critical_time", "warning_time"):
+        if abs(ttc - thr[key]) < margin_t:
+            return None
+    for key in ("critical_distance", "warning_distance"):
+        if abs(dist - thr[key]) < margin_d:
+            return None
+    if ttc <= thr["critical_time"] or dist <= thr["critical_distance"]:
+        return ContactEvent.CRITICAL
+    if ttc <= thr["warning_time"] or dist <= thr["warning_distance"]:
+        return ContactEvent.WARNING
+    return ContactEvent.NOTICE
+
+
+def events_for(msg, id_a, id_b):
+    return [e for e in msg.events if e.id_a == id_a and e.id_b == id_b]
+
+
+def check_array_basics(tc, msg, frame_id="world"):
+    """Contract every ContactEventArray must satisfy."""
+    tc.assertEqual(msg.header.frame_id, frame_id)
+    tc.assertGreater(msg.header.stamp.to_sec(), 0.0)
+    seen = set()
+    prev = -math.inf
+    for ev in msg.events:
+        tc.assertLess(ev.id_a, ev.id_b, "id_a < id_b violated: " + fmt_event(ev))
+        pair = (ev.id_a, ev.id_b)
+        tc.assertNotIn(pair, seen, "pair reported twice in one array: " + fmt_event(ev))
+        seen.add(pair)
+        tc.assertIn(ev.state, (BEGIN, ONGOING, END))
+        if ev.state == END:
+            tc.assertTrue(math.isinf(ev.time_to_contact) and ev.time_to_contact > 0,
+                          "END must have ttc=+inf: " + fmt_event(ev))
+            tc.assertEqual(ev.time_to_separation, 0.0, "END must have tts=0: " + fmt_event(ev))
+        else:
+            tc.assertGreaterEqual(ev.time_to_contact, 0.0, fmt_event(ev))
+            tc.assertGreaterEqual(ev.time_to_separation, ev.time_to_contact, fmt_event(ev))
+            tc.assertGreaterEqual(ev.distance, 0.0, fmt_event(ev))
+            n = vnorm(pt(ev.normal))
+            tc.assertAlmostEqual(n, 1.0, delta=1e-6, msg="normal not unit: " + fmt_event(ev))
+        tc.assertGreaterEqual(ev.time_to_contact, prev,
+                              "events not sorted by time_to_contact: %s" % [
+                                  fmt_event(e) for e in msg.events])
+        prev = ev.time_to_contact
+
+
+def state_sequence(msgs, id_a, id_b):
+    """One character per contacts message: '.' no event for the pair, else B/O/E."""
+    out = []
+    for m in msgs:
+        evs = events_for(m, id_a, id_b)
+        out.append("BOE"[evs[0].state] if evs else ".")
+    return "".join(out)
+
+
+class StaticBody(object):
+    """An axis-aligned body at rest (e.g. a robot body under static tf), for the checks."""
+
+    def __init__(self, body_id, label, centre, half):
+        self.id = body_id
+        self.label = label
+        self.centre = tuple(centre)
+        self.half = tuple(half)
+
+    def state(self, stamp):
+        return self.centre, (0.0, 0.0, 0.0)
+
+
+def check_scene_events(tc, msg, bodies, horizon, ambiguity=5e-3):
+    """Checks one ContactEventArray against the exact prediction for a scene of axis-aligned,
+    translating bodies (Track or StaticBody, with .id, .label, .half, .state(stamp)).
+
+    Every non-END event must be an expected pair with analytic numbers, and every expected
+    pair must be reported unless it is within `ambiguity` s of the horizon or of separating.
+    Robot-robot pairs are not expected. Returns the number of events checked."""
+    T = msg.header.stamp
+    by_id = dict((b.id, b) for b in bodies)
+    expected, optional = {}, set()
+    ids = sorted(by_id)
+    for i, ia in enumerate(ids):
+        for ib in ids[i + 1:]:
+            a, b = by_id[ia], by_id[ib]
+            if a.label == "robot" and b.label == "robot":
+                continue
+            ca, va = a.state(T)
+            cb, vb = b.state(T)
+            exp = aabb_prediction(ca, a.half, va, cb, b.half, vb, horizon + ambiguity)
+            if exp is None:
+                continue
+            if exp["ttc"] > horizon - ambiguity or exp["tts"] < ambiguity:
+                optional.add((ia, ib))
+                if exp["ttc"] > horizon:
+                    continue
+            exp["tts"] = min(exp["tts"], horizon)
+            expected[(ia, ib)] = (exp, ca, a.half, cb, b.half)
+    got = dict(((e.id_a, e.id_b), e) for e in msg.events if e.state != END)
+    where = "T=%.4f" % T.to_sec()
+    for pair in got:
+        tc.assertIn(pair, expected, "%s unexpected event %s" % (where, fmt_event(got[pair])))
+    for pair in expected:
+        if pair not in optional:
+            tc.assertIn(pair, got, "%s missing event for pair %s (expected %r); got %s" % (
+                where, pair, expected[pair][0], [fmt_event(e) for e in msg.events]))
+    for pair, ev in got.items():
+        exp, ca, ha, cb, hb = expected[pair]
+        tc.assertEqual((ev.label_a, ev.label_b), (by_id[pair[0]].label, by_id[pair[1]].label),
+                       fmt_event(ev))
+        check_face_contact(tc, ev, exp, ca, ha, cb, hb, where)
+    return len(got)
+
+
+def find_node_binary():
+    from roslib.packages import find_node
+    found = find_node("workspace_proximity", "proximity_monitor")
+    return found[0] if found else None
