@@ -42,6 +42,10 @@ std::vector<std::string> validate(const MonitorParams& p) {
   checkRange(&errors, "rate", p.rate, 0.1, 1000.0, "Hz");
   checkRange(&errors, "horizon", p.horizon, 0.0, 60.0, "s");
   checkRange(&errors, "track_timeout", p.track_timeout, 0.001, 3600.0, "s");
+  checkRange(&errors, "stale_after", p.stale_after, 0.0, p.track_timeout, "s (at most ~track_timeout)");
+  checkRange(&errors, "source_timeout", p.source_timeout, 0.001, 3600.0, "s");
+  checkRange(&errors, "max_future", p.max_future, 0.0, 60.0, "s");
+  checkRange(&errors, "max_tracks", p.max_tracks, 1, 1000000, "tracks");
   checkRange(&errors, "robot_margin", p.robot_margin, 0.0, 10.0, "m");
   checkRange(&errors, "velocity_window", p.velocity_window, 0.005, 2.0, "s");
   checkRange(&errors, "tf_timeout", p.tf_timeout, 0.001, 3600.0, "s");

@@ -1,14 +1,15 @@
 #include "workspace_proximity/ros/proximity_monitor.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <unordered_set>
 
 #include <ros/package.h>
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "workspace_proximity/ros/robot_model.hpp"
-#include "workspace_proximity/swept_bounds.hpp"
 
 namespace workspace_proximity {
 namespace {
@@ -28,12 +29,21 @@ std::string resolveMesh(const std::string& url) {
   return url;
 }
 
-// The shape a box should have now: grow at once (never smaller than the truth), shrink only
-// when clearly smaller, so a tracker's jittering dimensions do not rebuild geometry each time.
+// Grow at once (never smaller than the truth); shrink only when clearly smaller, so a
+// tracker's jittering dimensions do not rebuild the geometry every message.
 bool needsResize(const Eigen::Vector3d& current, const Eigen::Vector3d& wanted) {
   constexpr double kShrinkSlack = 0.05;  // m
   return (wanted.array() > current.array()).any() ||
          (wanted.array() < current.array() - kShrinkSlack).any();
+}
+
+// Reason category for the diagnostics' "dropped by reason" counters: the first word.
+std::string category(const std::string& why) { return why.substr(0, why.find(' ')); }
+
+std::string format(const char* fmt, double value) {
+  char buffer[128];
+  std::snprintf(buffer, sizeof buffer, fmt, value);
+  return buffer;
 }
 
 }  // namespace
@@ -58,26 +68,26 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   if (params_.publish_markers) {
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("markers", 10);
   }
-  // Queue of 1: only the newest array of each source is worth predicting from.
-  if (params_.input_topics.empty()) {
+  std::vector<std::string> topics = params_.input_topics;
+  const bool qualify = !topics.empty();
+  if (topics.empty()) topics.push_back("tracked_objects");
+  sources_.resize(topics.size());
+  for (std::size_t i = 0; i < topics.size(); ++i) {
+    sources_[i].topic = nh_.resolveName(topics[i]);
+    sources_[i].qualifier = qualify ? sources_[i].topic : std::string();
+    // Queue of 1: only the newest array of each source is worth predicting from.
     subscribers_.push_back(nh_.subscribe<TrackedBoxArray>(
-        "tracked_objects", 1,
-        [this](const TrackedBoxArray::ConstPtr& msg) { onBoxes(msg, std::string()); }));
-  } else {
-    for (const std::string& topic : params_.input_topics) {
-      const std::string qualifier = nh_.resolveName(topic);
-      subscribers_.push_back(nh_.subscribe<TrackedBoxArray>(
-          topic, 1,
-          [this, qualifier](const TrackedBoxArray::ConstPtr& msg) { onBoxes(msg, qualifier); }));
-    }
+        topics[i], 1, [this, i](const TrackedBoxArray::ConstPtr& msg) { onBoxes(msg, i); }));
   }
 
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("proximity monitor", this, &ProximityMonitor::diagnose);
   timer_ = nh_.createTimer(ros::Duration(1.0 / params_.rate),
                            [this](const ros::TimerEvent&) { cycle(ros::Time::now()); });
-  ROS_INFO("proximity_monitor: %zu robot bodies, fixed frame '%s', %.1f Hz, horizon %.2f s",
-           robot_.size(), params_.fixed_frame.c_str(), params_.rate, params_.horizon);
+  ROS_INFO("proximity_monitor: %zu robot bodies, %zu input topics, fixed frame '%s', %.1f Hz, "
+           "horizon %.2f s",
+           robot_.size(), sources_.size(), params_.fixed_frame.c_str(), params_.rate,
+           params_.horizon);
 }
 
 void ProximityMonitor::loadRobot() {
@@ -107,62 +117,122 @@ void ProximityMonitor::loadRobot() {
   }
 }
 
-void ProximityMonitor::onBoxes(const TrackedBoxArray::ConstPtr& msg, const std::string& qualifier) {
-  // Everything here must be non-blocking and must not throw out of the callback.
-  const std::string source = qualifier.empty() ? std::string("tracked_objects") : qualifier;
-  if (msg->header.frame_id.empty()) {
-    ++arrays_dropped_;
+void ProximityMonitor::onBoxes(const TrackedBoxArray::ConstPtr& msg, std::size_t index) {
+  // Non-blocking and cheap: keep the newest array, work happens in the cycle.
+  Source& source = sources_[index];
+  const ros::Time now = ros::Time::now();
+  if (!source.last_receipt.isZero() && now > source.last_receipt) {
+    const double rate = 1.0 / (now - source.last_receipt).toSec();
+    source.rate = source.rate == 0.0 ? rate : 0.9 * source.rate + 0.1 * rate;
+  }
+  source.last_receipt = now;
+  ++source.arrays;
+  if (source.pending) rejected_["superseded"] += 1;  // flood: the older array is skipped
+  source.pending = msg;
+}
+
+void ProximityMonitor::reject(const std::string& source, const std::string& id,
+                              const std::string& why) {
+  rejected_[category(why)] += 1;
+  ROS_WARN_THROTTLE(2.0, "proximity_monitor: %s: track '%s' rejected: %s", source.c_str(),
+                    id.c_str(), why.c_str());
+}
+
+void ProximityMonitor::processArray(Source& source, const TrackedBoxArray& msg,
+                                    const ros::Time& now) {
+  const std::string& name = source.topic;
+  if (msg.header.frame_id.empty()) {
+    rejected_["frame"] += 1;
     ROS_WARN_THROTTLE(5.0, "proximity_monitor: array on %s has an empty frame_id; dropped",
-                      source.c_str());
+                      name.c_str());
     return;
   }
-  ros::Time stamp = msg->header.stamp;
-  const ros::Time now = ros::Time::now();
+  ros::Time stamp = msg.header.stamp;
   if (stamp.isZero()) {
     ROS_WARN_THROTTLE(5.0, "proximity_monitor: array on %s has stamp 0; using the receive time",
-                      source.c_str());
-    stamp = now;
+                      name.c_str());
+    stamp = source.last_receipt;
+  }
+  if ((stamp - now).toSec() > params_.max_future) {
+    rejected_["future"] += 1;
+    ROS_WARN_THROTTLE(5.0, "proximity_monitor: array on %s is stamped %.3f s in the future "
+                           "(clocks out of sync?); dropped",
+                      name.c_str(), (stamp - now).toSec());
+    return;
+  }
+  if ((now - stamp).toSec() > params_.track_timeout) {
+    rejected_["old"] += 1;
+    ROS_WARN_THROTTLE(5.0, "proximity_monitor: array on %s is %.3f s old (> ~track_timeout); "
+                           "dropped",
+                      name.c_str(), (now - stamp).toSec());
+    return;
+  }
+  if (!source.last_stamp.isZero() && stamp < source.last_stamp) {
+    rejected_["out-of-order"] += 1;
+    ROS_WARN_THROTTLE(5.0, "proximity_monitor: array on %s is older than the previous one; "
+                           "dropped",
+                      name.c_str());
+    return;
   }
   Eigen::Isometry3d fixed_from_frame;
   try {
     fixed_from_frame = tf2::transformToEigen(
-        tf_buffer_.lookupTransform(params_.fixed_frame, msg->header.frame_id, stamp));
+        tf_buffer_.lookupTransform(params_.fixed_frame, msg.header.frame_id, stamp));
   } catch (const tf2::TransformException& at_stamp) {
     // The newest transform is the best we have when tf lags the tracker; a frame tf cannot
     // reach at all drops the array.
     try {
       fixed_from_frame = tf2::transformToEigen(
-          tf_buffer_.lookupTransform(params_.fixed_frame, msg->header.frame_id, ros::Time(0)));
+          tf_buffer_.lookupTransform(params_.fixed_frame, msg.header.frame_id, ros::Time(0)));
       ROS_WARN_THROTTLE(5.0, "proximity_monitor: %s: no transform at the array's stamp (%s); "
                              "using the latest",
-                        source.c_str(), at_stamp.what());
+                        name.c_str(), at_stamp.what());
     } catch (const tf2::TransformException& e) {
-      ++arrays_dropped_;
+      ++tf_failures_;
+      rejected_["frame"] += 1;
       ROS_WARN_THROTTLE(5.0, "proximity_monitor: %s: cannot transform '%s' to '%s': %s; dropped",
-                        source.c_str(), msg->header.frame_id.c_str(),
-                        params_.fixed_frame.c_str(), e.what());
+                        name.c_str(), msg.header.frame_id.c_str(), params_.fixed_frame.c_str(),
+                        e.what());
       return;
     }
   }
-  last_input_ = now;
+  source.last_stamp = stamp;
+
+  // Too many boxes: keep the ones nearest the robot (they matter first) and say so.
+  nearest_.clear();
+  const Eigen::Vector3d centre = robotCentre();
+  for (std::size_t i = 0; i < msg.boxes.size(); ++i) {
+    const auto& p = msg.boxes[i].pose.position;
+    const double d = (fixed_from_frame * Eigen::Vector3d(p.x, p.y, p.z) - centre).squaredNorm();
+    nearest_.emplace_back(std::isfinite(d) ? d : HUGE_VAL, i);
+  }
+  const std::size_t room = static_cast<std::size_t>(params_.max_tracks);
+  if (nearest_.size() > room) {
+    std::nth_element(nearest_.begin(), nearest_.begin() + static_cast<long>(room), nearest_.end());
+    rejected_["cap"] += nearest_.size() - room;
+    ROS_WARN_THROTTLE(5.0, "proximity_monitor: %s: %zu boxes exceed ~max_tracks = %d; the "
+                           "%zu farthest from the robot are ignored",
+                      name.c_str(), nearest_.size(), params_.max_tracks, nearest_.size() - room);
+    nearest_.resize(room);
+  }
 
   std::unordered_set<std::string> seen;
-  for (const TrackedBox& box : msg->boxes) {
+  for (const auto& entry : nearest_) {
+    const TrackedBox& box = msg.boxes[entry.second];
     const std::string why = checkTrackedBox(box);
     if (!why.empty()) {
-      ++boxes_rejected_;
-      ROS_WARN_THROTTLE(2.0, "proximity_monitor: %s: track '%s' rejected: %s", source.c_str(),
-                        box.id.c_str(), why.c_str());
+      reject(name, box.id, why);
       continue;
     }
     if (!seen.insert(box.id).second) {
-      ++boxes_rejected_;
-      ROS_WARN_THROTTLE(2.0, "proximity_monitor: %s: track '%s' appears twice in one array; "
-                             "the first is used",
-                        source.c_str(), box.id.c_str());
+      reject(name, box.id, "duplicate id in one array; the first is used");
       continue;
     }
-    const std::string key = qualifier.empty() ? box.id : qualifier + "/" + box.id;
+    const std::string key = source.qualifier.empty() ? box.id : source.qualifier + "/" + box.id;
+    if (tracks_.count(key) == 0 && static_cast<int>(tracks_.size()) >= params_.max_tracks) {
+      reject(name, box.id, "cap: ~max_tracks reached");
+      continue;
+    }
     updateTrack(key, box, toMotion(box, fixed_from_frame), stamp);
   }
 }
@@ -175,6 +245,8 @@ void ProximityMonitor::updateTrack(const std::string& key, const TrackedBox& box
     ROS_WARN_THROTTLE(2.0, "proximity_monitor: track '%s' changed label '%s' -> '%s'; "
                            "restarting it",
                       key.c_str(), it->second.label.c_str(), box.label.c_str());
+    rejected_["relabelled"] += 1;
+    track_by_body_.erase(it->second.handle.index);
     world_.removeBody(it->second.handle);
     tracks_.erase(it);
     it = tracks_.end();
@@ -188,11 +260,12 @@ void ProximityMonitor::updateTrack(const std::string& key, const TrackedBox& box
     t.handle = world_.addBody(
         BodyDesc{key, box.label, BodyGroup::kObject, shape, params_.label(box.label).margin},
         motion);
-    tracks_.emplace(key, t);
+    auto inserted = tracks_.emplace(key, t).first;
+    track_by_body_[t.handle.index] = &inserted->second;
     return;
   }
   Track& t = it->second;
-  if (stamp < t.stamp) return;  // older than what we have: out-of-order delivery
+  if (stamp < t.stamp) return;  // older than what we have
   t.stamp = stamp;
   t.motion = motion;
   if (needsResize(t.half, shape.half_extents)) {
@@ -204,6 +277,7 @@ void ProximityMonitor::updateTrack(const std::string& key, const TrackedBox& box
 void ProximityMonitor::expireTracks(const ros::Time& now) {
   for (auto it = tracks_.begin(); it != tracks_.end();) {
     if ((now - it->second.stamp).toSec() > params_.track_timeout) {
+      track_by_body_.erase(it->second.handle.index);
       world_.removeBody(it->second.handle);
       it = tracks_.erase(it);
     } else {
@@ -231,7 +305,7 @@ bool ProximityMonitor::robotMotion(const RobotBody& body, const ros::Time& now, 
 
   const double age = (now - t1).toSec();
   if (age > params_.tf_timeout) {
-    *why = "latest transform is " + std::to_string(age) + " s old";
+    *why = format("latest transform is %.3f s old", age);
     return false;
   }
   // Velocity by finite difference over the last velocity_window seconds of tf history.
@@ -257,28 +331,86 @@ void ProximityMonitor::updateRobot(const ros::Time& now) {
     BodyMotion motion;
     std::string why;
     if (!robotMotion(body, now, &motion, &why) || !motion.valid()) {
+      // Unknown, not absent: a link last seen stays where it was (without extrapolating an
+      // old velocity) and its pairs are marked stale; the status says DEGRADED.
       ++robot_unknown_;
+      ++tf_failures_;
+      body.stale = true;
+      body.why = why.empty() ? "invalid pose" : why;
       ROS_WARN_THROTTLE(5.0, "proximity_monitor: robot body '%s' (frame '%s') not posed: %s",
-                        body.spec.name.c_str(), body.spec.frame.c_str(), why.c_str());
+                        body.spec.name.c_str(), body.spec.frame.c_str(), body.why.c_str());
       if (body.present) {
-        world_.removeBody(body.handle);
-        body.present = false;
+        BodyMotion still = world_.motion(body.handle);
+        still.linear_velocity.setZero();
+        still.angular_velocity.setZero();
+        world_.setMotion(body.handle, still);
       }
       continue;
     }
+    if (body.stale) {
+      ROS_INFO("proximity_monitor: robot body '%s' is posed again", body.spec.name.c_str());
+    }
+    body.stale = false;
+    body.why.clear();
     if (!body.present) {
       body.handle = world_.addBody(BodyDesc{body.spec.name, "robot", BodyGroup::kRobot,
                                             body.spec.shape, params_.robot_margin},
                                    motion);
       body.present = true;
+      robot_by_body_[body.handle.index] = &body;
     } else {
       world_.setMotion(body.handle, motion);
     }
   }
 }
 
+Eigen::Vector3d ProximityMonitor::robotCentre() const {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (const RobotBody& body : robot_) {
+    if (!body.present) continue;
+    sum += world_.motion(body.handle).position;
+    ++n;
+  }
+  return n > 0 ? Eigen::Vector3d(sum / n) : Eigen::Vector3d::Zero();
+}
+
+void ProximityMonitor::resetHistory(const std::string& why) {
+  // A clock that jumps back (bag loop, simulation reset) invalidates every stamp we hold:
+  // drop the tracks (their pairs END), the robot's poses and the tf history.
+  ROS_WARN("proximity_monitor: %s; resetting tracks, robot poses and the tf buffer", why.c_str());
+  ++resets_;
+  for (auto& kv : tracks_) world_.removeBody(kv.second.handle);
+  tracks_.clear();
+  track_by_body_.clear();
+  for (RobotBody& body : robot_) {
+    if (body.present) world_.removeBody(body.handle);
+    body.present = false;
+    body.stale = false;
+  }
+  robot_by_body_.clear();
+  for (Source& s : sources_) {
+    s.pending.reset();
+    s.last_receipt = ros::Time();
+    s.last_stamp = ros::Time();
+    s.rate = 0.0;
+  }
+  tf_buffer_.clear();
+}
+
 void ProximityMonitor::cycle(const ros::Time& now) {
   const auto start = std::chrono::steady_clock::now();
+  if (!last_cycle_.isZero() && now < last_cycle_) {
+    resetHistory(format("clock jumped back by %.3f s", (last_cycle_ - now).toSec()));
+  }
+  last_cycle_ = now;
+
+  for (Source& source : sources_) {
+    if (!source.pending) continue;
+    const TrackedBoxArray::ConstPtr msg = source.pending;
+    source.pending.reset();
+    processArray(source, *msg, now);
+  }
   expireTracks(now);
   for (auto& kv : tracks_) {
     // Latency compensation: every track is moved from its own stamp to the cycle instant.
@@ -286,11 +418,42 @@ void ProximityMonitor::cycle(const ros::Time& now) {
   }
   updateRobot(now);
   const std::vector<PairEvent>& events = world_.predict(params_.horizon);
+  collectStatus(now);
   publish(now, events);
   ++cycles_;
   last_cycle_ms_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  max_cycle_ms_ = std::max(max_cycle_ms_, last_cycle_ms_);
   diagnostics_.update();
+}
+
+void ProximityMonitor::collectStatus(const ros::Time& now) {
+  contacts_msg_.status_details.clear();
+  for (const Source& s : sources_) {
+    if (s.last_receipt.isZero()) {
+      contacts_msg_.status_details.push_back("source " + s.topic + ": no data yet");
+    } else if ((now - s.last_receipt).toSec() > params_.source_timeout) {
+      contacts_msg_.status_details.push_back(
+          "source " + s.topic + format(": no data for %.2f s", (now - s.last_receipt).toSec()));
+    }
+  }
+  for (const RobotBody& body : robot_) {
+    if (body.stale || !body.present) {
+      contacts_msg_.status_details.push_back(
+          "robot body " + body.spec.name + (body.present ? " stale: " : " unknown: ") + body.why);
+    }
+  }
+  contacts_msg_.status = contacts_msg_.status_details.empty() ? ContactEventArray::OK
+                                                              : ContactEventArray::DEGRADED;
+}
+
+bool ProximityMonitor::bodyStale(const BodyHandle& body, const ros::Time& now) const {
+  auto t = track_by_body_.find(body.index);
+  if (t != track_by_body_.end()) {
+    return (now - t->second->stamp).toSec() > params_.stale_after;
+  }
+  auto r = robot_by_body_.find(body.index);
+  return r != robot_by_body_.end() && r->second->stale;
 }
 
 void ProximityMonitor::publish(const ros::Time& now, const std::vector<PairEvent>& events) {
@@ -301,15 +464,17 @@ void ProximityMonitor::publish(const ros::Time& now, const std::vector<PairEvent
   for (const PairEvent& e : events) {
     const BodyDesc& a = world_.desc(e.body_a);
     const BodyDesc& b = world_.desc(e.body_b);
-    const LabelSettings& la = a.group == BodyGroup::kRobot ? params_.robot_thresholds : params_.label(a.label);
-    const LabelSettings& lb = b.group == BodyGroup::kRobot ? params_.robot_thresholds : params_.label(b.label);
+    const LabelSettings& la =
+        a.group == BodyGroup::kRobot ? params_.robot_thresholds : params_.label(a.label);
+    const LabelSettings& lb =
+        b.group == BodyGroup::kRobot ? params_.robot_thresholds : params_.label(b.label);
     const std::uint8_t level = contactLevel(e, la, lb);
     contacts_msg_.events.push_back(toMsg(e, a, b, level));
-    if (e.state != ContactState::kEnd) {
-      for (const BodyHandle& h : {e.body_a, e.body_b}) {
-        auto it = worst_level_.find(h.index);
-        if (it == worst_level_.end() || it->second < level) worst_level_[h.index] = level;
-      }
+    if (e.state == ContactState::kEnd) continue;
+    contacts_msg_.events.back().stale = bodyStale(e.body_a, now) || bodyStale(e.body_b, now);
+    for (const BodyHandle& h : {e.body_a, e.body_b}) {
+      auto it = worst_level_.find(h.index);
+      if (it == worst_level_.end() || it->second < level) worst_level_[h.index] = level;
     }
   }
   contacts_pub_.publish(contacts_msg_);
@@ -340,22 +505,35 @@ void ProximityMonitor::publish(const ros::Time& now, const std::vector<PairEvent
 
 void ProximityMonitor::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   const WorldStats& s = world_.stats();
-  if (robot_unknown_ > 0) {
-    status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%d robot bodies cannot be posed",
-                    robot_unknown_);
+  const double period_ms = 1000.0 / params_.rate;
+  if (last_cycle_ms_ > period_ms) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR,
+                    "cycle takes %.1f ms, longer than the %.1f ms period", last_cycle_ms_,
+                    period_ms);
+  } else if (contacts_msg_.status != ContactEventArray::OK) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   "degraded: " + contacts_msg_.status_details.front());
   } else {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "predicting");
   }
   status.add("cycles", cycles_);
   status.add("cycle time (ms)", last_cycle_ms_);
+  status.add("max cycle time (ms)", max_cycle_ms_);
   status.add("tracks", tracks_.size());
   status.add("robot bodies", robot_.size());
   status.add("robot bodies not posed", robot_unknown_);
+  status.add("tf failures", tf_failures_);
   status.add("broad-phase pairs", s.broad_pairs);
   status.add("predicted contacts", s.contacts);
-  status.add("boxes rejected", boxes_rejected_);
-  status.add("arrays dropped", arrays_dropped_);
-  status.add("seconds since last input", last_input_.isZero() ? -1.0 : (ros::Time::now() - last_input_).toSec());
+  status.add("history resets (clock jumps)", resets_);
+  const ros::Time now = ros::Time::now();
+  for (const Source& src : sources_) {
+    status.add("source " + src.topic + " rate (Hz)", src.rate);
+    status.add("source " + src.topic + " age (s)",
+               src.last_receipt.isZero() ? -1.0 : (now - src.last_receipt).toSec());
+  }
+  for (const auto& kv : rejected_) status.add("dropped: " + kv.first, kv.second);
+  for (const std::string& d : contacts_msg_.status_details) status.add("degraded", d);
 }
 
 }  // namespace workspace_proximity

@@ -120,6 +120,14 @@ MonitorParams readParams(const ros::NodeHandle& nh) {
   readDouble(nh, "horizon", &p.horizon);
   readDouble(nh, "track_timeout", &p.track_timeout);
   readStringList(nh, "input_topics", &p.input_topics);
+  readDouble(nh, "stale_after", &p.stale_after);
+  readDouble(nh, "source_timeout", &p.source_timeout);
+  readDouble(nh, "max_future", &p.max_future);
+  XmlRpcValue max_tracks;
+  if (nh.getParam("max_tracks", max_tracks)) {
+    if (max_tracks.getType() != XmlRpcValue::TypeInt) fail("max_tracks", "must be an integer");
+    p.max_tracks = static_cast<int>(max_tracks);
+  }
   readBool(nh, "use_robot_description", &p.use_robot_description);
   readString(nh, "robot_description_param", &p.robot_description_param);
   readDouble(nh, "robot_margin", &p.robot_margin);

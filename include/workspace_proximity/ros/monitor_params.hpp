@@ -38,6 +38,10 @@ struct MonitorParams {
   double horizon = 2.0;         ///< s
   double track_timeout = 0.5;   ///< s
   std::vector<std::string> input_topics;  ///< empty: the single topic "tracked_objects"
+  double stale_after = 0.25;    ///< s; pairs with a track older than this are marked stale
+  double source_timeout = 1.0;  ///< s without an array from a source -> DEGRADED
+  double max_future = 0.5;      ///< s; arrays stamped further ahead of the clock are dropped
+  int max_tracks = 2000;        ///< tracked objects kept at most (nearest to the robot win)
 
   bool use_robot_description = true;
   std::string robot_description_param = "robot_description";

@@ -2,6 +2,7 @@
 /// The proximity_monitor node: a thin adapter between ROS (topics, tf2, parameters,
 /// markers, diagnostics) and the ROS-free ProximityWorld.
 
+#include <map>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -44,16 +45,35 @@ class ProximityMonitor {
   struct RobotBody {
     RobotBodySpec spec;
     BodyHandle handle;
-    bool present = false;  // in the world this cycle
+    bool present = false;  // in the world (posed at least once since the last reset)
+    bool stale = false;    // not posed this cycle: kept at its last pose, pairs marked stale
+    std::string why;       // why it is stale
+  };
+  // One input topic. The callback only keeps the newest array; the cycle processes it, so
+  // a flood costs one array per cycle and nothing queues up.
+  struct Source {
+    std::string topic;      // resolved name
+    std::string qualifier;  // prefix for ids ("" with the single default topic)
+    TrackedBoxArray::ConstPtr pending;
+    ros::Time last_receipt;
+    ros::Time last_stamp;
+    double rate = 0.0;      // Hz, smoothed
+    std::uint64_t arrays = 0;
   };
 
-  void onBoxes(const TrackedBoxArray::ConstPtr& msg, const std::string& qualifier);
+  void onBoxes(const TrackedBoxArray::ConstPtr& msg, std::size_t source);
+  void processArray(Source& source, const TrackedBoxArray& msg, const ros::Time& now);
   void updateTrack(const std::string& key, const TrackedBox& box, const BodyMotion& motion,
                    const ros::Time& stamp);
+  void reject(const std::string& source, const std::string& id, const std::string& why);
   void expireTracks(const ros::Time& now);
   void updateRobot(const ros::Time& now);
   bool robotMotion(const RobotBody& body, const ros::Time& now, BodyMotion* motion,
                    std::string* why);
+  void resetHistory(const std::string& why);
+  void collectStatus(const ros::Time& now);
+  bool bodyStale(const BodyHandle& body, const ros::Time& now) const;
+  Eigen::Vector3d robotCentre() const;
   void publish(const ros::Time& now, const std::vector<PairEvent>& events);
   void loadRobot();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
@@ -63,6 +83,7 @@ class ProximityMonitor {
   MonitorParams params_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
+  std::vector<Source> sources_;
   std::vector<ros::Subscriber> subscribers_;
   ros::Publisher contacts_pub_;
   ros::Publisher markers_pub_;
@@ -71,7 +92,9 @@ class ProximityMonitor {
 
   ProximityWorld world_;
   std::unordered_map<std::string, Track> tracks_;
+  std::unordered_map<std::int32_t, const Track*> track_by_body_;  // body index -> track
   std::vector<RobotBody> robot_;
+  std::unordered_map<std::int32_t, const RobotBody*> robot_by_body_;
   MarkerBuilder markers_;
 
   // Reused every cycle.
@@ -79,13 +102,16 @@ class ProximityMonitor {
   visualization_msgs::MarkerArray markers_msg_;
   std::vector<MarkerBody> marker_bodies_;
   std::unordered_map<std::int32_t, int> worst_level_;  // body index -> worst level
+  std::vector<std::pair<double, std::size_t>> nearest_;  // scratch for the track cap
 
   // Figures for diagnostics.
+  ros::Time last_cycle_;
   double last_cycle_ms_ = 0.0;
-  ros::Time last_input_;
+  double max_cycle_ms_ = 0.0;
   std::uint64_t cycles_ = 0;
-  std::uint64_t boxes_rejected_ = 0;
-  std::uint64_t arrays_dropped_ = 0;
+  std::uint64_t resets_ = 0;
+  std::map<std::string, std::uint64_t> rejected_;  // reason -> boxes or arrays dropped
+  std::uint64_t tf_failures_ = 0;
   int robot_unknown_ = 0;
 };
 
