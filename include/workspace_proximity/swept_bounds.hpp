@@ -9,11 +9,12 @@ namespace workspace_proximity {
 /// Half extents (m) of an axis-aligned box centred on the body centre that contains the shape
 /// in every orientation it takes over [0, horizon], plus the margin.
 ///
-/// Without rotation the box is the exact world bound of the shape. With rotation, the bound
-/// used: each column of the rotation matrix moves by at most the chord
-/// 2 sin(theta / 2) of the largest rotation angle theta = min(|omega| * horizon, pi), so the
-/// world half extent on axis k grows by at most chord * sum(local half extents); it never
-/// exceeds the bounding-sphere radius. Exact for pure translation.
+/// Without rotation this is the exact world bound of the shape. Rotating about the fixed
+/// world axis k by at most theta = min(|omega| * horizon, pi) moves each column c_i of the
+/// rotation matrix by at most the chord 2 sin(theta / 2) |c_i perpendicular to k|, and only
+/// perpendicular to k; so world axis j grows by at most
+/// chord * sqrt(1 - k_j^2) * sum_i e_i |c_i perpendicular to k| over the rotated local box,
+/// capped by the bounding-sphere radius. A body spinning about z keeps its z extent.
 Eigen::Vector3d rotationHalfExtents(const Shape& shape, const BodyMotion& motion, double margin,
                                     double horizon);
 

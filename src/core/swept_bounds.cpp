@@ -42,17 +42,27 @@ Eigen::Vector3d rotationHalfExtents(const Shape& shape, const BodyMotion& motion
   const Eigen::Matrix3d rotation = motion.orientation.normalized().toRotationMatrix();
   Eigen::Vector3d half = staticHalfExtents(shape, rotation);
 
-  const double theta = std::min(motion.angular_velocity.norm() * std::max(horizon, 0.0), M_PI);
+  const double speed = motion.angular_velocity.norm();
+  const double theta = std::min(speed * std::max(horizon, 0.0), M_PI);
   if (theta > 0.0 && shape.type != ShapeType::kSphere) {
-    // Each column of R(t) moves by at most the chord 2 sin(theta / 2), so every |R_kj(t)|
-    // grows by at most that much: the rotated local box grows by chord * sum(local half
-    // extents) on every axis. The bounding sphere caps the result for large turns.
+    // Rotation about the fixed world axis k by at most theta moves a unit vector u by the
+    // chord 2 sin(theta / 2) |u_perp| (u_perp: its part perpendicular to k), and only
+    // within the plane perpendicular to k, so world axis j sees at most that times
+    // sqrt(1 - k_j^2). Summed over the local box's axes this bounds how much |R_ji| e_i
+    // can grow; the bounding sphere caps the result for large turns.
     const double chord = 2.0 * std::sin(0.5 * theta);
+    const Eigen::Vector3d k = motion.angular_velocity / speed;
     const Eigen::Vector3d local = shape.localHalfExtents();
     const Eigen::Vector3d box_now = rotation.cwiseAbs() * local;
+    double sweep = 0.0;  // sum_i e_i |c_i perpendicular to k|
+    for (int i = 0; i < 3; ++i) {
+      const double along = k.dot(rotation.col(i));
+      sweep += local[i] * std::sqrt(std::max(0.0, 1.0 - along * along));
+    }
     const double cap = shape.boundingRadius();
-    for (int k = 0; k < 3; ++k) {
-      half[k] = std::min(box_now[k] + chord * local.sum(), cap);
+    for (int j = 0; j < 3; ++j) {
+      const double off_axis = std::sqrt(std::max(0.0, 1.0 - k[j] * k[j]));
+      half[j] = std::min(box_now[j] + chord * off_axis * sweep, cap);
     }
   }
   return half.array() + margin;

@@ -347,7 +347,7 @@ void ProximityMonitor::updateRobot(const ros::Time& now) {
       }
       continue;
     }
-    if (body.stale) {
+    if (body.stale && body.present) {
       ROS_INFO("proximity_monitor: robot body '%s' is posed again", body.spec.name.c_str());
     }
     body.stale = false;

@@ -385,6 +385,27 @@ TEST(SweptBounds, SpinningSphereIsNotInflated) {
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(rot[k], 0.6, 1e-12);
 }
 
+// A person-sized box turning about the vertical keeps its height, and grows sideways by no
+// more than half a turn of its footprint allows; the swept box still contains every pose.
+TEST(SweptBounds, SpinAboutAnAxisDoesNotGrowAlongIt) {
+  BodyMotion m;
+  m.angular_velocity = Eigen::Vector3d(0, 0, 1.0);  // rad/s about z
+  const Shape person = Shape::box(Eigen::Vector3d(0.25, 0.25, 0.9));
+  const double horizon = 0.5;
+  const Eigen::Vector3d h = rotationHalfExtents(person, m, 0.0, horizon);
+  EXPECT_DOUBLE_EQ(h.z(), 0.9);
+  // Chord of 0.5 rad times the footprint's half extents (0.25 + 0.25): 0.247 m at most.
+  const double chord = 2.0 * std::sin(0.25);
+  EXPECT_LE(h.x(), 0.25 + chord * 0.5 + 1e-12);
+  EXPECT_LE(h.y(), 0.25 + chord * 0.5 + 1e-12);
+  for (int s = 0; s <= 100; ++s) {
+    const double t = horizon * s / 100.0;
+    const Eigen::Matrix3d r = Eigen::AngleAxisd(t, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Vector3d exact = r.cwiseAbs() * Eigen::Vector3d(0.25, 0.25, 0.9);
+    EXPECT_TRUE((exact.array() <= h.array() + 1e-12).all()) << "t=" << t;
+  }
+}
+
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
