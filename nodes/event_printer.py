@@ -2,10 +2,13 @@
 """Prints a readable live summary of the proximity monitor's contact events.
 
 Subscribes to `contacts` (workspace_proximity/ContactEventArray) and prints
-  * one line per BEGIN and END as they happen, and one when an ongoing contact's level rises;
+  * one line per BEGIN and END as they happen, and one when an ongoing contact's level rises
+    (STALE marks a contact predicted from old data);
+  * one line when the array's status changes between OK and DEGRADED, with its details;
   * once per ~summary_period seconds (default 1.0) a one-line summary: the number of active
     contacts, the earliest one and its level, or a warning when no array has arrived lately
-    (the monitor publishes every cycle, so silence never means "all clear").
+    (the monitor publishes every cycle, so silence never means "all clear", and neither
+    does an empty list while the status is DEGRADED).
 Parameters (private): ~summary_period (1.0 s), ~stale_after (1.0 s), ~color (auto: when a tty).
 """
 
@@ -24,6 +27,17 @@ RESET = '\033[0m'
 
 def level_name(level):
     return LEVELS.get(level, 'LEVEL%d' % level)
+
+
+def stale_tag(ev):
+    return '  STALE' if ev.stale else ''
+
+
+def brief(details, keep=2):
+    """The first few status details, each shortened, and how many more there are."""
+    items = [d.strip() if len(d.strip()) <= 90 else d.strip()[:87] + '...' for d in details[:keep]]
+    more = len(details) - keep
+    return ('; '.join(items) or 'no details') + (' (+%d more)' % more if more > 0 else '')
 
 
 def fmt_time(seconds):
@@ -46,6 +60,8 @@ class Printer(object):
         self.worst = {}         # level -> count of contacts that reached it (by their peak)
         self.peak = {}          # (id_a, id_b) -> highest level seen while active
         self.anomalies = 0
+        self.status = ContactEventArray.OK
+        self.details = []
 
     def paint(self, text, level):
         return (COLORS.get(level, '') + text + RESET) if self.color else text
@@ -66,6 +82,14 @@ class Printer(object):
                 self.anomaly('contacts stamp went backwards (%.3f -> %.3f)' % (self.last_stamp, stamp))
             self.last_stamp = stamp
             self.frame = msg.header.frame_id
+            # Details may change every cycle ("no data for 1.3 s", "1.4 s", ...): a line on a
+            # change of status only; the summary shows the current details.
+            if msg.status != self.status:
+                if msg.status == ContactEventArray.OK:
+                    self.out('STATUS OK: every source and robot link is fresh again')
+                else:
+                    self.out(self.paint('STATUS DEGRADED: ' + brief(msg.status_details), ContactEvent.WARNING))
+            self.status, self.details = msg.status, list(msg.status_details)
             seen = set()
             for ev in msg.events:
                 key = (ev.id_a, ev.id_b)
@@ -79,25 +103,26 @@ class Printer(object):
                     self.n_begin += 1
                     self.began[key] = stamp
                     self.peak[key] = ev.level
-                    self.out(self.paint('BEGIN  %-28s in %s  dist %.2f m  %s'
+                    self.out(self.paint('BEGIN  %-28s in %s  dist %.2f m  %s%s'
                                         % (pair, fmt_time(ev.time_to_contact), ev.distance,
-                                           level_name(ev.level)), ev.level))
+                                           level_name(ev.level), stale_tag(ev)), ev.level))
                     self.active[key] = ev
                 elif ev.state == ContactEvent.ONGOING:
                     prev = self.active.get(key)
                     if prev is None:
                         if self.n_arrays == 1:  # started after its BEGIN: adopt it
-                            self.out(self.paint('ACTIVE %-28s in %s  dist %.2f m  %s  (began before we listened)'
+                            self.out(self.paint('ACTIVE %-28s in %s  dist %.2f m  %s%s  (began before we listened)'
                                                 % (pair, fmt_time(ev.time_to_contact), ev.distance,
-                                                   level_name(ev.level)), ev.level))
+                                                   level_name(ev.level), stale_tag(ev)), ev.level))
                         else:
                             self.anomaly('ONGOING for %s without a BEGIN' % pair)
                         self.began.setdefault(key, stamp)
                         self.peak.setdefault(key, ev.level)
                     elif ev.level > prev.level:
-                        self.out(self.paint('RAISE  %-28s in %s  dist %.2f m  %s -> %s'
+                        self.out(self.paint('RAISE  %-28s in %s  dist %.2f m  %s -> %s%s'
                                             % (pair, fmt_time(ev.time_to_contact), ev.distance,
-                                               level_name(prev.level), level_name(ev.level)), ev.level))
+                                               level_name(prev.level), level_name(ev.level),
+                                               stale_tag(ev)), ev.level))
                     self.peak[key] = max(self.peak.get(key, ev.level), ev.level)
                     self.active[key] = ev
                 elif ev.state == ContactEvent.END:
@@ -123,6 +148,8 @@ class Printer(object):
             self.earliest = min(live, key=lambda e: e.time_to_contact) if live else None
 
     def summary(self, _event=None):
+        if rospy.is_shutdown():
+            return
         with self.lock:
             now = rospy.get_time()
             if self.last_rx is None:
@@ -137,16 +164,21 @@ class Printer(object):
             counts = {}
             for ev in self.active.values():
                 counts[ev.level] = counts.get(ev.level, 0) + 1
+            degraded = self.status != ContactEventArray.OK
+            note = '  [DEGRADED: %s]' % brief(self.details) if degraded else ''
             if n == 0:
-                line = '----   0 active contacts  (clear)'
-                self.out(line)
+                if degraded:
+                    self.out(self.paint('----   0 active contacts, but NOT clear' + note, ContactEvent.WARNING))
+                else:
+                    self.out('----   0 active contacts  (clear)')
                 return
             e = self.earliest
             split = ', '.join('%d %s' % (counts[l], level_name(l).lower())
                               for l in sorted(counts, reverse=True))
-            line = '----   %d active (%s)  earliest: %s <-> %s in %s  dist %.2f m  %s' % (
-                n, split, e.id_a, e.id_b, fmt_time(e.time_to_contact), e.distance, level_name(e.level))
-            self.out(self.paint(line, max(counts)) if self.color else line)
+            line = '----   %d active (%s)  earliest: %s <-> %s in %s  dist %.2f m  %s%s%s' % (
+                n, split, e.id_a, e.id_b, fmt_time(e.time_to_contact), e.distance, level_name(e.level),
+                stale_tag(e), note)
+            self.out(self.paint(line, max(counts)))
 
     def final(self):
         with self.lock:

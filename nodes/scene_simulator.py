@@ -116,8 +116,8 @@ def parse_urdf(xml_text):
 # The pan sweeps the arm through most of the cell; lift and elbow raise and fold it.
 ARM_MOTION = {
     'shoulder_pan': (0.0, 2.4, 20.0, 0.0),
-    'shoulder_lift': (-0.35, 0.30, 7.0, 0.5),
-    'elbow': (0.75, 0.45, 5.0, 1.0),
+    'shoulder_lift': (-0.45, 0.25, 7.0, 0.5),
+    'elbow': (0.55, 0.35, 5.0, 1.0),
 }
 
 
@@ -234,7 +234,7 @@ def make_objects(rng):
          Visit(a=(-4.5, 3.2), b=(-1.15, 1.0), move=5.0, wait_b=4.0, wait_a=3.0, phase=ph(17.0) + 2.0)),
         # Drives through the cell along y = -2.3 and back.
         ('forklift_1', 'forklift', FORKLIFT_SIZE,
-         PingPong(centre=(0.0, -2.3), heading=0.0, half_length=9.0, period=30.0, phase=ph(2 * math.pi) - 1.2)),
+         PingPong(centre=(0.0, -2.3), heading=0.0, half_length=9.0, period=30.0, phase=ph(2 * math.pi) + 0.52)),
     ]
 
 
