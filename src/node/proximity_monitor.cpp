@@ -77,7 +77,8 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
     sources_[i].qualifier = qualify ? sources_[i].topic : std::string();
     // Queue of 1: only the newest array of each source is worth predicting from.
     subscribers_.push_back(nh_.subscribe<TrackedBoxArray>(
-        topics[i], 1, [this, i](const TrackedBoxArray::ConstPtr& msg) { onBoxes(msg, i); }));
+        topics[i], 1, [this, i](const TrackedBoxArray::ConstPtr& msg) { onBoxes(msg, i); },
+        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
   }
 
   diagnostics_.setHardwareID("workspace_proximity");
@@ -229,12 +230,36 @@ void ProximityMonitor::processArray(Source& source, const TrackedBoxArray& msg,
       continue;
     }
     const std::string key = source.qualifier.empty() ? box.id : source.qualifier + "/" + box.id;
-    if (tracks_.count(key) == 0 && static_cast<int>(tracks_.size()) >= params_.max_tracks) {
-      reject(name, box.id, "cap: ~max_tracks reached");
+    if (tracks_.count(key) == 0 && static_cast<int>(tracks_.size()) >= params_.max_tracks &&
+        !evictFarther(entry.first, centre)) {
+      reject(name, box.id, "cap: ~max_tracks reached and every kept track is nearer the robot");
       continue;
     }
     updateTrack(key, box, toMotion(box, fixed_from_frame), stamp);
   }
+}
+
+bool ProximityMonitor::evictFarther(double squared_distance, const Eigen::Vector3d& centre) {
+  // At the cap, the track farthest from the robot (at its last observed position) gives way
+  // to a nearer newcomer, whichever source it came from.
+  auto farthest = tracks_.end();
+  double worst = squared_distance;
+  for (auto it = tracks_.begin(); it != tracks_.end(); ++it) {
+    const double d = (it->second.motion.position - centre).squaredNorm();
+    if (d > worst) {
+      worst = d;
+      farthest = it;
+    }
+  }
+  if (farthest == tracks_.end()) return false;
+  rejected_["cap"] += 1;
+  ROS_WARN_THROTTLE(5.0, "proximity_monitor: ~max_tracks = %d reached; dropping track '%s', the "
+                         "farthest from the robot, for a nearer one",
+                    params_.max_tracks, farthest->first.c_str());
+  track_by_body_.erase(farthest->second.handle.index);
+  world_.removeBody(farthest->second.handle);
+  tracks_.erase(farthest);
+  return true;
 }
 
 void ProximityMonitor::updateTrack(const std::string& key, const TrackedBox& box,

@@ -5,10 +5,11 @@ The boxes are published with a 0.1 s sensor latency (stamp = now - 0.1 s) and po
 match their stamps, so every event must agree with the analytic answer computed for the
 event array's own header.stamp: time_to_contact within 1 ms, and distance, normal, nearest
 points, closing_speed and time_to_separation likewise. The scene runs on past the contact into
-overlap (time_to_contact = 0, distance = 0), then stops being published (END).
+overlap (time_to_contact = 0, distance = 0), then stops being published: the pair is marked
+stale once the tracks' stamps are older than ~stale_after (0.25 s), then ENDs when they time
+out. While every input is fresh the array's status is OK and no event is stale.
 """
 import os
-import re
 import sys
 import unittest
 
@@ -17,7 +18,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (BEGIN, END, TIME_TOL, Collector, ScenePublisher, Track,  # noqa: E402
+from wp_node_testlib import (BEGIN, END, TIME_TOL, Collector, ContactEventArray,  # noqa: E402
+                             ScenePublisher, Track,
                              aabb_prediction, check_array_basics, check_face_contact,
                              events_for, expected_level, fmt_event, state_sequence)
 
@@ -37,20 +39,32 @@ class HeadOnTest(unittest.TestCase):
         t0 = scene.start()
         rospy.sleep(2.6)           # contact at t0 + 2.0, then 0.6 s of overlap
         scene.stop()
+        last_stamp = scene.last_stamp["a"]
         rospy.sleep(1.2)           # tracks time out -> END
         msgs = col.contact_msgs(since=t0)
         self.assertGreater(len(msgs), 40, "too few contact arrays: %d" % len(msgs))
 
-        approach = overlap = 0
+        approach = overlap = stale = 0
         for m in msgs:
             check_array_basics(self, m)
             T = m.header.stamp
+            age = (T - last_stamp).to_sec()   # > 0: after the last message's stamp
+            if (T - t0).to_sec() > 0.5 and age < 0.0:
+                self.assertEqual(m.status, ContactEventArray.OK,
+                                 "status while all inputs are fresh: %r" % m.status_details)
             others = [e for e in m.events if (e.id_a, e.id_b) != ("a", "b")]
             self.assertEqual(others, [], "unexpected events: %s" % [fmt_event(e) for e in others])
             for ev in events_for(m, "a", "b"):
                 self.assertEqual((ev.label_a, ev.label_b), ("default", "default"))
                 if ev.state == END:
                     continue
+                # stale: the tracks' stamps are older than ~stale_after (0.25 s)
+                if age < -0.05:
+                    self.assertFalse(ev.stale, "stale while published: " + fmt_event(ev))
+                elif age > 0.26:
+                    self.assertTrue(ev.stale, "not stale %.3f s after the last stamp: %s" % (
+                        age, fmt_event(ev)))
+                    stale += 1
                 ca, va = a.state(T)
                 cb, vb = b.state(T)
                 exp = aabb_prediction(ca, half, va, cb, half, vb, HORIZON)
@@ -75,9 +89,10 @@ class HeadOnTest(unittest.TestCase):
                     self.assertEqual(ev.level, lvl, "level of " + fmt_event(ev))
         self.assertGreaterEqual(approach, 20, "too few approach-phase events checked")
         self.assertGreaterEqual(overlap, 5, "too few overlap-phase events checked")
+        self.assertGreaterEqual(stale, 2, "too few stale events checked")
 
         seq = state_sequence(msgs, "a", "b")
-        self.assertRegex(seq, r"^\.{0,12}BO+E\.*$", "state sequence of pair (a, b): " + seq)
+        self.assertRegex(seq, r"^\.*BO+E\.*$", "state sequence of pair (a, b): " + seq)
         first = next(m for m in msgs if events_for(m, "a", "b"))
         self.assertEqual(events_for(first, "a", "b")[0].state, BEGIN)
 

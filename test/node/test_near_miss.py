@@ -16,8 +16,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, Collector, ScenePublisher, Track, check_array_basics,  # noqa: E402
-                             events_for, fmt_event)
+from wp_node_testlib import (END, Collector, ScenePublisher, Track,  # noqa: E402
+                             check_array_basics, events_for, fmt_event)
 
 
 class NearMissTest(unittest.TestCase):

@@ -4,10 +4,13 @@
 tf (static, from this test): world -> base_link at z = 0.5; base_link -> tool0 at z = 1.0,
 yawed 90 degrees. Bodies: "base" (1 m cube on base_link) and "gripper" (0.4 x 0.2 x 0.2 m on
 tool0, offset 0.1 m along tool0's x). In world the gripper spans x [-0.1, 0.1],
-y [-0.1, 0.3], z [1.4, 1.6]: both the offset and the frame's yaw matter.
-Two 0.2 m cubes approach the gripper: "obj_x" along +x (gap 1.0 m at 1 m/s) and "obj_y"
-along -y (gap 1.5 m at 1 m/s). Expected: events (gripper, obj_x) and (gripper, obj_y) with
-label "robot" on the gripper side and analytic numbers; nothing for "base".
+y [-0.1, 0.3], z [1.4, 1.6]: both the offset and the frame's yaw matter. "flange" (0.1 m
+cube on tool0, no offset) overlaps the gripper: a robot-robot pair, skipped by default.
+Two 0.2 m cubes approach: "obj_x" (label default) along +x (gaps 1.0 m to the gripper and
+1.05 m to the flange, 1 m/s) and "obj_y" (label person) along -y (gaps 1.5 m to the gripper
+and 1.75 m to the flange, 1 m/s). Expected: exactly the object-robot pairs that touch, label
+"robot" on the robot side, analytic numbers, and levels from the stricter of the two labels'
+thresholds (robot bodies use robot_thresholds); nothing for "base", nothing robot-robot.
 """
 import os
 import sys
@@ -20,9 +23,17 @@ import rostest  # noqa: E402
 
 from wp_node_testlib import (Collector, ScenePublisher, StaticBody, Track,  # noqa: E402
                              broadcast_static, check_array_basics, check_scene_events,
-                             events_for)
+                             fmt_event)
 
 HORIZON = 5.0
+THRESHOLDS = {
+    "default": {"warning_time": 1.0, "critical_time": 0.4, "warning_distance": 0.5,
+                "critical_distance": 0.2},
+    "person": {"warning_time": 1.5, "critical_time": 0.6, "warning_distance": 0.8,
+               "critical_distance": 0.3},
+    "robot": {"warning_time": 1.0, "critical_time": 0.4, "warning_distance": 0.3,
+              "critical_distance": 0.1},
+}
 
 
 class RobotBodiesYamlTest(unittest.TestCase):
@@ -35,8 +46,9 @@ class RobotBodiesYamlTest(unittest.TestCase):
         self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
         gripper = StaticBody("gripper", "robot", (0.0, 0.1, 1.5), (0.1, 0.2, 0.1))
         base = StaticBody("base", "robot", (0.0, 0.0, 0.5), (0.5, 0.5, 0.5))
+        flange = StaticBody("flange", "robot", (0.0, 0.0, 1.5), (0.05, 0.05, 0.05))
         obj_x = Track("obj_x", "default", (-1.2, 0.1, 1.5), (0.2, 0.2, 0.2), (1.0, 0.0, 0.0))
-        obj_y = Track("obj_y", "default", (0.0, 1.9, 1.5), (0.2, 0.2, 0.2), (0.0, -1.0, 0.0))
+        obj_y = Track("obj_y", "person", (0.0, 1.9, 1.5), (0.2, 0.2, 0.2), (0.0, -1.0, 0.0))
         scene = ScenePublisher("tracked_objects", [obj_x, obj_y], latency=0.05)
         t0 = scene.start()
         rospy.sleep(1.5)
@@ -44,14 +56,19 @@ class RobotBodiesYamlTest(unittest.TestCase):
         msgs = col.contact_msgs(since=t0 + rospy.Duration(0.5))
         self.assertGreater(len(msgs), 15)
         checked = 0
+        seen = set()
         for m in msgs:
             check_array_basics(self, m)
             if (m.header.stamp - t0).to_sec() > 1.4:
                 break
-            checked += check_scene_events(self, m, [gripper, base, obj_x, obj_y], HORIZON)
-            for ev in events_for(m, "gripper", "obj_x") + events_for(m, "gripper", "obj_y"):
-                self.assertEqual(ev.label_a, "robot")
+            checked += check_scene_events(self, m, [gripper, base, flange, obj_x, obj_y],
+                                          HORIZON, thresholds=THRESHOLDS)
+            for ev in m.events:
+                self.assertEqual(ev.label_a, "robot", fmt_event(ev))
+                seen.add((ev.id_a, ev.id_b))
         self.assertGreaterEqual(checked, 30, "too few events checked")
+        self.assertEqual(seen, {("gripper", "obj_x"), ("gripper", "obj_y"), ("flange", "obj_x"),
+                                ("flange", "obj_y")})
         del tf_pub
 
 

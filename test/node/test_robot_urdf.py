@@ -4,8 +4,10 @@
 Links (tf published here, static): base_link at the origin (box 0.6 x 0.6 x 0.5 m raised
 0.25 m by its collision origin), tool at z = 2 (0.2 x 0.1 x 0.1 m box offset 0.1 m along x),
 ball at (3, 0, 1) (sphere r = 0.25 m), post at (-3, 0, 0.5) (cylinder r = 0.1 m, length 1 m
-along z) and camera_link at z = 3 (visual only: no body). A 0.2 m cube approaches each one
-face-on at 1 m/s with gaps 1.0, 1.0, 1.5, 2.1 and 1.2 m. Face-on, with the approaching face
+along z), beam at (0, 3, 1) yawed 90 degrees (box 1.0 x 0.2 x 0.4 m, collision origin 0.2 m
+along the link's x and rolled 90 degrees: in world x [-0.2, 0.2], y [2.7, 3.7], z [0.9, 1.1])
+and camera_link at z = 3 (visual only: no body). A 0.2 m cube approaches each one face-on at
+1 m/s with gaps 1.0, 1.0, 1.5, 2.1, 1.2 and 1.2 m. Face-on, with the approaching face
 centred on the sphere / cylinder, every number equals that of the shapes' bounding boxes, so
 the exact axis-aligned prediction applies. Bodies are named after their links, label "robot".
 """
@@ -32,6 +34,7 @@ class RobotUrdfTest(unittest.TestCase):
             ("base_link", "tool", (0.0, 0.0, 2.0), (0.0, 0.0, 0.0)),
             ("base_link", "ball", (3.0, 0.0, 1.0), (0.0, 0.0, 0.0)),
             ("base_link", "post", (-3.0, 0.0, 0.5), (0.0, 0.0, 0.0)),
+            ("base_link", "beam", (0.0, 3.0, 1.0), (0.0, 0.0, 1.5707963267948966)),
             ("base_link", "camera_link", (0.0, 0.0, 3.0), (0.0, 0.0, 0.0)),
         ])
         col = Collector()
@@ -41,6 +44,7 @@ class RobotUrdfTest(unittest.TestCase):
             StaticBody("tool", "robot", (0.1, 0.0, 2.0), (0.1, 0.05, 0.05)),
             StaticBody("ball", "robot", (3.0, 0.0, 1.0), (0.25, 0.25, 0.25)),
             StaticBody("post", "robot", (-3.0, 0.0, 0.5), (0.1, 0.1, 0.5)),
+            StaticBody("beam", "robot", (0.0, 3.2, 1.0), (0.2, 0.5, 0.1)),
         ]
         cube = (0.2, 0.2, 0.2)
         objects = [
@@ -49,6 +53,7 @@ class RobotUrdfTest(unittest.TestCase):
             Track("o_ball", "default", (3.0, 1.85, 1.0), cube, (0.0, -1.0, 0.0)),
             Track("o_post", "default", (-3.0, -2.3, 0.5), cube, (0.0, 1.0, 0.0)),
             Track("o_cam", "default", (0.0, 1.2, 3.0), cube, (0.0, -1.0, 0.0)),
+            Track("o_beam", "default", (1.5, 3.2, 1.0), cube, (-1.0, 0.0, 0.0)),
         ]
         scene = ScenePublisher("tracked_objects", objects, latency=0.05)
         t0 = scene.start()
@@ -69,7 +74,7 @@ class RobotUrdfTest(unittest.TestCase):
             seen.update((e.id_a, e.id_b) for e in m.events)
         self.assertGreaterEqual(checked, 30, "too few events checked")
         self.assertEqual(seen, {("base_link", "o_base"), ("o_tool", "tool"),
-                                ("ball", "o_ball"), ("o_post", "post")})
+                                ("ball", "o_ball"), ("o_post", "post"), ("beam", "o_beam")})
         del tf_pub
 
 

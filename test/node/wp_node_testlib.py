@@ -6,13 +6,27 @@ pose the box has at the message's stamp, so whichever message the node extrapola
 box is where the analytic model says it is at the prediction instant.
 """
 import math
+import os
+import sys
 import threading
 
 import rospy
 from geometry_msgs.msg import Pose, TransformStamped, Twist, Vector3
-from visualization_msgs.msg import Marker, MarkerArray
+from visualization_msgs.msg import MarkerArray
 
-from workspace_proximity.msg import ContactEvent, ContactEventArray, TrackedBox, TrackedBoxArray
+try:
+    from workspace_proximity.msg import (ContactEvent, ContactEventArray, TrackedBox,
+                                         TrackedBoxArray)
+except ImportError:
+    # A devel space configured for the first time exports an empty PYTHONPATH (its Python
+    # directory did not exist yet when catkin cached the environment): look in the prefixes.
+    for _prefix in os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep):
+        _dir = os.path.join(_prefix, "lib", "python3", "dist-packages")
+        if os.path.isdir(os.path.join(_dir, "workspace_proximity")) and _dir not in sys.path:
+            sys.path.insert(0, _dir)
+    sys.modules.pop("workspace_proximity", None)
+    from workspace_proximity.msg import (ContactEvent, ContactEventArray, TrackedBox,
+                                         TrackedBoxArray)
 
 BEGIN = ContactEvent.BEGIN
 ONGOING = ContactEvent.ONGOING
@@ -78,11 +92,15 @@ class Track(object):
     """
 
     def __init__(self, box_id, label, position, size, velocity=(0.0, 0.0, 0.0),
-                 quat=(0.0, 0.0, 0.0, 1.0), t0=None):
+                 quat=(0.0, 0.0, 0.0, 1.0), t0=None, yaw=None, yaw_rate=0.0):
         self.id = box_id
         self.label = label
         self.size = tuple(float(s) for s in size)
         self.quat = quat
+        # With `yaw` given the box turns about the world z axis through its centre:
+        # yaw(t) = yaw + yaw_rate * (t - t0), and `quat` is ignored.
+        self.yaw = yaw
+        self.yaw_rate = float(yaw_rate)
         self.active = True
         self._t0 = t0
         self._segments = [(0.0, tuple(float(p) for p in position),
@@ -116,6 +134,9 @@ class Track(object):
         """(centre, velocity) at the rospy.Time `stamp`."""
         return self.state_rel(self.rel(stamp))
 
+    def yaw_at(self, stamp):
+        return self.yaw + self.yaw_rate * self.rel(stamp)
+
     def switch_times(self):
         return [s[0] for s in self._segments[1:]]
 
@@ -126,11 +147,14 @@ class Track(object):
         b.label = self.label
         b.pose = Pose()
         b.pose.position.x, b.pose.position.y, b.pose.position.z = pos
+        quat = self.quat if self.yaw is None else quat_from_rpy(0.0, 0.0, self.yaw_at(stamp))
         (b.pose.orientation.x, b.pose.orientation.y, b.pose.orientation.z,
-         b.pose.orientation.w) = self.quat
+         b.pose.orientation.w) = quat
         b.dimensions = Vector3(*self.size)
         b.twist = Twist()
         b.twist.linear = Vector3(*vel)
+        if self.yaw is not None:
+            b.twist.angular = Vector3(0.0, 0.0, self.yaw_rate)
         return b
 
 
@@ -153,8 +177,18 @@ class ScenePublisher(object):
         self._stop = threading.Event()
         self._thread = None
 
+    def wait_connected(self, timeout=10.0):
+        """Waits until a subscriber (the node) is connected; returns whether one is."""
+        deadline = rospy.Time.now() + rospy.Duration(timeout)
+        while self.pub.get_num_connections() < 1 and rospy.Time.now() < deadline:
+            rospy.sleep(0.02)
+        return self.pub.get_num_connections() >= 1
+
     def start(self, t0=None):
-        """Fixes the scene's time origin (default: now) and starts publishing."""
+        """Starts publishing with time origin t0; without t0, first waits for the node to
+        connect, then takes now as t0."""
+        if t0 is None:
+            self.wait_connected()
         self.t0 = t0 if t0 is not None else rospy.Time.now()
         for tr in self.tracks:
             tr.set_t0(self.t0)
@@ -181,6 +215,10 @@ class ScenePublisher(object):
                     self.last_stamp[tr.id] = stamp
                     self.last_wall[tr.id] = now
             self.pub.publish(msg)
+
+    def set_velocity(self, track, stamp, velocity):
+        with self.lock:
+            track.set_velocity(stamp, velocity)
 
     def deactivate(self, track):
         with self.lock:
@@ -256,6 +294,11 @@ def broadcast_static(transforms):
          t.transform.rotation.w) = q
         msgs.append(t)
     br.sendTransform(msgs)
+    # Wait (up to 10 s) for a tf listener (the node's) to connect, so the transforms are known
+    # to the node before the scene starts.
+    deadline = rospy.Time.now() + rospy.Duration(10.0)
+    while br.pub_tf.get_num_connections() < 1 and rospy.Time.now() < deadline:
+        rospy.sleep(0.02)
     return br
 
 
@@ -300,7 +343,7 @@ def aabb_prediction(ca, ha, va, cb, hb, vb, horizon):
     return res
 
 
-def check_face_contact(tc, ev, exp, ca, ha, cb, hb, what=""):
+def check_face_contact(tc, ev, exp, ca, ha, cb, hb, what="", check_points=True):
     """Compares an event with aabb_prediction() output `exp` for boxes a, b (as in the event's
     id order). Nearest points are checked along the separating axis exactly and across it
     loosely (inside both boxes' extents), since a face-face pair has no unique nearest points."""
@@ -314,7 +357,7 @@ def check_face_contact(tc, ev, exp, ca, ha, cb, hb, what=""):
                                  msg="normal " + ctx)
         tc.assertAlmostEqual(ev.closing_speed, exp["closing_speed"], delta=SPEED_TOL,
                              msg="closing_speed " + ctx)
-    if exp["axis"] is not None:
+    if exp["axis"] is not None and check_points:
         k = exp["axis"]
         sgn = 1.0 if cb[k] > ca[k] else -1.0
         pa, pb = pt(ev.point_a), pt(ev.point_b)
@@ -354,6 +397,11 @@ def check_array_basics(tc, msg, frame_id="world"):
     """Contract every ContactEventArray must satisfy."""
     tc.assertEqual(msg.header.frame_id, frame_id)
     tc.assertGreater(msg.header.stamp.to_sec(), 0.0)
+    tc.assertIn(msg.status, (ContactEventArray.OK, ContactEventArray.DEGRADED))
+    if msg.status == ContactEventArray.DEGRADED:
+        tc.assertTrue(msg.status_details, "DEGRADED without status_details")
+    else:
+        tc.assertEqual(list(msg.status_details), [], "OK with status_details")
     seen = set()
     prev = -math.inf
     for ev in msg.events:
@@ -378,6 +426,12 @@ def check_array_basics(tc, msg, frame_id="world"):
         prev = ev.time_to_contact
 
 
+def degraded_about(msg, word):
+    """True when the array is DEGRADED and one of its status_details contains `word`."""
+    return (msg.status == ContactEventArray.DEGRADED and
+            any(word in d for d in msg.status_details))
+
+
 def state_sequence(msgs, id_a, id_b):
     """One character per contacts message: '.' no event for the pair, else B/O/E."""
     out = []
@@ -400,13 +454,40 @@ class StaticBody(object):
         return self.centre, (0.0, 0.0, 0.0)
 
 
-def check_scene_events(tc, msg, bodies, horizon, ambiguity=5e-3):
+class PlanarTransformed(object):
+    """World-frame view of a Track published in a frame that is translated by `xyz` and
+    yawed by a multiple of 90 degrees (`quarter_turns`) relative to world."""
+
+    def __init__(self, track, xyz, quarter_turns):
+        self.track = track
+        self.id = track.id
+        self.label = track.label
+        self.xyz = xyz
+        self.turns = quarter_turns % 4
+        h = track.half
+        self.half = (h[1], h[0], h[2]) if self.turns % 2 else h
+
+    def _rot(self, v):
+        x, y, z = v
+        for _ in range(self.turns):
+            x, y = -y, x
+        return (x, y, z)
+
+    def state(self, stamp):
+        c, v = self.track.state(stamp)
+        return vadd(self.xyz, self._rot(c)), self._rot(v)
+
+
+def check_scene_events(tc, msg, bodies, horizon, ambiguity=5e-3, thresholds=None,
+                       check_points=True):
     """Checks one ContactEventArray against the exact prediction for a scene of axis-aligned,
     translating bodies (Track or StaticBody, with .id, .label, .half, .state(stamp)).
 
     Every non-END event must be an expected pair with analytic numbers, and every expected
     pair must be reported unless it is within `ambiguity` s of the horizon or of separating.
-    Robot-robot pairs are not expected. Returns the number of events checked."""
+    Robot-robot pairs are not expected. With `thresholds` (label -> {warning_time, ...},
+    "robot" for robot bodies) the level is checked too: the stricter of the two labels'.
+    Returns the number of events checked."""
     T = msg.header.stamp
     by_id = dict((b.id, b) for b in bodies)
     expected, optional = {}, set()
@@ -439,7 +520,12 @@ def check_scene_events(tc, msg, bodies, horizon, ambiguity=5e-3):
         exp, ca, ha, cb, hb = expected[pair]
         tc.assertEqual((ev.label_a, ev.label_b), (by_id[pair[0]].label, by_id[pair[1]].label),
                        fmt_event(ev))
-        check_face_contact(tc, ev, exp, ca, ha, cb, hb, where)
+        check_face_contact(tc, ev, exp, ca, ha, cb, hb, where, check_points)
+        if thresholds is not None:
+            levels = [expected_level(exp["ttc"], exp["distance"], thresholds[by_id[i].label])
+                      for i in pair]
+            if None not in levels:
+                tc.assertEqual(ev.level, max(levels), "%s level of %s" % (where, fmt_event(ev)))
     return len(got)
 
 

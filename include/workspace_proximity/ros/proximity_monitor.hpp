@@ -66,6 +66,7 @@ class ProximityMonitor {
   void updateTrack(const std::string& key, const TrackedBox& box, const BodyMotion& motion,
                    const ros::Time& stamp);
   void reject(const std::string& source, const std::string& id, const std::string& why);
+  bool evictFarther(double squared_distance, const Eigen::Vector3d& centre);
   void expireTracks(const ros::Time& now);
   void updateRobot(const ros::Time& now);
   bool robotMotion(const RobotBody& body, const ros::Time& now, BodyMotion* motion,

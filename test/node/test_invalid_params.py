@@ -1,0 +1,103 @@
+#!/usr/bin/env python3
+"""Invalid configuration: for each bad setting, start the proximity_monitor binary under its
+own node name with that private parameter and check it exits on its own (within 8 s) with a
+non-zero status (not a signal) and stderr naming the parameter. Positive control: the same
+start-up with valid parameters keeps running until interrupted.
+"""
+import os
+import signal
+import subprocess
+import sys
+import time
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import rospy  # noqa: E402
+import rostest  # noqa: E402
+
+from wp_node_testlib import find_node_binary  # noqa: E402
+
+LABEL_OK = {"margin": 0.1, "warning_time": 1.0, "critical_time": 0.4,
+            "warning_distance": 0.5, "critical_distance": 0.2}
+
+# (case name, command-line private params, params set on the server, words one of which
+#  the error must contain)
+CASES = [
+    ("rate_negative", ["_rate:=-1.0"], {}, ["rate"]),
+    ("rate_too_high", ["_rate:=5000.0"], {}, ["rate"]),
+    ("rate_not_a_number", ["_rate:=fast"], {}, ["rate"]),
+    ("horizon_negative", ["_horizon:=-0.5"], {}, ["horizon"]),
+    ("horizon_too_long", ["_horizon:=100.0"], {}, ["horizon"]),
+    ("track_timeout_negative", ["_track_timeout:=-1.0"], {}, ["track_timeout"]),
+    ("velocity_window_too_small", ["_velocity_window:=0.001"], {}, ["velocity_window"]),
+    ("robot_margin_negative", ["_robot_margin:=-0.1"], {}, ["robot_margin"]),
+    ("marker_lifetime_negative", ["_marker_lifetime:=-1.0"], {}, ["marker_lifetime"]),
+    ("label_margin_negative", [], {"labels": {"default": dict(LABEL_OK, margin=-0.1)}},
+     ["labels", "margin"]),
+    ("robot_body_size_negative", [],
+     {"robot_bodies": [{"name": "g", "frame": "tool0", "size": [0.1, -0.1, 0.1]}]},
+     ["robot_bodies", "size"]),
+    ("ignore_pairs_bad_selector", [], {"ignore_pairs": [["colour:red", "*"]]},
+     ["ignore_pairs"]),
+    ("stale_after_over_track_timeout", ["_track_timeout:=0.5", "_stale_after:=0.6"], {},
+     ["stale_after"]),
+    ("source_timeout_zero", ["_source_timeout:=0.0"], {}, ["source_timeout"]),
+    ("max_future_negative", ["_max_future:=-1.0"], {}, ["max_future"]),
+    ("max_tracks_zero", ["_max_tracks:=0"], {}, ["max_tracks"]),
+]
+
+
+def start(binary, name, args, params):
+    for key, value in params.items():
+        rospy.set_param("/%s/%s" % (name, key), value)
+    cmd = [binary, "__name:=" + name, "_use_robot_description:=false"] + args
+    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            env=dict(os.environ))
+
+
+class InvalidParamsTest(unittest.TestCase):
+    def setUp(self):
+        self.binary = find_node_binary()
+        self.assertTrue(self.binary, "proximity_monitor binary not found")
+
+    def test_valid_parameters_keep_running(self):
+        proc = start(self.binary, "valid_control", [], {})
+        time.sleep(3.0)
+        running = proc.poll() is None
+        if running:
+            proc.send_signal(signal.SIGINT)
+        try:
+            out, err = proc.communicate(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            out, err = proc.communicate()
+        self.assertTrue(running, "the node exited with valid parameters (status %s): %s" % (
+            proc.returncode, err.decode(errors="replace")[-2000:]))
+
+    def test_invalid_parameters_exit(self):
+        procs = [(case, start(self.binary, "bad_" + case[0], case[1], case[2]))
+                 for case in CASES]
+        failures = []
+        for (name, args, params, words), proc in procs:
+            try:
+                out, err = proc.communicate(timeout=8)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                out, err = proc.communicate()
+                failures.append("%s: still running after 8 s" % name)
+                continue
+            err = err.decode(errors="replace")
+            if proc.returncode == 0:
+                failures.append("%s: exit status 0" % name)
+            elif proc.returncode < 0:
+                failures.append("%s: killed by signal %d: %s" % (name, -proc.returncode,
+                                                                 err[-500:]))
+            if not any(w in err for w in words):
+                failures.append("%s: stderr names none of %r: %r" % (name, words, err[-500:]))
+        self.assertEqual(failures, [], "\n".join(failures))
+
+
+if __name__ == "__main__":
+    rospy.init_node("test_invalid_params")
+    rostest.rosrun("workspace_proximity", "test_invalid_params", InvalidParamsTest)
