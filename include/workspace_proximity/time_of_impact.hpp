@@ -3,6 +3,7 @@
 /// (the lecture's "time = distance / velocity" test, on three axes).
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace workspace_proximity {
 
@@ -27,5 +28,18 @@ TimeInterval boxContactInterval(const Eigen::Vector3d& center_a, const Eigen::Ve
                                 const Eigen::Vector3d& velocity_a,
                                 const Eigen::Vector3d& center_b, const Eigen::Vector3d& half_b,
                                 const Eigen::Vector3d& velocity_b, double horizon);
+
+/// Contact interval of two oriented boxes translating at constant velocities (no rotation),
+/// clipped to `window`: the separating-axis test on the 15 candidate axes (3 face normals of
+/// each box and the 9 edge cross products), each axis a 1-D moving-interval problem solved
+/// with axisContactInterval, intersected. Exact for inflation = 0. With inflation > 0 each
+/// box's support on every axis grows by that much, which contains every instant at which
+/// the boxes grown by a ball of radius `inflation` (the margins) touch: never late, never
+/// short. Edge axes of nearly parallel edges are skipped, which can only widen the result.
+TimeInterval movingBoxInterval(const Eigen::Isometry3d& pose_a, const Eigen::Vector3d& half_a,
+                               const Eigen::Vector3d& velocity_a,
+                               const Eigen::Isometry3d& pose_b, const Eigen::Vector3d& half_b,
+                               const Eigen::Vector3d& velocity_b, double inflation,
+                               TimeInterval window);
 
 }  // namespace workspace_proximity

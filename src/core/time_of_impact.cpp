@@ -55,4 +55,38 @@ TimeInterval boxContactInterval(const Eigen::Vector3d& center_a, const Eigen::Ve
   return result;
 }
 
+TimeInterval movingBoxInterval(const Eigen::Isometry3d& pose_a, const Eigen::Vector3d& half_a,
+                               const Eigen::Vector3d& velocity_a,
+                               const Eigen::Isometry3d& pose_b, const Eigen::Vector3d& half_b,
+                               const Eigen::Vector3d& velocity_b, double inflation,
+                               TimeInterval window) {
+  const Eigen::Matrix3d ra = pose_a.linear();
+  const Eigen::Matrix3d rb = pose_b.linear();
+  const Eigen::Vector3d offset = pose_b.translation() - pose_a.translation();
+  const Eigen::Vector3d dv = velocity_b - velocity_a;
+  TimeInterval result = window;
+
+  // On axis l, b's centre moves relative to a's at l.dv along l; they overlap while the
+  // gap between the centres is within the sum of the two supports.
+  auto clip = [&](const Eigen::Vector3d& l) {
+    const double support_a = half_a.dot((ra.transpose() * l).cwiseAbs()) + inflation;
+    const double support_b = half_b.dot((rb.transpose() * l).cwiseAbs());
+    const double c = l.dot(offset);
+    const TimeInterval axis = axisContactInterval(-support_a, support_a, 0.0, c - support_b,
+                                                  c + support_b, l.dot(dv));
+    result.first = std::max(result.first, axis.first);
+    result.last = std::min(result.last, axis.last);
+  };
+  for (int i = 0; i < 3 && !result.empty(); ++i) clip(ra.col(i));
+  for (int i = 0; i < 3 && !result.empty(); ++i) clip(rb.col(i));
+  for (int i = 0; i < 3 && !result.empty(); ++i) {
+    for (int j = 0; j < 3 && !result.empty(); ++j) {
+      const Eigen::Vector3d l = ra.col(i).cross(rb.col(j));
+      const double norm = l.norm();
+      if (norm > 1e-6) clip(l / norm);  // unit, so `inflation` means metres on every axis
+    }
+  }
+  return result.empty() ? TimeInterval{} : result;
+}
+
 }  // namespace workspace_proximity
