@@ -9,6 +9,19 @@
 
 namespace workspace_proximity {
 
+/// What the core accepts. Beyond these, bounds could overflow or FCL misbehave (its asserts
+/// abort and its solvers can hang on degenerate or astronomically large shapes), so inputs
+/// outside them are rejected as invalid instead.
+struct Limits {
+  static constexpr double kMinSize = 1e-6;        ///< m, smallest half extent / radius / length
+  static constexpr double kMaxSize = 1e4;         ///< m, largest half extent / radius / length
+  static constexpr double kMaxMargin = 1e3;       ///< m
+  static constexpr double kMaxCoordinate = 1e7;   ///< m, |position| on any axis
+  static constexpr double kMaxSpeed = 1e4;        ///< m/s
+  static constexpr double kMaxAngularSpeed = 1e4; ///< rad/s
+  static constexpr double kMaxHorizon = 1e4;      ///< s
+};
+
 /// The shapes the narrow phase understands. Every shape is centred on the body origin;
 /// cylinders and capsules have their axis along the body's local z.
 enum class ShapeType : std::uint8_t { kBox = 0, kSphere = 1, kCylinder = 2, kCapsule = 3 };
@@ -33,7 +46,8 @@ struct Shape {
   Eigen::Vector3d localHalfExtents() const;
   /// Largest distance from the body origin to any point of the shape (bounding sphere).
   double boundingRadius() const;
-  /// True when every dimension is finite and strictly positive where it matters.
+  /// True when every dimension is within [Limits::kMinSize, Limits::kMaxSize] (a capsule's
+  /// length may also be 0: it is then a sphere).
   bool valid() const;
 };
 
@@ -54,7 +68,8 @@ struct BodyMotion {
   /// The same motion moved dt seconds along itself (latency compensation): pose at dt,
   /// velocities unchanged. dt may be negative.
   BodyMotion advanced(double dt) const;
-  /// True when every number is finite and the quaternion is unit length within 1e-6.
+  /// True when every number is finite and within Limits, and the quaternion is unit length
+  /// within 1e-6.
   bool valid() const;
 };
 

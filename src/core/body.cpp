@@ -66,7 +66,9 @@ double Shape::boundingRadius() const {
 }
 
 bool Shape::valid() const {
-  auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };
+  auto positive = [](double x) {
+    return std::isfinite(x) && x >= Limits::kMinSize && x <= Limits::kMaxSize;
+  };
   switch (type) {
     case ShapeType::kBox:
       return positive(half_extents.x()) && positive(half_extents.y()) && positive(half_extents.z());
@@ -76,7 +78,7 @@ bool Shape::valid() const {
       return positive(radius) && positive(length);
     case ShapeType::kCapsule:
       // A capsule of zero segment length is a sphere, which FCL handles.
-      return positive(radius) && std::isfinite(length) && length >= 0.0;
+      return positive(radius) && (length == 0.0 || positive(length));
   }
   return false;
 }
@@ -103,7 +105,10 @@ BodyMotion BodyMotion::advanced(double dt) const {
 
 bool BodyMotion::valid() const {
   return position.allFinite() && linear_velocity.allFinite() && angular_velocity.allFinite() &&
-         orientation.coeffs().allFinite() && std::abs(orientation.norm() - 1.0) <= 1e-6;
+         orientation.coeffs().allFinite() && std::abs(orientation.norm() - 1.0) <= 1e-6 &&
+         position.cwiseAbs().maxCoeff() <= Limits::kMaxCoordinate &&
+         linear_velocity.norm() <= Limits::kMaxSpeed &&
+         angular_velocity.norm() <= Limits::kMaxAngularSpeed;
 }
 
 }  // namespace workspace_proximity

@@ -246,6 +246,9 @@ std::shared_ptr<fcl::CollisionGeometryd> makeGeometry(const Shape& shape) {
     case ShapeType::kCapsule:
       // FCL's capsule lz is the segment between the hemisphere centres, like Shape::length
       // (its local AABB is radius + lz / 2 along z).
+      // A zero-length capsule is a sphere; FCL 0.7's capsule code trips its own asserts
+      // (abort) on it against cylinders, found by fuzzing.
+      if (shape.length == 0.0) return std::make_shared<fcl::Sphered>(shape.radius);
       return std::make_shared<fcl::Capsuled>(shape.radius, shape.length);
   }
   throw std::invalid_argument("makeGeometry: unknown shape type");

@@ -82,36 +82,41 @@ BodyHandle ProximityWorld::addBody(const BodyDesc& desc, const BodyMotion& motio
     throw std::invalid_argument("ProximityWorld::addBody: body '" + desc.id +
                                 "' has a non-finite or non-positive dimension");
   }
-  if (!std::isfinite(desc.margin) || desc.margin < 0.0) {
+  if (!std::isfinite(desc.margin) || desc.margin < 0.0 || desc.margin > Limits::kMaxMargin) {
     throw std::invalid_argument("ProximityWorld::addBody: body '" + desc.id +
-                                "' has a negative or non-finite margin");
+                                "' has a negative, non-finite or huge margin");
   }
   if (!motion.valid()) {
     throw std::invalid_argument("ProximityWorld::addBody: body '" + desc.id +
-                                "' has a non-finite motion or a non-unit quaternion");
+                                "' has a non-finite or out-of-range motion or a non-unit quaternion");
   }
+  // Everything that can fail happens before the slot is taken, so a rejected body leaves
+  // no trace.
+  std::shared_ptr<fcl::CollisionGeometryd> geometry = makeGeometry(desc.shape);
+  const double horizon = std::max(last_horizon_, 0.0);
+  const Aabb swept = workspace_proximity::sweptBounds(desc.shape, motion, desc.margin, horizon);
+  const std::int32_t index =
+      free_list_ >= 0 ? free_list_ : static_cast<std::int32_t>(bodies_.size());
+  const SweepAndPrune::ProxyId proxy =
+      broad_phase_.createProxy(swept, static_cast<std::uint32_t>(index));
 
-  std::int32_t index;
   if (free_list_ >= 0) {
-    index = free_list_;
     free_list_ = bodies_[index].next_free;
   } else {
-    index = static_cast<std::int32_t>(bodies_.size());
     bodies_.emplace_back();
   }
   BodyRecord& b = bodies_[index];
   b.desc = desc;
   b.motion = motion;
-  b.geometry = makeGeometry(desc.shape);
+  b.geometry = std::move(geometry);
   b.bounding_radius = desc.shape.boundingRadius();
   b.serial = next_serial_++;
   b.state = BodyRecord::State::kLive;
   b.dirty = true;
   b.next_free = -1;
-  const double horizon = std::max(last_horizon_, 0.0);
   b.half = rotationHalfExtents(desc.shape, motion, desc.margin, horizon);
-  b.swept = workspace_proximity::sweptBounds(desc.shape, motion, desc.margin, horizon);
-  b.proxy = broad_phase_.createProxy(b.swept, static_cast<std::uint32_t>(index));
+  b.swept = swept;
+  b.proxy = proxy;
   ++live_count_;
   return BodyHandle{index, b.generation};
 }
@@ -134,7 +139,7 @@ void ProximityWorld::setMotion(BodyHandle body, const BodyMotion& motion) {
   }
   if (!motion.valid()) {
     throw std::invalid_argument("ProximityWorld::setMotion: body '" + b.desc.id +
-                                "' has a non-finite motion or a non-unit quaternion");
+                                "' has a non-finite or out-of-range motion or a non-unit quaternion");
   }
   b.motion = motion;
   b.dirty = true;
@@ -145,7 +150,7 @@ void ProximityWorld::setShape(BodyHandle body, const Shape& shape, double margin
   if (b.state != BodyRecord::State::kLive) {
     throw std::invalid_argument("ProximityWorld::setShape: body '" + b.desc.id + "' was removed");
   }
-  if (!shape.valid() || !std::isfinite(margin) || margin < 0.0) {
+  if (!shape.valid() || !std::isfinite(margin) || margin < 0.0 || margin > Limits::kMaxMargin) {
     throw std::invalid_argument("ProximityWorld::setShape: body '" + b.desc.id +
                                 "' gets an invalid shape or margin");
   }
@@ -181,8 +186,8 @@ void ProximityWorld::freeRemovedSlots() {
 }
 
 const std::vector<PairEvent>& ProximityWorld::predict(double horizon) {
-  if (!std::isfinite(horizon) || horizon < 0.0) {
-    throw std::invalid_argument("ProximityWorld::predict: horizon must be finite and >= 0");
+  if (!std::isfinite(horizon) || horizon < 0.0 || horizon > Limits::kMaxHorizon) {
+    throw std::invalid_argument("ProximityWorld::predict: horizon must be in [0, 1e4] s");
   }
   stats_ = WorldStats();
   freeRemovedSlots();

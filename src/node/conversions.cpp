@@ -42,8 +42,9 @@ std::string checkTrackedBox(const TrackedBox& box, const BoxLimits& limits) {
   if (!finite(box.dimensions)) return "non-finite dimensions";
   if (!finite(box.twist.linear) || !finite(box.twist.angular)) return "non-finite twist";
   const Eigen::Vector3d d = vec(box.dimensions);
-  if ((d.array() <= 0.0).any()) {
-    why << "dimensions " << d.transpose() << " m: every edge must be > 0";
+  if ((d.array() < 2.0 * Limits::kMinSize).any()) {
+    why << "dimensions " << d.transpose() << " m: every edge must be at least "
+        << 2.0 * Limits::kMinSize << " m";
     return why.str();
   }
   if ((d.array() > limits.max_dimension).any()) {

@@ -235,7 +235,13 @@ void ProximityMonitor::processArray(Source& source, const TrackedBoxArray& msg,
       reject(name, box.id, "cap: ~max_tracks reached and every kept track is nearer the robot");
       continue;
     }
-    updateTrack(key, box, toMotion(box, fixed_from_frame), stamp);
+    try {
+      updateTrack(key, box, toMotion(box, fixed_from_frame), stamp);
+    } catch (const std::exception& e) {
+      // The core's own limits (e.g. a pose that the frame's transform carries past them):
+      // drop the box, never the array or the node.
+      reject(name, box.id, std::string("rejected by the core: ") + e.what());
+    }
   }
 }
 
@@ -377,14 +383,22 @@ void ProximityMonitor::updateRobot(const ros::Time& now) {
     }
     body.stale = false;
     body.why.clear();
-    if (!body.present) {
-      body.handle = world_.addBody(BodyDesc{body.spec.name, "robot", BodyGroup::kRobot,
-                                            body.spec.shape, params_.robot_margin},
-                                   motion);
-      body.present = true;
-      robot_by_body_[body.handle.index] = &body;
-    } else {
-      world_.setMotion(body.handle, motion);
+    try {
+      if (!body.present) {
+        body.handle = world_.addBody(BodyDesc{body.spec.name, "robot", BodyGroup::kRobot,
+                                              body.spec.shape, params_.robot_margin},
+                                     motion);
+        body.present = true;
+        robot_by_body_[body.handle.index] = &body;
+      } else {
+        world_.setMotion(body.handle, motion);
+      }
+    } catch (const std::exception& e) {
+      ++robot_unknown_;
+      body.stale = true;
+      body.why = std::string("rejected by the core: ") + e.what();
+      ROS_WARN_THROTTLE(5.0, "proximity_monitor: robot body '%s': %s", body.spec.name.c_str(),
+                        body.why.c_str());
     }
   }
 }
@@ -424,6 +438,23 @@ void ProximityMonitor::resetHistory(const std::string& why) {
 }
 
 void ProximityMonitor::cycle(const ros::Time& now) {
+  try {
+    runCycle(now);
+  } catch (const std::exception& e) {
+    // Nothing may stop the cycle: report it loudly and keep publishing next time.
+    ROS_ERROR_THROTTLE(1.0, "proximity_monitor: cycle failed: %s", e.what());
+    rejected_["cycle failure"] += 1;
+    // Still publish, and say the prediction is missing: silence must not read as clear.
+    contacts_msg_.header.stamp = now;
+    contacts_msg_.header.frame_id = params_.fixed_frame;
+    contacts_msg_.events.clear();
+    contacts_msg_.status = ContactEventArray::DEGRADED;
+    contacts_msg_.status_details.assign(1, std::string("cycle failed: ") + e.what());
+    contacts_pub_.publish(contacts_msg_);
+  }
+}
+
+void ProximityMonitor::runCycle(const ros::Time& now) {
   const auto start = std::chrono::steady_clock::now();
   if (!last_cycle_.isZero() && now < last_cycle_) {
     resetHistory(format("clock jumped back by %.3f s", (last_cycle_ - now).toSec()));

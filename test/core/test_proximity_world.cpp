@@ -230,6 +230,35 @@ TEST(ProximityWorld, InvalidInputIsRejectedWithAnException) {
   EXPECT_TRUE(world.predict(1.0).empty());
 }
 
+// Found by fuzzing: a body rejected for out-of-range numbers must leave no trace, and
+// degenerate shapes FCL cannot handle must be rejected or mapped, never reach FCL.
+TEST(ProximityWorld, RejectedBodiesLeaveNoTraceAndLimitsHold) {
+  wp::ProximityWorld world;
+  EXPECT_THROW(world.addBody(object("huge_margin", wp::Shape::sphere(1.0), 1e308), at({1e6, 0, 0})),
+               std::invalid_argument);
+  EXPECT_THROW(world.addBody(object("far", kCube), at({1e308, 0, 0})), std::invalid_argument);
+  EXPECT_THROW(world.addBody(object("fast", kCube), at({0, 0, 0}, {1e300, 0, 0})),
+               std::invalid_argument);
+  EXPECT_THROW(world.addBody(object("denormal", wp::Shape::box({2.4e-324, 1, 1})), at({0, 0, 0})),
+               std::invalid_argument);
+  EXPECT_THROW(world.addBody(object("enormous", wp::Shape::box({1e15, 1, 1})), at({0, 0, 0})),
+               std::invalid_argument);
+  EXPECT_EQ(world.bodyCount(), 0);
+  EXPECT_FALSE(world.contains(wp::BodyHandle{0, 0}));
+  EXPECT_THROW(world.predict(1e300), std::invalid_argument);
+  EXPECT_TRUE(world.predict(1.0).empty());
+
+  // The fuzzer's abort: a zero-length capsule (a sphere) against a long thin cylinder.
+  world.addBody(object("capsule", wp::Shape::capsule(0.0625, 0.0), 0.0996),
+                at({0.125, 0, 0}, {0.5, 0, 0}));
+  wp::BodyMotion cyl = at({0.25, 0, 0});
+  cyl.orientation = Eigen::Quaterniond(0.99969, 0, 0, 0.02499).normalized();
+  world.addBody(object("cylinder", wp::Shape::cylinder(0.0625, 6.3125)), cyl);
+  const auto& events = world.predict(1.0);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].time_to_contact, 0.0);
+}
+
 // Random churn: bodies appear, move and vanish. Every END must follow a BEGIN/ONGOING of the
 // same pair in the previous cycle, and every BEGIN must be new.
 TEST(ProximityWorld, EventsStayConsistentUnderChurn) {

@@ -61,6 +61,7 @@ class ProximityMonitor {
     std::uint64_t arrays = 0;
   };
 
+  void runCycle(const ros::Time& now);
   void onBoxes(const TrackedBoxArray::ConstPtr& msg, std::size_t source);
   void processArray(Source& source, const TrackedBoxArray& msg, const ros::Time& now);
   void updateTrack(const std::string& key, const TrackedBox& box, const BodyMotion& motion,
