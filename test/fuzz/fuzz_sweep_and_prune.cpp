@@ -1,0 +1,352 @@
+// libFuzzer harness over SweepAndPrune alone: create, move, destroy and update proxies with
+// valid bounds, and after every update() compare the structure with brute force.
+//
+// Two coordinate modes, chosen by the input's first byte:
+//  - exact: every coordinate is int16 / 64 (exact in float and double; signed zeros too), so
+//    the pair set must equal the closed-interval overlap test of the given bounds;
+//  - wide: any finite doubles, often a few ulps apart from each other, so the pair set must
+//    contain every pair the given bounds overlap (conservative) and only pairs whose
+//    storedBounds() (the outward-rounded bounds it tests with, which must contain the given
+//    ones) overlap. Not required: equality with the storedBounds() test, because a stored
+//    bound just below +0 reads back as -0.0, which compares equal to +0.
+// Also checked: began/ended equal the differences with the previous pair set, pairs are
+// stored with proxy_a < proxy_b, findPair() finds them, userData() and proxyCount() match,
+// and the caller's `user` field survives while a pair lasts and is 0 on a new pair.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fuzz_input.hpp"
+#include "workspace_proximity/sweep_and_prune.hpp"
+
+namespace wp = workspace_proximity;
+using wp_fuzz::fail;
+using wp_fuzz::Input;
+using ProxyId = wp::SweepAndPrune::ProxyId;
+using Pair = std::pair<ProxyId, ProxyId>;
+
+namespace {
+
+constexpr int kMaxProxies = 64;
+constexpr int kMaxOperations = 400;
+
+std::string str(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+std::string str(const wp::Aabb& b) {
+  std::string s = "[";
+  for (int k = 0; k < 3; ++k) s += str(b.lower[k]) + ".." + str(b.upper[k]) + (k < 2 ? ", " : "]");
+  return s;
+}
+
+std::string str(const Pair& p) { return "(" + std::to_string(p.first) + "," + std::to_string(p.second) + ")"; }
+
+// Closed intervals, in double: touching boxes overlap.
+bool overlap(const wp::Aabb& a, const wp::Aabb& b) {
+  for (int k = 0; k < 3; ++k) {
+    if (!(a.lower[k] <= b.upper[k]) || !(b.lower[k] <= a.upper[k])) return false;
+  }
+  return true;
+}
+
+struct ModelProxy {
+  wp::Aabb bounds;
+  std::uint32_t user = 0;
+  bool inserted = false;         // has been through an update()
+  bool pending_remove = false;   // destroyed, update() not yet run
+};
+
+class Harness {
+ public:
+  explicit Harness(Input& in) : in_(in), exact_((in.byte() & 1) == 0), sap_(makeConfig(in)) {
+    for (double& a : anchors_) {
+      a = in_.number();
+      if (!std::isfinite(a)) a = 0.0;
+    }
+  }
+
+  void run() {
+    for (int op = 0; op < kMaxOperations && !in_.empty(); ++op) {
+      switch (in_.byte() % 8) {
+        case 0:
+        case 1:
+          create();
+          break;
+        case 2:
+          move();
+          break;
+        case 3:
+          destroy();
+          break;
+        case 4:
+          jitter();
+          break;
+        default:
+          update();
+          break;
+      }
+    }
+    update();
+  }
+
+ private:
+  static wp::SweepAndPruneConfig makeConfig(Input& in) {
+    const std::uint8_t b = in.byte();
+    wp::SweepAndPruneConfig c;
+    static const int capacities[] = {1, 2, 5, 256};
+    c.initial_proxy_capacity = capacities[b & 3];
+    c.initial_pair_capacity = capacities[(b >> 2) & 3];
+    static const double factors[] = {1.0, 0.0, 0.05, 0.5, 2.0, 1e9, 1e-3, 1.0};
+    c.rebuild_factor = factors[(b >> 4) & 7];
+    return c;
+  }
+
+  // ---- bounds ---------------------------------------------------------------------------
+
+  double exactCoordinate() {
+    const double v = static_cast<std::int16_t>(in_.u16()) / 64.0;
+    return (v == 0.0 && in_.flag()) ? -0.0 : v;
+  }
+
+  // Any finite double; often an anchor moved by a few ulps, so bounds nearly touch.
+  double wideCoordinate() {
+    const std::uint8_t s = in_.byte();
+    if (s < 128) {
+      double v = anchors_[s & 7];
+      const int steps = static_cast<std::int8_t>(in_.byte()) % 4;
+      for (int i = 0; i < std::abs(steps); ++i) {
+        v = std::nextafter(v, steps > 0 ? std::numeric_limits<double>::infinity()
+                                        : -std::numeric_limits<double>::infinity());
+      }
+      return std::isfinite(v) ? v : anchors_[s & 7];
+    }
+    const double v = in_.number();
+    return std::isfinite(v) ? v : 0.0;
+  }
+
+  wp::Aabb bounds() {
+    wp::Aabb b;
+    for (int k = 0; k < 3; ++k) {
+      if (exact_) {
+        const double lo = exactCoordinate();
+        const double width = in_.byte() < 24 ? 0.0 : in_.u16() / 64.0;
+        b.lower[k] = lo;
+        b.upper[k] = lo + width;  // at most 2^17 / 64: still exact in float
+      } else {
+        const double x = wideCoordinate();
+        const double y = in_.byte() < 24 ? x : wideCoordinate();
+        b.lower[k] = std::min(x, y);
+        b.upper[k] = std::max(x, y);
+      }
+    }
+    return b;
+  }
+
+  // ---- operations -----------------------------------------------------------------------
+
+  // A proxy that may be moved or destroyed (not already destroyed), or -1.
+  ProxyId pick() {
+    std::vector<ProxyId> ids;
+    for (const auto& kv : proxies_) {
+      if (!kv.second.pending_remove) ids.push_back(kv.first);
+    }
+    const std::uint8_t b = in_.byte();
+    if (ids.empty()) return -1;
+    return ids[b % ids.size()];
+  }
+
+  void create() {
+    if (static_cast<int>(proxies_.size()) >= kMaxProxies) return;
+    const wp::Aabb b = bounds();
+    const std::uint32_t user = in_.u32();
+    const ProxyId id = sap_.createProxy(b, user);
+    if (id < 0) fail("createProxy returned a negative id", std::to_string(id));
+    if (proxies_.count(id) != 0) fail("createProxy reused an id still in use", std::to_string(id));
+    proxies_[id] = ModelProxy{b, user, false, false};
+  }
+
+  void move() {
+    const ProxyId id = pick();
+    if (id < 0) return;
+    const wp::Aabb b = bounds();
+    sap_.moveProxy(id, b);
+    proxies_[id].bounds = b;
+  }
+
+  void destroy() {
+    const ProxyId id = pick();
+    if (id < 0) return;
+    sap_.destroyProxy(id);
+    if (proxies_[id].inserted) {
+      proxies_[id].pending_remove = true;
+    } else {
+      proxies_.erase(id);  // never entered the structure: gone at once
+    }
+  }
+
+  // Small motion of every proxy: the incremental insertion-sort path.
+  void jitter() {
+    const std::uint8_t scale = in_.byte();
+    for (auto& kv : proxies_) {
+      if (kv.second.pending_remove) continue;
+      wp::Aabb b = kv.second.bounds;
+      for (int k = 0; k < 3; ++k) {
+        double d;
+        if (exact_) {
+          d = static_cast<std::int8_t>(in_.byte()) / 64.0 * (1 + (scale & 7));
+        } else {
+          d = static_cast<std::int8_t>(in_.byte()) * std::ldexp(1.0, (scale & 63) - 40);
+        }
+        const double lo = b.lower[k] + d, hi = b.upper[k] + d;
+        if (std::isfinite(lo) && std::isfinite(hi) && lo <= hi) {
+          b.lower[k] = lo;
+          b.upper[k] = hi;
+        }
+      }
+      sap_.moveProxy(kv.first, b);
+      kv.second.bounds = b;
+    }
+  }
+
+  void update() {
+    sap_.update();
+    for (auto it = proxies_.begin(); it != proxies_.end();) {
+      if (it->second.pending_remove) {
+        it = proxies_.erase(it);
+      } else {
+        it->second.inserted = true;
+        ++it;
+      }
+    }
+    check();
+    ++updates_;
+  }
+
+  // ---- invariants after update ------------------------------------------------------------
+
+  void check() {
+    if (sap_.proxyCount() != static_cast<int>(proxies_.size())) {
+      fail("proxyCount() differs from the live proxies",
+           std::to_string(sap_.proxyCount()) + " vs " + std::to_string(proxies_.size()));
+    }
+    std::map<ProxyId, wp::Aabb> stored;
+    for (const auto& kv : proxies_) {
+      if (sap_.userData(kv.first) != kv.second.user) fail("userData() changed", std::to_string(kv.first));
+      const wp::Aabb s = sap_.storedBounds(kv.first);
+      const wp::Aabb& g = kv.second.bounds;
+      for (int k = 0; k < 3; ++k) {
+        if (!(s.lower[k] <= g.lower[k]) || !(s.upper[k] >= g.upper[k])) {
+          fail("storedBounds() does not contain the given bounds",
+               std::to_string(kv.first) + " given " + str(g) + " stored " + str(s));
+        }
+      }
+      stored[kv.first] = s;
+    }
+
+    // The structure's pairs, each once, ordered, naming live proxies, found by findPair().
+    std::map<Pair, std::uint32_t> actual;
+    for (const wp::ProxyPair& p : sap_.pairs()) {
+      const Pair key{p.proxy_a, p.proxy_b};
+      if (!(p.proxy_a < p.proxy_b)) fail("pair not stored with proxy_a < proxy_b", str(key));
+      if (proxies_.count(p.proxy_a) == 0 || proxies_.count(p.proxy_b) == 0) {
+        fail("pair names a proxy that is not live", str(key));
+      }
+      if (!actual.emplace(key, p.user).second) fail("pair listed twice", str(key));
+      const wp::ProxyPair* found = sap_.findPair(p.proxy_b, p.proxy_a);
+      if (found == nullptr || found->proxy_a != p.proxy_a || found->proxy_b != p.proxy_b) {
+        fail("findPair() does not find a listed pair", str(key));
+      }
+    }
+
+    // Brute force.
+    std::set<Pair> expected;
+    for (auto i = proxies_.begin(); i != proxies_.end(); ++i) {
+      for (auto j = std::next(i); j != proxies_.end(); ++j) {
+        const Pair key{i->first, j->first};
+        const bool given = overlap(i->second.bounds, j->second.bounds);
+        const bool by_stored = overlap(stored[i->first], stored[j->first]);
+        const bool listed = actual.count(key) != 0;
+        const std::string detail = str(key) + " " + str(i->second.bounds) + " " +
+                                   str(j->second.bounds) + " stored " + str(stored[i->first]) +
+                                   " " + str(stored[j->first]);
+        // given overlap => listed => overlap of the stored (outward-rounded) bounds; in exact
+        // mode the rounding changes nothing, so listed <=> given.
+        if (given && !listed) fail("overlapping pair missing", detail);
+        if (exact_ && listed && !given) fail("pair listed but the boxes do not overlap", detail);
+        if (listed && !by_stored) fail("pair listed but its storedBounds() do not overlap", detail);
+        if (listed) expected.insert(key);
+        if (!listed && sap_.findPair(key.first, key.second) != nullptr) {
+          fail("findPair() finds an unlisted pair", detail);
+        }
+      }
+    }
+
+    // began = now - before, ended = before - now.
+    std::set<Pair> began, ended;
+    for (const wp::ProxyPair& p : sap_.beganPairs()) {
+      const Pair key{std::min(p.proxy_a, p.proxy_b), std::max(p.proxy_a, p.proxy_b)};
+      if (!began.insert(key).second) fail("pair began twice", str(key));
+    }
+    for (const wp::ProxyPair& p : sap_.endedPairs()) {
+      const Pair key{std::min(p.proxy_a, p.proxy_b), std::max(p.proxy_a, p.proxy_b)};
+      if (!ended.insert(key).second) fail("pair ended twice", str(key));
+    }
+    for (const Pair& key : expected) {
+      const bool before = previous_.count(key) != 0;
+      if (!before && began.count(key) == 0) fail("new pair not in beganPairs()", str(key));
+      if (before && began.count(key) != 0) fail("lasting pair in beganPairs()", str(key));
+      if (before && ended.count(key) != 0) fail("lasting pair in endedPairs()", str(key));
+      // The caller's field: kept while the pair lasts, 0 on a new pair.
+      const std::uint32_t user = actual[key];
+      if (before && user != previous_.at(key)) fail("user field of a lasting pair changed", str(key));
+      if (!before && user != 0) fail("new pair's user field is not 0", str(key));
+    }
+    for (const Pair& key : began) {
+      if (expected.count(key) == 0) fail("beganPairs() lists a pair not in pairs()", str(key));
+    }
+    for (const auto& kv : previous_) {
+      const bool now = expected.count(kv.first) != 0;
+      if (!now && ended.count(kv.first) == 0) fail("vanished pair not in endedPairs()", str(kv.first));
+    }
+    for (const Pair& key : ended) {
+      if (previous_.count(key) == 0 || expected.count(key) != 0) {
+        fail("endedPairs() lists a pair that did not end", str(key));
+      }
+    }
+
+    // Write the caller's field for the next round.
+    previous_.clear();
+    for (wp::ProxyPair& p : sap_.mutablePairs()) {
+      p.user = 1u + static_cast<std::uint32_t>(updates_ * 7919 + p.proxy_a * 31 + p.proxy_b);
+      previous_[Pair{p.proxy_a, p.proxy_b}] = p.user;
+    }
+  }
+
+  Input& in_;
+  const bool exact_;
+  wp::SweepAndPrune sap_;
+  double anchors_[8] = {};
+  std::map<ProxyId, ModelProxy> proxies_;  // created and not yet removed by an update()
+  std::map<Pair, std::uint32_t> previous_;  // pairs after the last update, with their user
+  int updates_ = 0;
+};
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  Input in(data, size);
+  Harness harness(in);
+  harness.run();
+  return 0;
+}

@@ -1,0 +1,559 @@
+// libFuzzer harness over ProximityWorld: the input is a little program of operations (add,
+// remove, setMotion, setShape, setRules, predict, advance) with arbitrary numbers: huge, tiny,
+// denormal, infinite and NaN included. The API must reject invalid input with
+// std::invalid_argument (caught here); any other exception, a crash, a sanitizer report or a
+// violated invariant (checked after every predict) is a finding.
+//
+// The harness keeps its own model of the world (which handles are live or still nameable,
+// which pairs were active after the last predict, the current pair rules) and checks the
+// world against it. Set WP_FUZZ_STRICT=1 to also report a *valid* input (by the documented
+// rules) that the API rejected, e.g. finite numbers whose bounds overflow to infinity.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fuzz_input.hpp"
+#include "workspace_proximity/proximity_world.hpp"
+
+namespace wp = workspace_proximity;
+using wp_fuzz::fail;
+using wp_fuzz::Input;
+
+namespace {
+
+constexpr int kMaxBodies = 24;       // bodies ever added per input: bounds the narrow phase
+constexpr int kMaxOperations = 160;
+constexpr int kMaxPredicts = 24;
+constexpr double kSlack = 1e-9;
+
+bool strictMode() {
+  static const bool strict = [] {
+    const char* s = std::getenv("WP_FUZZ_STRICT");
+    return s != nullptr && s[0] == '1';
+  }();
+  return strict;
+}
+
+// WP_FUZZ_TRACE=1 prints every operation and its outcome (for replaying a finding).
+bool traceMode() {
+  static const bool trace = [] {
+    const char* s = std::getenv("WP_FUZZ_TRACE");
+    return s != nullptr && s[0] == '1';
+  }();
+  return trace;
+}
+
+std::string str(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+std::string str(const Eigen::Vector3d& v) { return str(v.x()) + " " + str(v.y()) + " " + str(v.z()); }
+
+// Printable form of an id (ids may hold any byte, NUL included).
+std::string printable(const std::string& text) {
+  std::string out;
+  for (unsigned char c : text) {
+    if (c >= 0x20 && c < 0x7F) {
+      out.push_back(static_cast<char>(c));
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    }
+  }
+  return out;
+}
+
+std::string str(const wp::BodyMotion& m) {
+  return "position " + str(m.position) + " q " + str(m.orientation.w()) + " " +
+         str(m.orientation.vec()) + " v " + str(m.linear_velocity) + " w " + str(m.angular_velocity);
+}
+
+std::string str(const wp::Shape& s) {
+  return "shape type " + std::to_string(static_cast<int>(s.type)) + " half " + str(s.half_extents) +
+         " radius " + str(s.radius) + " length " + str(s.length);
+}
+
+std::string str(wp::BodyHandle h) {
+  return "(" + std::to_string(h.index) + "," + std::to_string(h.generation) + ")";
+}
+
+// Validity by the documented rules, written independently of Shape::valid() and
+// BodyMotion::valid(): 1 valid, 0 invalid, -1 within rounding of a tolerance.
+int shapeValid(const wp::Shape& s) {
+  auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };
+  switch (static_cast<int>(s.type)) {
+    case 0:
+      return positive(s.half_extents.x()) && positive(s.half_extents.y()) &&
+             positive(s.half_extents.z());
+    case 1:
+      return positive(s.radius);
+    case 2:
+      return positive(s.radius) && positive(s.length);
+    case 3:
+      return positive(s.radius) && std::isfinite(s.length) && s.length >= 0.0;
+    default:
+      return 0;
+  }
+}
+
+int motionValid(const wp::BodyMotion& m) {
+  if (!m.position.allFinite() || !m.linear_velocity.allFinite() ||
+      !m.angular_velocity.allFinite() || !m.orientation.coeffs().allFinite()) {
+    return 0;
+  }
+  long double n2 = 0.0L;
+  for (int i = 0; i < 4; ++i) {
+    const long double c = m.orientation.coeffs()[i];
+    n2 += c * c;
+  }
+  const double error = std::abs(static_cast<double>(std::sqrt(n2)) - 1.0);
+  if (error < 1e-6 - 1e-12) return 1;
+  if (error > 1e-6 + 1e-12) return 0;
+  return -1;
+}
+
+int marginValid(double margin) { return std::isfinite(margin) && margin >= 0.0; }
+
+int both(int a, int b) {
+  if (a == 0 || b == 0) return 0;
+  if (a < 0 || b < 0) return -1;
+  return 1;
+}
+
+struct ModelBody {
+  wp::BodyHandle handle;
+  wp::BodyDesc desc;
+  bool live = true;
+  int removed_after = -1;  // successful predicts done when it was removed
+};
+
+using PairKey = std::pair<std::uint64_t, std::uint64_t>;
+
+std::uint64_t handleKey(wp::BodyHandle h) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(h.index)) << 32) | h.generation;
+}
+
+PairKey pairKey(wp::BodyHandle a, wp::BodyHandle b) {
+  const std::uint64_t x = handleKey(a), y = handleKey(b);
+  return x < y ? PairKey{x, y} : PairKey{y, x};
+}
+
+class Harness {
+ public:
+  explicit Harness(Input& in)
+      : in_(in), config_(makeConfig(in)), world_(config_), rules_(config_.rules) {}
+
+  void run() {
+    for (int op = 0; op < kMaxOperations && !in_.empty() && predicts_ < kMaxPredicts; ++op) {
+      switch (in_.byte() % 10) {
+        case 0:
+        case 1:
+        case 2:
+          add();
+          break;
+        case 3:
+          remove();
+          break;
+        case 4:
+          setMotion();
+          break;
+        case 5:
+          setShape();
+          break;
+        case 6:
+          setRules();
+          break;
+        case 7:
+          advance();
+          break;
+        default:
+          predict();
+          break;
+      }
+    }
+    if (!in_.empty() || predicts_ == 0) predict();
+  }
+
+ private:
+  static wp::WorldConfig makeConfig(Input& in) {
+    const std::uint8_t b = in.byte();
+    wp::WorldConfig c;
+    static const int capacities[] = {1, 2, 3, 256};
+    c.initial_body_capacity = capacities[b & 3];
+    c.initial_pair_capacity = capacities[(b >> 2) & 3];
+    c.initial_event_capacity = capacities[(b >> 4) & 3];
+    static const double factors[] = {1.0, 0.0, 0.05, 1e9};
+    c.broad_phase.rebuild_factor = factors[(b >> 6) & 3];
+    const std::uint8_t n = in.byte();
+    if (n & 1) c.narrow_phase.max_iterations = 1 + (n >> 5);
+    if (n & 2) c.narrow_phase.distance_tolerance = 1e-3;
+    c.rules = (n & 4) ? wp::PairRules::allowAll() : wp::PairRules();
+    return c;
+  }
+
+  // ---- input --------------------------------------------------------------------------
+
+  wp::Shape shape() {
+    wp::Shape s;
+    const std::uint8_t t = in_.byte();
+    const bool raw_fields = (t & 0x80) != 0;
+    const std::uint8_t type = t < 0xF0 ? (t & 3) : t;  // 0xF0.. are invalid types
+    Eigen::Vector3d h;
+    h.x() = in_.dimension();
+    h.y() = in_.dimension();
+    h.z() = in_.dimension();
+    const double radius = in_.dimension();
+    const double length = in_.byte() < 32 ? 0.0 : in_.dimension();
+    if (raw_fields || type > 3) {
+      s.type = static_cast<wp::ShapeType>(type);
+      s.half_extents = h;
+      s.radius = radius;
+      s.length = length;
+      return s;
+    }
+    switch (type) {
+      case 0:
+        return wp::Shape::box(h);
+      case 1:
+        return wp::Shape::sphere(radius);
+      case 2:
+        return wp::Shape::cylinder(radius, length);
+      default:
+        return wp::Shape::capsule(radius, length);
+    }
+  }
+
+  wp::BodyMotion motion() {
+    wp::BodyMotion m;
+    m.position = in_.vector();
+    m.orientation = in_.quaternion();
+    const std::uint8_t kind = in_.byte();
+    if (kind & 1) m.linear_velocity = in_.vector();
+    if (kind & 2) m.angular_velocity = in_.vector();
+    return m;
+  }
+
+  // A handle: usually one the world gave out (live, removed or stale), sometimes made up.
+  wp::BodyHandle handle() {
+    const std::uint8_t b = in_.byte();
+    if (b < 224 && !bodies_.empty()) return bodies_[b % bodies_.size()].handle;
+    const std::int32_t index = static_cast<std::int8_t>(in_.byte());
+    const std::uint32_t generation = in_.byte() % 4;
+    return wp::BodyHandle{index, generation};
+  }
+
+  // ---- model ----------------------------------------------------------------------------
+
+  bool nameable(const ModelBody& b) const { return b.live || predicts_ <= b.removed_after + 1; }
+
+  // The model body a handle names, or nullptr (stale or made-up handle).
+  ModelBody* lookup(wp::BodyHandle h) {
+    for (ModelBody& b : bodies_) {
+      if (b.handle == h && nameable(b)) return &b;
+    }
+    return nullptr;
+  }
+
+  // Whether an operation on a live body may succeed: yes for a live body, no otherwise,
+  // unknown once the world has rejected a valid input (it may hold a half-added body).
+  int liveExpectation(const ModelBody* b) const {
+    if (b != nullptr && b->live) return 1;
+    return tainted_ ? -1 : 0;
+  }
+
+  int liveCount() const {
+    int n = 0;
+    for (const ModelBody& b : bodies_) n += b.live ? 1 : 0;
+    return n;
+  }
+
+  // An API call finished: compare with what the documented rules expect.
+  void outcome(const std::string& what, int expected_valid, bool threw) {
+    if (traceMode()) {
+      std::fprintf(stderr, "%s -> %s (expected %s)\n", what.c_str(), threw ? "rejected" : "ok",
+                   expected_valid == 1 ? "valid" : expected_valid == 0 ? "invalid" : "either");
+    }
+    if (!threw && expected_valid == 0) fail("invalid input accepted by", what);
+    if (threw && expected_valid == 1) {
+      if (strictMode()) fail("valid input rejected by", what);
+      tainted_ = true;  // the world may be half-updated: stop model-based checks
+    }
+  }
+
+  // ---- operations -----------------------------------------------------------------------
+
+  void add() {
+    if (static_cast<int>(bodies_.size()) >= kMaxBodies) return;
+    wp::BodyDesc desc;
+    const std::uint8_t naming = in_.byte();
+    if ((naming & 15) != 0) {
+      desc.id = "b" + std::to_string(next_id_++);
+      if (naming & 16) desc.id += "/" + in_.text(6);
+    }
+    static const char* const labels[] = {"person", "forklift", "robot", "pallet", ""};
+    desc.label = labels[(naming >> 5) % 5];
+    desc.group = (naming & 0x80) ? wp::BodyGroup::kRobot : wp::BodyGroup::kObject;
+    desc.shape = shape();
+    desc.margin = in_.margin();
+    const wp::BodyMotion m = motion();
+    const int expected = both(both(desc.id.empty() ? 0 : 1, shapeValid(desc.shape)),
+                              both(marginValid(desc.margin), motionValid(m)));
+    wp::BodyHandle h;
+    bool threw = false;
+    try {
+      h = world_.addBody(desc, m);
+    } catch (const std::invalid_argument&) {
+      threw = true;
+    }
+    outcome("addBody " + printable(desc.id) + " " + str(desc.shape) + " margin " + str(desc.margin) + " " + str(m),
+            expected, threw);
+    if (threw) return;
+    // A new handle never aliases a body the caller can still name.
+    for (const ModelBody& b : bodies_) {
+      if (b.handle == h && nameable(b)) fail("addBody returned a handle in use", str(h));
+    }
+    if (!world_.contains(h)) fail("addBody: handle not contained", str(h));
+    if (world_.desc(h).id != desc.id) fail("addBody: desc() names another body", str(h));
+    bodies_.push_back(ModelBody{h, desc, true, -1});
+  }
+
+  void remove() {
+    const wp::BodyHandle h = handle();
+    ModelBody* b = lookup(h);
+    bool threw = false;
+    try {
+      world_.removeBody(h);
+    } catch (const std::invalid_argument&) {
+      threw = true;
+    }
+    // Removing a live or still nameable body works (twice is harmless); others throw.
+    outcome("removeBody " + str(h), b != nullptr ? 1 : tainted_ ? -1 : 0, threw);
+    if (!threw && b != nullptr && b->live) {
+      b->live = false;
+      b->removed_after = predicts_;
+    }
+  }
+
+  void setMotion() {
+    const wp::BodyHandle h = handle();
+    const wp::BodyMotion m = motion();
+    setMotionTo(h, m);
+  }
+
+  void setMotionTo(wp::BodyHandle h, const wp::BodyMotion& m) {
+    ModelBody* b = lookup(h);
+    bool threw = false;
+    try {
+      world_.setMotion(h, m);
+    } catch (const std::invalid_argument&) {
+      threw = true;
+    }
+    outcome("setMotion " + str(h) + (b == nullptr ? " (not nameable)" : b->live ? " (live)" : " (removed)") +
+                " " + str(m),
+            both(liveExpectation(b), motionValid(m)), threw);
+  }
+
+  void setShape() {
+    const wp::BodyHandle h = handle();
+    const wp::Shape s = shape();
+    const double margin = in_.margin();
+    ModelBody* b = lookup(h);
+    bool threw = false;
+    try {
+      world_.setShape(h, s, margin);
+    } catch (const std::invalid_argument&) {
+      threw = true;
+    }
+    outcome("setShape " + str(h) + (b == nullptr ? " (not nameable)" : b->live ? " (live)" : " (removed)") +
+                " " + str(s) + " margin " + str(margin),
+            both(liveExpectation(b), both(shapeValid(s), marginValid(margin))),
+            threw);
+    if (!threw && b != nullptr) {
+      b->desc.shape = s;
+      b->desc.margin = margin;
+    }
+  }
+
+  void setRules() {
+    static const char* const selectors[] = {
+        "*",           "group:robot", "group:object", "label:person", "label:robot",
+        "label:forklift", "id:b0",    "id:b1",        "id:b2",        "id:b3",
+        "group:",      "bogus",       "label:",       "",             "group:people",
+        "id:"};
+    const std::uint8_t b = in_.byte();
+    wp::PairRules rules = (b & 1) ? wp::PairRules::allowAll() : wp::PairRules();
+    const int n = (b >> 1) % 4;
+    try {
+      for (int i = 0; i < n; ++i) {
+        const std::uint8_t s = in_.byte();
+        std::string first = selectors[s & 15];
+        std::string second = selectors[(s >> 4) & 15];
+        if (first == "id:") first += in_.text(4);
+        rules.add(first, second, in_.flag());
+      }
+    } catch (const std::invalid_argument&) {
+      return;  // a bad selector: PairRules refused it, nothing reaches the world
+    }
+    world_.setRules(rules);
+    rules_ = rules;
+  }
+
+  // Every live body moves along its own motion by dt (what a caller does between cycles).
+  void advance() {
+    const double dt = in_.flag() ? static_cast<std::int8_t>(in_.byte()) / 64.0 : in_.number();
+    for (ModelBody& b : bodies_) {
+      if (!b.live) continue;
+      wp::BodyMotion m;
+      try {
+        m = world_.motion(b.handle).advanced(dt);
+      } catch (const std::invalid_argument&) {
+        if (!tainted_) fail("motion() of a live body threw", str(b.handle));
+        continue;
+      }
+      setMotionTo(b.handle, m);
+    }
+  }
+
+  void predict() {
+    const double horizon = in_.flag() ? in_.byte() / 32.0 : in_.number();
+    const int expected = std::isfinite(horizon) && horizon >= 0.0;
+    if (traceMode()) std::fprintf(stderr, "calling predict %s\n", str(horizon).c_str());
+    bool threw = false;
+    const std::vector<wp::PairEvent>* events = nullptr;
+    try {
+      events = &world_.predict(horizon);
+    } catch (const std::invalid_argument&) {
+      threw = true;
+    }
+    outcome("predict " + str(horizon), expected, threw);
+    if (threw) return;
+    ++predicts_;
+    check(*events, horizon);
+  }
+
+  // ---- invariants after predict ---------------------------------------------------------
+
+  void check(const std::vector<wp::PairEvent>& events, double horizon) {
+    if (traceMode()) {
+      for (const wp::PairEvent& e : events) {
+        std::fprintf(stderr, "  event %s-%s state %d ttc %g tts %g distance %g\n",
+                     str(e.body_a).c_str(), str(e.body_b).c_str(), static_cast<int>(e.state),
+                     e.time_to_contact, e.time_to_separation, e.distance);
+      }
+    }
+    std::set<PairKey> seen;
+    std::set<PairKey> active;
+    int contacts = 0;
+    for (std::size_t i = 0; i < events.size(); ++i) {
+      const wp::PairEvent& e = events[i];
+      const std::string where = "event " + std::to_string(i) + " of " +
+                                std::to_string(events.size()) + " " + str(e.body_a) + "-" +
+                                str(e.body_b) + " horizon " + str(horizon) + " ttc " +
+                                str(e.time_to_contact) + " tts " + str(e.time_to_separation) +
+                                " distance " + str(e.distance) + " normal " + str(e.normal) +
+                                " state " + std::to_string(static_cast<int>(e.state));
+      const int state = static_cast<int>(e.state);
+      if (state < 0 || state > 2) fail("unknown event state", where);
+      if (std::isnan(e.time_to_contact) || std::isnan(e.time_to_separation) ||
+          std::isnan(e.distance) || std::isnan(e.closing_speed) || e.point_a.hasNaN() ||
+          e.point_b.hasNaN() || e.normal.hasNaN()) {
+        fail("NaN in an event", where);
+      }
+      if (i > 0 && !(events[i - 1].time_to_contact <= e.time_to_contact)) {
+        fail("events not sorted by time_to_contact", where);
+      }
+      const bool ended = e.state == wp::ContactState::kEnd;
+      if (!ended) {
+        ++contacts;
+        if (!(e.time_to_contact >= -kSlack)) fail("time_to_contact < 0", where);
+        if (!(e.time_to_contact <= e.time_to_separation + kSlack)) {
+          fail("time_to_contact > time_to_separation", where);
+        }
+        if (!(e.time_to_separation <= horizon + kSlack)) fail("time_to_separation > horizon", where);
+        if (!(e.distance >= 0.0)) fail("negative distance", where);
+      } else {
+        if (!(e.time_to_contact == std::numeric_limits<double>::infinity()) ||
+            e.time_to_separation != 0.0) {
+          fail("END event without time_to_contact = inf, time_to_separation = 0", where);
+        }
+      }
+      if (e.distance > 0.0 && !(std::abs(e.normal.norm() - 1.0) <= 1e-6)) {
+        fail("normal not unit length", where);
+      }
+      if (e.body_a == e.body_b) fail("event of a body with itself", where);
+      const PairKey key = pairKey(e.body_a, e.body_b);
+      if (!seen.insert(key).second) fail("pair reported twice in one predict", where);
+      if (!ended) active.insert(key);
+
+      // Both bodies are nameable, body_a's id sorts first.
+      const wp::BodyDesc* da = nullptr;
+      const wp::BodyDesc* db = nullptr;
+      try {
+        da = &world_.desc(e.body_a);
+        db = &world_.desc(e.body_b);
+      } catch (const std::invalid_argument&) {
+        if (!tainted_) fail("desc() throws for a body of an event", where);
+      }
+      if (da != nullptr && db != nullptr && db->id < da->id) fail("body_a's id sorts after body_b's", where);
+
+      if (tainted_) continue;
+      const ModelBody* ma = lookup(e.body_a);
+      const ModelBody* mb = lookup(e.body_b);
+      if (ma == nullptr || mb == nullptr) fail("event names a body the caller cannot name", where);
+      if (da->id != ma->desc.id || db->id != mb->desc.id) fail("desc() names another body", where);
+      const bool was_active = active_.count(key) != 0;
+      if (ended && !was_active) fail("END for a pair not active at the previous predict", where);
+      if (e.state == wp::ContactState::kBegin && was_active) fail("BEGIN for an active pair", where);
+      if (e.state == wp::ContactState::kOngoing && !was_active) {
+        fail("ONGOING for a pair not active at the previous predict", where);
+      }
+      if (!ended && (!ma->live || !mb->live)) fail("contact predicted for a removed body", where);
+      if (!ended && !rules_.allowed(ma->desc, mb->desc)) fail("contact for a pair the rules deny", where);
+    }
+    if (world_.stats().contacts != contacts) fail("stats().contacts differs from the events", "");
+
+    if (!tainted_) {
+      for (const PairKey& key : active_) {
+        if (seen.count(key) == 0) fail("an active pair vanished without an END event", "");
+      }
+      if (world_.bodyCount() != liveCount()) fail("bodyCount() differs from the live bodies", "");
+      for (const ModelBody& b : bodies_) {
+        if (world_.contains(b.handle) != nameable(b)) {
+          fail("contains() differs from the documented handle lifetime",
+               str(b.handle) + (b.live ? " live" : " removed"));
+        }
+      }
+    }
+    active_ = std::move(active);
+  }
+
+  Input& in_;
+  wp::WorldConfig config_;
+  wp::ProximityWorld world_;
+  wp::PairRules rules_;  // the rules the world uses, as the harness set them
+  std::vector<ModelBody> bodies_;
+  std::set<PairKey> active_;
+  int predicts_ = 0;
+  int next_id_ = 0;
+  bool tainted_ = false;
+};
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  Input in(data, size);
+  Harness harness(in);
+  harness.run();
+  return 0;
+}
