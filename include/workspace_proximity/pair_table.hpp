@@ -24,9 +24,26 @@ class PairTable {
 
   /// Inserts (a, b) if absent. Returns the record and sets `inserted`.
   ProxyPair* insert(std::int32_t a, std::int32_t b, bool* inserted);
-  ProxyPair* find(std::int32_t a, std::int32_t b);
+  ProxyPair* find(std::int32_t a, std::int32_t b) {
+    const std::int32_t i = indexOf(key(a, b));
+    return i == kEmpty ? nullptr : &dense_[i];
+  }
   /// Removes (a, b); returns false if it was absent. `removed` receives a copy.
-  bool erase(std::int32_t a, std::int32_t b, ProxyPair* removed = nullptr);
+  bool erase(std::int32_t a, std::int32_t b, ProxyPair* removed = nullptr) {
+    const std::int32_t i = indexOf(key(a, b));
+    if (i == kEmpty) return false;
+    if (removed) *removed = dense_[i];
+    eraseAt(i);
+    return true;
+  }
+  /// Dense position of the pair with this key, or -1. (Inline: the sweep-and-prune probes
+  /// the table on every overlap that ends on one axis, most of them for absent pairs.)
+  std::int32_t indexOf(std::uint64_t k) const {
+    for (std::uint32_t s = slotOf(k);; s = (s + 1) & mask_) {
+      const std::int32_t i = index_[s];
+      if (i == kEmpty || keyAt(i) == k) return i;
+    }
+  }
   /// Removes the pair at dense position i (order of the rest may change).
   void eraseAt(int i);
   void clear();
@@ -34,6 +51,10 @@ class PairTable {
   const std::vector<ProxyPair>& pairs() const { return dense_; }
   std::vector<ProxyPair>& mutablePairs() { return dense_; }
   int size() const { return static_cast<int>(dense_.size()); }
+  /// Pairs held before the table grows (and allocates).
+  std::size_t capacity() const { return dense_.capacity(); }
+  /// Grows the table (if needed) to hold `pairs` pairs without growing again.
+  void reserve(std::size_t pairs);
 
   static std::uint64_t key(std::int32_t a, std::int32_t b) {
     if (a > b) { std::int32_t t = a; a = b; b = t; }
@@ -43,7 +64,18 @@ class PairTable {
 
  private:
   static constexpr std::int32_t kEmpty = -1;
-  std::uint32_t slotOf(std::uint64_t key) const;
+  // 64-bit finaliser (murmur3 fmix64): proxy ids are small consecutive integers, so the
+  // key needs mixing before masking or the probe sequences cluster.
+  static std::uint64_t mix(std::uint64_t k) {
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdULL;
+    k ^= k >> 33;
+    k *= 0xc4ceb9fe1a85ec53ULL;
+    k ^= k >> 33;
+    return k;
+  }
+  std::uint32_t slotOf(std::uint64_t key) const { return static_cast<std::uint32_t>(mix(key)) & mask_; }
+  std::uint64_t keyAt(std::int32_t i) const { return key(dense_[i].proxy_a, dense_[i].proxy_b); }
   void grow();
 
   std::vector<ProxyPair> dense_;

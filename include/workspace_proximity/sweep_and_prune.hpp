@@ -1,18 +1,23 @@
 #pragma once
 /// Incremental sweep-and-prune on three axes (insertion sort of persistent endpoint arrays).
 ///
-/// Each proxy's bounds are stored as three pairs of 32-bit sortable keys: the double bound
-/// is rounded outward to float, mapped to an order-preserving unsigned integer, and the low
-/// bit is forced to 0 for lower and 1 for upper endpoints. Lower keys are therefore always
-/// below upper keys at equal coordinates, so touching boxes overlap, and the integer test is
-/// never less conservative than the double one.
+/// Each proxy's bounds are stored as three pairs of 64-bit sortable keys: the double bound is
+/// mapped to an order-preserving unsigned integer, and the low bit is forced to 0 for lower and
+/// 1 for upper endpoints. Lower keys are therefore always below upper keys at equal
+/// coordinates, so touching boxes overlap; the tag moves a bound outward by at most one double
+/// ulp, so the integer test is never less conservative than the double one and differs from it
+/// only for boxes less than one ulp apart.
 ///
-/// update() re-sorts every axis by insertion sort. A swap of a lower endpoint of A past an
-/// upper endpoint of B starts an overlap on that axis: the pair is added when the two boxes
-/// overlap on all three axes. The opposite swap ends an overlap: the pair is removed. Pairs
-/// are kept in an open-addressing table; update() reports those that began and ended.
-/// When insertion sort would cost more than a rebuild (too many swaps) it falls back to a
-/// full sort and sweep and diffs the result against the previous pair set.
+/// update() re-sorts every axis by insertion sort, reading each endpoint's current key from the
+/// proxy as it goes. A swap of a lower endpoint of A past an upper endpoint of B starts an
+/// overlap on that axis: the pair is added when the two boxes overlap on all three axes. The
+/// opposite swap ends an overlap: the pair is removed. Pairs are kept in an open-addressing
+/// table; update() reports those that began and ended. When insertion sort would cost more than
+/// a rebuild (too many swaps), or when the last update rebuilt and the endpoints are still
+/// thoroughly shuffled, it rebuilds instead: radix sort of every axis, a sweep along the axis
+/// with the fewest overlapping intervals (in slabs of a second axis when there are many bodies),
+/// and a diff against the previous pair set. Steady-state updates allocate nothing: scratch
+/// space grows with the number of proxy slots, and the pair table keeps a quarter of headroom.
 
 #include <cstdint>
 #include <vector>
@@ -25,8 +30,10 @@ namespace workspace_proximity {
 struct SweepAndPruneConfig {
   int initial_proxy_capacity = 256;   ///< proxies preallocated
   int initial_pair_capacity = 1024;   ///< overlapping pairs preallocated
-  /// Insertion sort gives up and rebuilds once the swaps of one update exceed
-  /// rebuild_factor * n * log2(n) (n = endpoints per axis). A rebuild is one full sort.
+  /// Insertion sort gives up and rebuilds once the swaps of one update (all axes) exceed
+  /// rebuild_factor * (8 n + t / 4), n = endpoints per axis, t = overlap tests of the last
+  /// full sweep: an estimate of what a rebuild costs, in swaps. 0 rebuilds on almost any
+  /// motion; a huge value never rebuilds.
   double rebuild_factor = 1.0;
 };
 
@@ -68,13 +75,15 @@ class SweepAndPrune {
   /// The current pairs, for writing their `user` fields (nothing else may be changed).
   std::vector<ProxyPair>& mutablePairs() { return pairs_.mutablePairs(); }
 
-  std::uint32_t userData(ProxyId proxy) const { return proxies_[proxy].user; }
-  /// The bounds the structure tests with (outward-rounded to float).
+  std::uint32_t userData(ProxyId proxy) const { return info_[proxy].user; }
+  /// The bounds the structure tests with (the given ones, moved outward by at most one ulp).
   Aabb storedBounds(ProxyId proxy) const;
   int proxyCount() const { return live_count_; }
   const SweepAndPruneStats& stats() const { return stats_; }
 
-  /// Keys: order-preserving map of a float to uint32, rounded outward and tagged.
+  /// Compact 32-bit keys: order-preserving map of a float to uint32, rounded outward and
+  /// tagged like the structure's own 64-bit keys (which are exact doubles). Kept for callers
+  /// that need small sortable keys.
   static std::uint32_t lowerKey(double value);
   static std::uint32_t upperKey(double value);
   static double keyValue(std::uint32_t key);
@@ -82,56 +91,120 @@ class SweepAndPrune {
  private:
   enum class ProxyState : std::uint8_t { kFree, kPendingInsert, kLive };
 
-  struct Proxy {
-    std::uint32_t lower[3];       // keys
-    std::uint32_t upper[3];
-    std::int32_t lower_index[3];  // position of the endpoint in axis arrays
-    std::int32_t upper_index[3];
+  struct ProxyInfo {
     std::uint32_t user;
     std::int32_t next_free;
     ProxyState state;
     bool pending_remove;
+    bool is_new;  // inserted in the current update
   };
 
-  bool overlaps(const Proxy& a, const Proxy& b) const {
-    return a.lower[0] < b.upper[0] && b.lower[0] < a.upper[0] && a.lower[1] < b.upper[1] &&
-           b.lower[1] < a.upper[1] && a.lower[2] < b.upper[2] && b.lower[2] < a.upper[2];
+  // Open intervals of one sweep: structure of arrays over the two axes the sweep does not run
+  // along, so the inner loop streams through contiguous keys.
+  struct ActiveSet {
+    std::vector<std::int32_t> id;
+    std::vector<std::uint64_t> lower_b, upper_b, lower_c, upper_c;
+    std::vector<std::uint32_t> first;  // slab sweep: the proxy's first slab is this one
+    std::size_t size = 0;
+    void reserve(std::size_t n);
+    void clear() { size = 0; }
+  };
+
+  // Current keys per axis, indexed by endpoint code o = 2 proxy + is_upper: ends_[axis][o].
+  bool overlaps(std::int32_t a, std::int32_t b) const {
+    const std::size_t x = 2 * static_cast<std::size_t>(a), y = 2 * static_cast<std::size_t>(b);
+    const std::uint64_t* e0 = ends_[0].data();
+    const std::uint64_t* e1 = ends_[1].data();
+    const std::uint64_t* e2 = ends_[2].data();
+    return (e0[x] < e0[y + 1]) & (e0[y] < e0[x + 1]) & (e1[x] < e1[y + 1]) & (e1[y] < e1[x + 1]) &
+           (e2[x] < e2[y + 1]) & (e2[y] < e2[x + 1]);
   }
-  void setIndex(std::uint32_t owner, int axis, std::int32_t index);
+  // The same test, the two other axes first: a begin event already overlaps on `axis`, and
+  // most candidates are apart on another axis.
+  bool overlapsAcross(std::int32_t a, std::int32_t b, int axis) const {
+    const std::size_t x = 2 * static_cast<std::size_t>(a), y = 2 * static_cast<std::size_t>(b);
+    const std::uint64_t* e1 = ends_[axis == 0 ? 1 : 0].data();
+    const std::uint64_t* e2 = ends_[axis == 2 ? 1 : 2].data();
+    const std::uint64_t* e0 = ends_[axis].data();
+    return e1[x] < e1[y + 1] && e1[y] < e1[x + 1] && e2[x] < e2[y + 1] && e2[y] < e2[x + 1] &&
+           e0[x] < e0[y + 1] && e0[y] < e0[x + 1];
+  }
+  // False when the pair cannot be in the table during the sort of `axis`: a pair still there
+  // overlaps on every other axis, in the new keys on axes already sorted and in the previous
+  // update's keys on axes not sorted yet.
+  bool mayBePaired(std::int32_t a, std::int32_t b, int axis) const {
+    const std::size_t x = 2 * static_cast<std::size_t>(a), y = 2 * static_cast<std::size_t>(b);
+    for (int other = 0; other < 3; ++other) {
+      if (other == axis) continue;
+      const std::uint64_t* e = other < axis ? ends_[other].data() : prev_ends_[other].data();
+      if (!(e[x] < e[y + 1] && e[y] < e[x + 1])) return false;
+    }
+    return true;
+  }
+  void reserveSlots(std::size_t slots);
+  void checkLive(ProxyId proxy, const char* what) const;
+  void writeBounds(ProxyId proxy, const Aabb& bounds);
   void applyRemovals();
-  bool sortAxes();  // false when the swap budget ran out
+  std::int64_t swapBudget() const;
+  std::int64_t refreshKeys();  // reads every endpoint's key; returns the descents
+  // Insertion sort of every axis (reading the proxies' keys first when `refresh`), reporting
+  // pair events; false when the swap budget ran out.
+  bool sortAxes(bool refresh, std::int64_t budget);
   void rollBack(std::size_t began_mark, std::size_t ended_mark);
-  void rebuild();
+  void rebuild(std::int64_t descents);  // descents < 0: keys not read yet
+  void sortAxis(int axis);
+  std::int64_t sweepTests(int axis) const;
+  int cheapestSweepAxis(std::int64_t* tests) const;
   void insertPending();
-  void sweepForPairs(bool only_new);
+  bool insertByWindows();
+  void sweepForPairs(int axis, bool only_new);
+  // false: not worth it here, nothing done. `rebuild`: stamp pairs (else report them as begun).
+  bool sweepSlabs(int axis, const double* mean_width, bool rebuild);
+  void measureWidths(double* mean_width);
   void foundPair(std::int32_t a, std::int32_t b, bool rebuild);
   void beginPair(std::int32_t a, std::int32_t b);
   void endPair(std::int32_t a, std::int32_t b);
 
   SweepAndPruneConfig config_;
-  std::vector<Proxy> proxies_;
+  std::vector<std::uint64_t> ends_[3];  // 2 keys per proxy slot and axis
+  // Keys as of the last update (the order of the endpoint arrays) on axes 1 and 2.
+  std::vector<std::uint64_t> prev_ends_[3];
+  std::vector<ProxyInfo> info_;
   std::int32_t free_list_ = -1;
+  std::size_t reserved_slots_ = 0;
   int live_count_ = 0;
+  double max_width_[3] = {0.0, 0.0, 0.0};  // widest bound per axis since the last rebuild, m
 
-  // Endpoint arrays per axis, with a sentinel at each end: key[0] = 0, key[last] = ~0u.
-  // owner = proxy << 1 | is_upper.
-  std::vector<std::uint32_t> keys_[3];
+  // Endpoint arrays per axis, sorted by key, with a sentinel at each end: key[0] = 0,
+  // key[last] = ~0. owner = proxy << 1 | is_upper.
+  std::vector<std::uint64_t> keys_[3];
   std::vector<std::uint32_t> owners_[3];
 
   std::vector<ProxyId> pending_insert_;
   std::vector<ProxyId> pending_remove_;
-  bool any_removed_ = false;
 
   PairTable pairs_;
   std::vector<ProxyPair> began_;
   std::vector<ProxyPair> ended_;
 
+  // Rebuild heuristics.
+  bool last_rebuilt_ = false;
+  std::int64_t rebuild_descents_ = 0;  // descents seen by the last rebuild
+  std::int64_t sweep_tests_ = 0;       // overlap tests of the last full sweep
+  int sweep_axis_ = 0;                 // axis of the rebuild sweeps
+  unsigned rebuilds_since_choice_ = 0;
+
   // Scratch, kept between updates so steady-state updates allocate nothing.
-  std::vector<std::uint64_t> scratch_;
-  std::vector<std::int32_t> active_;       // sweep: open intervals of old proxies
-  std::vector<std::int32_t> active_new_;   // sweep: open intervals of inserted proxies
-  std::vector<std::int32_t> active_pos_;   // per proxy: position in its active list
-  std::vector<std::uint8_t> is_new_;       // per proxy: inserted in this update
+  std::vector<std::uint64_t> sort_items_, sort_items2_;
+  std::vector<std::uint64_t> tmp_keys_;
+  std::vector<std::uint32_t> tmp_owners_;
+  std::vector<std::uint32_t> breaks_;     // insertion sort: positions where the order breaks
+  std::vector<std::uint32_t> slab_lo_, slab_hi_;  // slab sweep: per proxy, first and last slab
+  std::vector<std::uint32_t> slab_owners_;        // slab sweep: endpoints, slab after slab
+  std::vector<std::size_t> slab_start_, slab_pos_;
+  ActiveSet active_;                      // sweep: open intervals of old proxies
+  ActiveSet active_new_;                  // sweep: open intervals of inserted proxies
+  std::vector<std::int32_t> active_pos_;  // per proxy: position in its active set
   SweepAndPruneStats stats_;
   std::uint32_t epoch_ = 0;
 };

@@ -11,17 +11,6 @@ std::uint32_t nextPowerOfTwo(std::uint32_t x) {
   return p;
 }
 
-// 64-bit finaliser (murmur3 fmix64): proxy ids are small consecutive integers, so the
-// key needs mixing before masking or the probe sequences cluster.
-std::uint64_t mix(std::uint64_t k) {
-  k ^= k >> 33;
-  k *= 0xff51afd7ed558ccdULL;
-  k ^= k >> 33;
-  k *= 0xc4ceb9fe1a85ec53ULL;
-  k ^= k >> 33;
-  return k;
-}
-
 }  // namespace
 
 PairTable::PairTable(int initial_capacity) {
@@ -30,19 +19,6 @@ PairTable::PairTable(int initial_capacity) {
   index_.assign(nextPowerOfTwo(2 * capacity), kEmpty);
   mask_ = static_cast<std::uint32_t>(index_.size() - 1);
   dense_.reserve(index_.size() / 2);
-}
-
-std::uint32_t PairTable::slotOf(std::uint64_t key) const {
-  return static_cast<std::uint32_t>(mix(key)) & mask_;
-}
-
-ProxyPair* PairTable::find(std::int32_t a, std::int32_t b) {
-  const std::uint64_t k = key(a, b);
-  for (std::uint32_t s = slotOf(k);; s = (s + 1) & mask_) {
-    const std::int32_t i = index_[s];
-    if (i == kEmpty) return nullptr;
-    if (key(dense_[i].proxy_a, dense_[i].proxy_b) == k) return &dense_[i];
-  }
 }
 
 ProxyPair* PairTable::insert(std::int32_t a, std::int32_t b, bool* inserted) {
@@ -65,19 +41,6 @@ ProxyPair* PairTable::insert(std::int32_t a, std::int32_t b, bool* inserted) {
   dense_.push_back(pair);
   if (inserted) *inserted = true;
   return &dense_.back();
-}
-
-bool PairTable::erase(std::int32_t a, std::int32_t b, ProxyPair* removed) {
-  const std::uint64_t k = key(a, b);
-  for (std::uint32_t s = slotOf(k);; s = (s + 1) & mask_) {
-    const std::int32_t i = index_[s];
-    if (i == kEmpty) return false;
-    if (key(dense_[i].proxy_a, dense_[i].proxy_b) == k) {
-      if (removed) *removed = dense_[i];
-      eraseAt(i);
-      return true;
-    }
-  }
 }
 
 void PairTable::eraseAt(int i) {
@@ -113,6 +76,20 @@ void PairTable::eraseAt(int i) {
 void PairTable::clear() {
   dense_.clear();
   std::fill(index_.begin(), index_.end(), kEmpty);
+}
+
+void PairTable::reserve(std::size_t pairs) {
+  if (2 * pairs <= index_.size()) return;
+  std::uint32_t size = static_cast<std::uint32_t>(index_.size());
+  while (size < 2 * pairs) size <<= 1;
+  index_.assign(size, kEmpty);
+  mask_ = size - 1;
+  for (std::int32_t i = 0; i < static_cast<std::int32_t>(dense_.size()); ++i) {
+    std::uint32_t s = slotOf(keyAt(i));
+    while (index_[s] != kEmpty) s = (s + 1) & mask_;
+    index_[s] = i;
+  }
+  dense_.reserve(index_.size() / 2);
 }
 
 void PairTable::grow() {
