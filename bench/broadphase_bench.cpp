@@ -71,38 +71,56 @@
 // Heap accounting.
 
 namespace heap {
-long long g_count = 0;       // allocations while g_counting
-bool g_counting = false;
-long long g_live = 0;        // live bytes (usable size)
-long long g_peak = 0;        // high-water mark of g_live
+// Every block carries a small header naming the peer it was allocated for (g_owner when it was
+// allocated), so live bytes and their high-water mark are kept per peer even though the peers
+// of one configuration are alive at the same time and take turns.
+constexpr int kMaxOwners = 64;
+int g_owner = 0;            // 0 = the harness
+bool g_counting = false;    // count allocations (of g_owner) now
+long long g_count = 0;
+long long g_live[kMaxOwners] = {};
+long long g_peak[kMaxOwners] = {};
 
-inline void onAlloc(void* p) {
-  if (p == nullptr) return;
-  g_live += static_cast<long long>(malloc_usable_size(p));
-  if (g_live > g_peak) g_peak = g_live;
+struct Header {
+  std::uint32_t owner;
+  std::uint32_t offset;  // from the start of the malloc block to the user pointer
+  std::uint64_t size;
+};
+static_assert(sizeof(Header) == 16, "header keeps 16-byte alignment");
+
+void* allocate(std::size_t n, std::size_t align = 16) {
+  if (align < 16) align = 16;
+  const std::size_t extra = sizeof(Header) + (align > 16 ? align : 0);
+  char* raw = static_cast<char*>(std::malloc(n + extra));
+  if (raw == nullptr) return nullptr;
+  const std::uintptr_t user =
+      (reinterpret_cast<std::uintptr_t>(raw) + sizeof(Header) + align - 1) & ~(align - 1);
+  Header* h = reinterpret_cast<Header*>(user) - 1;
+  h->owner = static_cast<std::uint32_t>(g_owner);
+  h->offset = static_cast<std::uint32_t>(user - reinterpret_cast<std::uintptr_t>(raw));
+  h->size = n;
+  long long& live = g_live[g_owner];
+  live += static_cast<long long>(n);
+  if (live > g_peak[g_owner]) g_peak[g_owner] = live;
   if (g_counting) ++g_count;
-}
-inline void onFree(void* p) {
-  if (p == nullptr) return;
-  g_live -= static_cast<long long>(malloc_usable_size(p));
-}
-void* allocate(std::size_t n) {
-  void* p = std::malloc(n ? n : 1);
-  onAlloc(p);
-  return p;
-}
-void* allocateAligned(std::size_t n, std::size_t align) {
-  void* p = nullptr;
-  if (posix_memalign(&p, std::max(align, sizeof(void*)), n ? n : 1) != 0) return nullptr;
-  onAlloc(p);
-  return p;
+  return reinterpret_cast<void*>(user);
 }
 void release(void* p) {
-  onFree(p);
-  std::free(p);
+  if (p == nullptr) return;
+  const Header* h = static_cast<const Header*>(p) - 1;
+  g_live[h->owner] -= static_cast<long long>(h->size);
+  std::free(static_cast<char*>(p) - h->offset);
 }
+void resetPeak(int owner) { g_peak[owner] = g_live[owner]; }
 void* bulletAlloc(std::size_t n) { return allocate(n); }
 void bulletFree(void* p) { release(p); }
+
+// Charges allocations to `owner` while alive.
+struct Scope {
+  int saved;
+  explicit Scope(int owner) : saved(g_owner) { g_owner = owner; }
+  ~Scope() { g_owner = saved; }
+};
 }  // namespace heap
 
 void* operator new(std::size_t n) {
@@ -113,15 +131,15 @@ void* operator new[](std::size_t n) { return operator new(n); }
 void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return heap::allocate(n); }
 void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return heap::allocate(n); }
 void* operator new(std::size_t n, std::align_val_t a) {
-  if (void* p = heap::allocateAligned(n, static_cast<std::size_t>(a))) return p;
+  if (void* p = heap::allocate(n, static_cast<std::size_t>(a))) return p;
   throw std::bad_alloc();
 }
 void* operator new[](std::size_t n, std::align_val_t a) { return operator new(n, a); }
 void* operator new(std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
-  return heap::allocateAligned(n, static_cast<std::size_t>(a));
+  return heap::allocate(n, static_cast<std::size_t>(a));
 }
 void* operator new[](std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
-  return heap::allocateAligned(n, static_cast<std::size_t>(a));
+  return heap::allocate(n, static_cast<std::size_t>(a));
 }
 void operator delete(void* p) noexcept { heap::release(p); }
 void operator delete[](void* p) noexcept { heap::release(p); }
@@ -669,8 +687,13 @@ bool fclRecord(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* data) {
 
 class FclPeer : public Peer {
  public:
-  FclPeer(std::unique_ptr<fcl::BroadPhaseCollisionManagerd> manager, FclUpdate mode)
-      : manager_(std::move(manager)), mode_(mode) {}
+  /// `reregister_on_churn`: FCL 0.7's IntervalTreeCollisionManager::unregisterObject compacts
+  /// only part of its endpoint list and then drops the last two entries (dangling endpoints,
+  /// double free), so for that manager a cycle with removals clears the manager and registers
+  /// every live object again instead.
+  FclPeer(std::unique_ptr<fcl::BroadPhaseCollisionManagerd> manager, FclUpdate mode,
+          bool reregister_on_churn = false)
+      : manager_(std::move(manager)), mode_(mode), reregister_(reregister_on_churn) {}
 
   void setup(const SceneState& s) override {
     objects_.resize(s.slots());
@@ -688,8 +711,10 @@ class FclPeer : public Peer {
     manager_->collide(&pairs_, fclRecord);
   }
   void cycle(const SceneState& s) override {
+    const bool reregister = reregister_ && !s.destroyed.empty();
+    if (reregister) manager_->clear();
     for (int i : s.destroyed) {
-      manager_->unregisterObject(objects_[i].get());
+      if (!reregister) manager_->unregisterObject(objects_[i].get());
       objects_[i].reset();
       geometry_[i].reset();
     }
@@ -707,7 +732,13 @@ class FclPeer : public Peer {
     }
     for (int i : s.created) {
       make(s, i);
-      manager_->registerObject(objects_[i].get());
+      if (!reregister) manager_->registerObject(objects_[i].get());
+    }
+    if (reregister) {
+      moved_.clear();
+      for (const auto& o : objects_)
+        if (o) moved_.push_back(o.get());
+      manager_->registerObjects(moved_);
     }
     if (mode_ == FclUpdate::kMovedList) {
       manager_->update(moved_);
@@ -736,6 +767,7 @@ class FclPeer : public Peer {
 
   std::unique_ptr<fcl::BroadPhaseCollisionManagerd> manager_;
   FclUpdate mode_;
+  bool reregister_;
   std::vector<std::unique_ptr<fcl::CollisionObjectd>> objects_;
   std::vector<std::shared_ptr<fcl::Boxd>> geometry_;
   std::vector<fcl::CollisionObjectd*> moved_;
@@ -825,6 +857,8 @@ struct PeerDef {
   std::function<std::unique_ptr<Peer>()> make;
   double exponent;  // assumed growth of the cycle time with N, for skipping by prediction
   int max_bodies;   // hard limit of the implementation
+  std::string no_resizing = {};  // non-empty: cannot take boxes that change size (why)
+  double setup_exponent = 1.3;   // assumed growth of the setup time with N
 };
 
 std::vector<PeerDef> allPeers() {
@@ -833,25 +867,38 @@ std::vector<PeerDef> allPeers() {
   peers.push_back({"sort-and-sweep (scratch)", [] { return std::make_unique<SortSweepPeer>(); }, 1.7, 1 << 30});
   peers.push_back({"brute force", [] { return std::make_unique<BrutePeer>(); }, 2.0, 1 << 30});
   peers.push_back({"CGAL box_self_intersection_d", [] { return std::make_unique<CgalPeer>(); }, 1.5, 1 << 30});
-  peers.push_back({"FCL DynamicAABBTree", [] {
+  // The dynamic trees have two ways to take moved boxes: update(moved objects) re-inserts each
+  // moved leaf (keeps the tree tight), update() refits every node bottom-up (cheap, but the
+  // tree loosens as boxes travel). Both are run.
+  peers.push_back({"FCL DynamicAABBTree update(moved)", [] {
                      return std::make_unique<FclPeer>(
                          std::make_unique<fcl::DynamicAABBTreeCollisionManagerd>(), FclUpdate::kMovedList);
                    }, 1.4, 1 << 30});
-  peers.push_back({"FCL DynamicAABBTree_Array", [] {
+  peers.push_back({"FCL DynamicAABBTree update() refit", [] {
+                     return std::make_unique<FclPeer>(
+                         std::make_unique<fcl::DynamicAABBTreeCollisionManagerd>(), FclUpdate::kAll);
+                   }, 1.4, 1 << 30});
+  peers.push_back({"FCL DynamicAABBTree_Array update(moved)", [] {
                      return std::make_unique<FclPeer>(
                          std::make_unique<fcl::DynamicAABBTreeCollisionManager_Arrayd>(), FclUpdate::kMovedList);
                    }, 1.4, 1 << 30});
-  peers.push_back({"FCL SaP", [] {
+  peers.push_back({"FCL DynamicAABBTree_Array update() refit", [] {
+                     return std::make_unique<FclPeer>(
+                         std::make_unique<fcl::DynamicAABBTreeCollisionManager_Arrayd>(), FclUpdate::kAll);
+                   }, 1.4, 1 << 30});
+  peers.push_back({"FCL SaP update(moved)", [] {
                      return std::make_unique<FclPeer>(std::make_unique<fcl::SaPCollisionManagerd>(),
                                                       FclUpdate::kMovedList);
-                   }, 1.7, 1 << 30});
-  peers.push_back({"FCL SSaP", [] {
+                   }, 1.7, 1 << 30,
+                   "n/a: FCL 0.7 SaP update_ picks one direction per axis from the lower end, so a "
+                   "box whose ends move apart corrupts its endpoint lists (segfault)"});
+  peers.push_back({"FCL SSaP update()", [] {
                      return std::make_unique<FclPeer>(std::make_unique<fcl::SSaPCollisionManagerd>(),
                                                       FclUpdate::kAll);
                    }, 1.7, 1 << 30});
-  peers.push_back({"FCL IntervalTree", [] {
+  peers.push_back({"FCL IntervalTree update()", [] {
                      return std::make_unique<FclPeer>(
-                         std::make_unique<fcl::IntervalTreeCollisionManagerd>(), FclUpdate::kAll);
+                         std::make_unique<fcl::IntervalTreeCollisionManagerd>(), FclUpdate::kAll, true);
                    }, 1.8, 1 << 30});
   peers.push_back({"Bullet btDbvtBroadphase", [] {
                      return std::make_unique<BulletPeer>([](const SceneState&) -> btBroadphaseInterface* {
@@ -864,13 +911,13 @@ std::vector<PeerDef> allPeers() {
                            static_cast<unsigned short>(std::min(s.slots() + 8, 16383));
                        return new btAxisSweep3(bt(s.world.lower), bt(s.world.upper), handles, nullptr, true);
                      });
-                   }, 1.4, 16000});
+                   }, 1.4, 16000, "", 2.0});  // each createProxy sorts its endpoints in: O(n)
   peers.push_back({"Bullet bt32BitAxisSweep3", [] {
                      return std::make_unique<BulletPeer>([](const SceneState& s) -> btBroadphaseInterface* {
                        return new bt32BitAxisSweep3(bt(s.world.lower), bt(s.world.upper),
                                                     static_cast<unsigned>(s.slots() + 8), nullptr, true);
                      });
-                   }, 1.4, 1 << 30});
+                   }, 1.4, 1 << 30, "", 2.0});
   return peers;
 }
 
@@ -884,6 +931,7 @@ struct ConfigDef {
   int cycles;
   int warmup;
   std::function<std::unique_ptr<Scene>()> make;
+  bool resizing = false;  // boxes change size from cycle to cycle
 };
 
 struct Result {
@@ -925,16 +973,18 @@ struct Prediction {
   double setup_s;
 };
 
+// Runs every peer of one configuration on its own copy of the scene. The peers are set up one
+// after the other, then take turns in blocks of cycles (round robin), so that a change of the
+// machine's background load while a configuration runs touches every peer alike.
 class Runner {
  public:
   explicit Runner(const Options& options) : opt_(options) {}
 
   std::vector<Result> run(const ConfigDef& config, const std::vector<PeerDef>& peers) {
-    // Check cycles (absolute cycle numbers) and their reference pair sets, computed before any
-    // peer runs so that they do not count in a peer's heap figures.
+    const int total = config.warmup + config.cycles;
+    // Check cycles (absolute cycle numbers) and their reference pair sets.
     std::vector<int> check_at = {config.warmup, config.warmup + config.cycles / 3,
-                                 config.warmup + (2 * config.cycles) / 3,
-                                 config.warmup + config.cycles - 1};
+                                 config.warmup + (2 * config.cycles) / 3, total - 1};
     check_at.erase(std::unique(check_at.begin(), check_at.end()), check_at.end());
     std::map<int, std::vector<PairCode>> reference;
     {
@@ -946,93 +996,141 @@ class Runner {
           reference[c] = referencePairs(scene->s);
       }
     }
+    reference_pairs_ = reference.begin()->second.size();
+
+    std::vector<Slot> slots(peers.size());
+    for (std::size_t k = 0; k < peers.size(); ++k) setUp(config, peers[k], static_cast<int>(k) + 1, &slots[k]);
+
+    // Round robin in blocks of about a fortieth of the run.
+    const int block = std::max(1, (total + 39) / 40);
+    bool any = true;
+    while (any) {
+      any = false;
+      for (Slot& slot : slots) {
+        if (!slot.active) continue;
+        runBlock(config, block, check_at, reference, &slot);
+        any |= slot.active;
+      }
+    }
 
     std::vector<Result> results;
-    for (const PeerDef& def : peers) {
-      results.push_back(runPeer(config, def, check_at, reference));
-      const Result& r = results.back();
-      std::fprintf(stderr, "  %-32s %s\n", def.name.c_str(),
-                   r.ran ? (std::to_string(r.median_us) + " us").c_str() : r.note.c_str());
+    for (Slot& slot : slots) {
+      finish(config, &slot);
+      results.push_back(slot.r);
+      std::fprintf(stderr, "  %-32s %s\n", slot.r.peer.c_str(),
+                   slot.r.ran ? (fmt("%.2f", slot.r.median_us) + " us").c_str() : slot.r.note.c_str());
     }
     return results;
   }
+  std::size_t referencePairCount() const { return reference_pairs_; }
 
  private:
-  Result runPeer(const ConfigDef& config, const PeerDef& def, const std::vector<int>& check_at,
-                 const std::map<int, std::vector<PairCode>>& reference) {
+  struct Slot {
+    const PeerDef* def = nullptr;
     Result r;
+    int owner = 0;
+    std::unique_ptr<Scene> scene;
+    std::unique_ptr<Peer> peer;
+    bool active = false;
+    int done = 0;    // cycles run, warm-up included
+    int target = 0;  // cycles to run, warm-up included
+    std::vector<double> times;
+    long long allocs = 0;
+    int rebuilds = 0;
+    double timed = 0.0;  // seconds spent in timed cycles
+  };
+
+  static std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+  }
+
+  void setUp(const ConfigDef& config, const PeerDef& def, int owner, Slot* slot) {
+    Result& r = slot->r;
     r.peer = def.name;
+    slot->def = &def;
+    slot->owner = owner;
     if (config.bodies > def.max_bodies) {
       r.note = "n/a (max " + std::to_string(def.max_bodies) + " bodies)";
-      return r;
+      return;
+    }
+    if (config.resizing && !def.no_resizing.empty()) {
+      r.note = def.no_resizing;
+      return;
     }
     const std::string key = config.family + "|" + def.name;
-    double predicted = 0.0, predicted_setup = 0.0;
+    double predicted = 0.0;
     auto it = predictions_.find(key);
     if (it != predictions_.end()) {
       if (it->second.bodies < 0) {
         r.note = "skipped (cap at smaller N)";
-        return r;
+        return;
       }
       const double scale = static_cast<double>(config.bodies) / it->second.bodies;
       predicted = it->second.median_s * std::pow(scale, def.exponent);
-      predicted_setup = it->second.setup_s * std::pow(scale, 1.3);
-      if (predicted > opt_.cycle_cap || predicted_setup + 3 * predicted > opt_.budget) {
-        char buf[96];
-        std::snprintf(buf, sizeof buf, "skipped (cap: ~%.2g s/cycle predicted)", predicted);
-        r.note = buf;
+      const double predicted_setup = it->second.setup_s * std::pow(scale, def.setup_exponent);
+      if (predicted > opt_.cycle_cap) {
+        r.note = "skipped (cap: ~" + fmt("%.2g", predicted) + " s/cycle predicted)";
         predictions_[key] = Prediction{-1, 0, 0};
-        return r;
+        return;
+      }
+      if (predicted_setup > opt_.budget) {
+        r.note = "skipped (cap: setup ~" + fmt("%.2g", predicted_setup) + " s predicted)";
+        predictions_[key] = Prediction{-1, 0, 0};
+        return;
       }
     }
-    int cycles = config.cycles;
+    slot->scene = config.make();
+    slot->scene->reset();
+    heap::Scope scope(owner);
+    heap::resetPeak(owner);
+    const Clock::time_point t0 = Clock::now();
+    slot->peer = def.make();
+    slot->peer->setup(slot->scene->s);
+    r.setup_ms = seconds(Clock::now() - t0) * 1e3;
+    slot->target = config.warmup + config.cycles;
     if (predicted > 0.0) {
-      const int fit = static_cast<int>((opt_.budget - predicted_setup) / predicted);
-      cycles = std::max(3, std::min(cycles, fit));
+      const int fit = static_cast<int>(opt_.budget / predicted);
+      slot->target = config.warmup + std::max(3, std::min(config.cycles, fit));
     }
+    slot->active = true;
+  }
 
-    auto scene = config.make();
-    scene->reset();
-    const long long baseline = heap::g_live;
-    heap::g_peak = heap::g_live;
-    const Clock::time_point t_setup = Clock::now();
-    std::unique_ptr<Peer> peer = def.make();
-    peer->setup(scene->s);
-    r.setup_ms = seconds(Clock::now() - t_setup) * 1e3;
-
-    std::vector<double> times;
-    long long allocs = 0;
-    int rebuilds = 0;
-    const Clock::time_point t_start = Clock::now();
-    auto* ours = dynamic_cast<OursPeer*>(peer.get());
-    std::vector<PairCode> got;
-    const int total = config.warmup + cycles;
-    for (int c = 0; c < total; ++c) {
-      scene->step();
+  void runBlock(const ConfigDef& config, int block, const std::vector<int>& check_at,
+                const std::map<int, std::vector<PairCode>>& reference, Slot* slot) {
+    Result& r = slot->r;
+    auto* ours = dynamic_cast<OursPeer*>(slot->peer.get());
+    heap::Scope scope(slot->owner);
+    for (int b = 0; b < block && slot->done < slot->target; ++b) {
+      const int c = slot->done++;
+      slot->scene->step();
       heap::g_count = 0;
       heap::g_counting = true;
       const Clock::time_point t0 = Clock::now();
-      peer->cycle(scene->s);
+      slot->peer->cycle(slot->scene->s);
       const Clock::time_point t1 = Clock::now();
       heap::g_counting = false;
       const double dt = seconds(t1 - t0);
       if (c >= config.warmup) {
-        times.push_back(dt);
-        allocs += heap::g_count;
-        if (ours && ours->sap().stats().rebuilt) ++rebuilds;
+        slot->times.push_back(dt);
+        slot->allocs += heap::g_count;
+        if (ours && ours->sap().stats().rebuilt) ++slot->rebuilds;
       }
+      slot->timed += dt;
       if (dt > opt_.cycle_cap) {
-        char buf[96];
-        std::snprintf(buf, sizeof buf, "skipped (cap: a cycle took %.2f s)", dt);
-        r.note = buf;
-        predictions_[key] = Prediction{-1, 0, 0};
-        return r;
+        r.note = "skipped (cap: a cycle took " + fmt("%.2f", dt) + " s)";
+        predictions_[config.family + "|" + r.peer] = Prediction{-1, 0, 0};
+        slot->times.clear();
+        slot->active = false;
+        slot->peer.reset();
+        return;
       }
       auto ref = reference.find(c);
       if (ref != reference.end()) {
-        const long long saved_peak = heap::g_peak;
-        got.clear();
-        peer->collect(&got);
+        heap::Scope harness(0);
+        std::vector<PairCode> got;
+        slot->peer->collect(&got);
         std::sort(got.begin(), got.end());
         std::vector<PairCode> diff;
         std::set_difference(got.begin(), got.end(), ref->second.begin(), ref->second.end(),
@@ -1042,33 +1140,48 @@ class Runner {
         std::set_difference(ref->second.begin(), ref->second.end(), got.begin(), got.end(),
                             std::back_inserter(diff));
         r.missing = std::max<long>(r.missing, static_cast<long>(diff.size()));
+        if (r.checks == 0) r.pairs = got.size();
         ++r.checks;
-        std::vector<PairCode>().swap(diff);
-        std::vector<PairCode>().swap(got);
-        heap::g_peak = saved_peak;
       }
-      if (c >= config.warmup + 2 && seconds(Clock::now() - t_start) + r.setup_ms * 1e-3 > opt_.budget) {
-        r.note = "budget: " + std::to_string(times.size()) + " cycles";
-        break;
+      if (c >= config.warmup + 2 && slot->timed + r.setup_ms * 1e-3 > opt_.budget &&
+          slot->done < slot->target) {
+        r.note = "budget: " + std::to_string(slot->times.size()) + " cycles";
+        slot->target = slot->done;
       }
     }
+    if (slot->done >= slot->target) slot->active = false;
+  }
+
+  void finish(const ConfigDef& config, Slot* slot) {
+    Result& r = slot->r;
+    if (slot->times.empty()) {
+      if (slot->peer) {
+        heap::Scope scope(slot->owner);
+        slot->peer.reset();
+      }
+      return;
+    }
     r.ran = true;
-    r.cycles = static_cast<int>(times.size());
-    r.median_us = percentile(times, 0.5) * 1e6;
-    r.p99_us = percentile(times, 0.99) * 1e6;
-    r.ns_per_body = percentile(times, 0.5) * 1e9 / config.bodies;
-    r.pairs = peer->reported();
-    r.allocs_per_cycle = static_cast<double>(allocs) / times.size();
-    r.peak_mb = static_cast<double>(heap::g_peak - baseline) / (1024.0 * 1024.0);
-    r.rebuild_fraction = ours ? static_cast<double>(rebuilds) / times.size() : 0.0;
-    if (peer->checksum == 0x5eed) std::fprintf(stderr, " ");  // keep the checksum alive
-    peer.reset();
-    predictions_[key] = Prediction{config.bodies, percentile(times, 0.5), r.setup_ms * 1e-3};
-    return r;
+    r.cycles = static_cast<int>(slot->times.size());
+    const double median = percentile(slot->times, 0.5);
+    r.median_us = median * 1e6;
+    r.p99_us = percentile(slot->times, 0.99) * 1e6;
+    r.ns_per_body = median * 1e9 / config.bodies;
+    r.allocs_per_cycle = static_cast<double>(slot->allocs) / r.cycles;
+    r.peak_mb = static_cast<double>(heap::g_peak[slot->owner]) / (1024.0 * 1024.0);
+    r.rebuild_fraction = static_cast<double>(slot->rebuilds) / r.cycles;
+    if (slot->peer->checksum == 0x5eed) std::fprintf(stderr, " ");  // keep the checksum alive
+    {
+      heap::Scope scope(slot->owner);
+      slot->peer.reset();
+    }
+    slot->scene.reset();
+    predictions_[config.family + "|" + r.peer] = Prediction{config.bodies, median, r.setup_ms * 1e-3};
   }
 
   Options opt_;
   std::map<std::string, Prediction> predictions_;
+  std::size_t reference_pairs_ = 0;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -1107,7 +1220,13 @@ std::string timeUs(double us) {
   return fmt("%.2f", us);
 }
 
-std::string table(const ConfigDef& config, const std::vector<Result>& results) {
+std::string allocsText(double a) {
+  if (a == 0.0) return "0";
+  if (a < 0.1) return fmt("%.3f", a);
+  return fmt("%.1f", a);
+}
+
+std::string table(const ConfigDef& config, const std::vector<Result>& results, std::size_t ref_pairs) {
   std::ostringstream o;
   double best = 0.0, ours = 0.0;
   for (const Result& r : results) {
@@ -1115,7 +1234,7 @@ std::string table(const ConfigDef& config, const std::vector<Result>& results) {
     if (best == 0.0 || r.median_us < best) best = r.median_us;
     if (r.peer.rfind("ours", 0) == 0) ours = r.median_us;
   }
-  o << "### " << config.label << "\n\n";
+  o << "### " << config.label << "\n\nReference: " << ref_pairs << " pairs at the first checked cycle.\n\n";
   o << "| peer | median µs | p99 µs | ns/body | pairs | allocs/cycle | peak heap MiB | vs reference | ×best | ×ours | cycles |\n";
   o << "|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n";
   for (const Result& r : results) {
@@ -1125,7 +1244,7 @@ std::string table(const ConfigDef& config, const std::vector<Result>& results) {
     }
     std::string eq = (r.extra == 0 && r.missing == 0) ? "equal" : ("+" + std::to_string(r.extra) + " / −" + std::to_string(r.missing));
     o << "| " << r.peer << " | " << timeUs(r.median_us) << " | " << timeUs(r.p99_us) << " | "
-      << fmt("%.1f", r.ns_per_body) << " | " << r.pairs << " | " << fmt("%.1f", r.allocs_per_cycle)
+      << fmt("%.1f", r.ns_per_body) << " | " << r.pairs << " | " << allocsText(r.allocs_per_cycle)
       << " | " << fmt("%.2f", r.peak_mb) << " | " << eq << " | " << fmt("%.2f", r.median_us / best)
       << " | " << (ours > 0 ? fmt("%.2f", r.median_us / ours) : std::string("–")) << " | " << r.cycles;
     if (!r.note.empty()) o << " (" << r.note << ")";
@@ -1155,11 +1274,18 @@ std::string targets(const std::vector<std::pair<ConfigDef, std::vector<Result>>>
       << (ratio >= need ? "yes" : "NO") << " |\n";
   };
   bool allocs_ok = true, equal_ok = true;
+  std::string alloc_where, equal_where;
   for (const auto& [c, rs] : all) {
     const Result* ours = find(rs, "ours");
     if (!ours) continue;
-    if (ours->allocs_per_cycle > 0) allocs_ok = false;
-    if (ours->extra || ours->missing) equal_ok = false;
+    if (ours->allocs_per_cycle > 0) {
+      allocs_ok = false;
+      alloc_where += " " + c.label + " (" + allocsText(ours->allocs_per_cycle) + "/cycle);";
+    }
+    if (ours->extra || ours->missing) {
+      equal_ok = false;
+      equal_where += " " + c.label + ";";
+    }
     if (c.family == "uniform-small" && c.bodies == 1000) {
       const Result* best = nullptr;
       for (const Result& r : rs)
@@ -1176,8 +1302,9 @@ std::string targets(const std::vector<std::pair<ConfigDef, std::vector<Result>>>
     }
     if (c.family == "uniform-large") line(c, "not slower than sort-and-sweep", ours, find(rs, "sort-and-sweep"), 1.0);
   }
-  o << "\nOurs allocates nothing in steady-state cycles: " << (allocs_ok ? "yes" : "NO")
-    << ". Ours equals the reference pair set at every check: " << (equal_ok ? "yes" : "NO") << ".\n";
+  o << "\nOurs allocates nothing in steady-state cycles: " << (allocs_ok ? "yes" : "NO:" + alloc_where)
+    << "\n\nOurs equals the reference pair set at every check: " << (equal_ok ? "yes" : "NO:" + equal_where)
+    << "\n";
   return o.str();
 }
 
@@ -1256,7 +1383,8 @@ int main(int argc, char** argv) {
                     objects, horizon);
       configs.push_back({"robot-" + std::to_string(links) + "-" + fmt("%.1f", horizon), label,
                          links + objects, robot_cycles, 20,
-                         [=] { return std::make_unique<RobotCellScene>(links, objects, horizon, 4000 + links); }});
+                         [=] { return std::make_unique<RobotCellScene>(links, objects, horizon, 4000 + links); },
+                         true});
     }
   }
 
@@ -1289,14 +1417,40 @@ int main(int argc, char** argv) {
        << CGAL_VERSION_STR << "\n";
   head << "- One cycle = apply the bodies that were destroyed / moved / created since the last "
           "cycle, compute the overlapping pairs, walk them once. Times are per cycle; ns/body = "
-          "median / N. allocs/cycle = heap allocations inside the timed cycle (operator new and "
-          "Bullet's allocator hook). Peak heap = high-water mark of live heap bytes above the level "
-          "before the peer was built (counted by the operator new hook, not RSS), over setup and "
-          "cycles. \"vs reference\" = extra / missing pairs against a double-precision reference "
+          "median / N; pairs = pairs reported at the first checked cycle (the same scene state for "
+          "every peer). allocs/cycle = heap allocations inside the timed cycle (operator new and "
+          "Bullet's allocator hook). Peak heap = high-water mark of the heap bytes the peer holds, "
+          "over its setup and cycles: every block from operator new or Bullet's allocator carries "
+          "a header naming the peer it was allocated for (not RSS; direct malloc calls inside a "
+          "library are not seen). Peers of one configuration are set up one after the other, then "
+          "take turns in blocks of a fortieth of the cycles (round robin), so that background load "
+          "touches them alike (the machine is shared: medians of one peer move by 10-30 % between "
+          "runs; ratios within a run are steadier). \"vs reference\" = extra / missing pairs against a double-precision reference "
           "(brute force up to 12 000 bodies, an independent sort-and-sweep above), worst of the "
           "checked cycles. ×best, ×ours = median / best median, median / our median. Caps: a peer is "
           "skipped when a cycle takes (or is predicted from smaller N to take) more than "
           << opt.cycle_cap << " s, and stops early past " << opt.budget << " s per configuration.\n\n";
+  head << "What each peer does per cycle (all register their bodies once, in setup; the time "
+          "includes telling the peer about the moved boxes):\n\n"
+          "- ours: moveProxy per moved box (destroyProxy / createProxy for churn), update(), walk "
+          "pairs().\n"
+          "- sort-and-sweep (scratch): copy the moved boxes, std::sort of all boxes by lower x, sweep "
+          "with an active list testing y and z (double). Brute force: all pairs. CGAL: rebuild a "
+          "Box_with_info_d vector, box_self_intersection_d (CLOSED) with a callback that records "
+          "the pair.\n"
+          "- FCL: setTranslation + computeAABB per moved object (box side changed when the box "
+          "changes size), then the named update call, then collide(callback) that only records the "
+          "pair (no narrow phase). DynamicAABBTree update(moved) re-inserts moved leaves; "
+          "update() refits the whole tree (cheap, the tree loosens as boxes travel). SaP: "
+          "update(moved). SSaP and IntervalTree: update() (SSaP re-sorts; IntervalTree's "
+          "update(object) re-sorts its endpoints once per object and its unregisterObject is broken, "
+          "so churn clears and re-registers everything).\n"
+          "- Bullet: setAabb per moved proxy, calculateOverlappingPairs, walk the overlapping pair "
+          "cache. gDbvtMargin = 0; btDbvtBroadphase keeps its defaults otherwise (a shrinking box keeps "
+          "its old leaf volume and the pair cache is cleaned 10 % per call, hence extra pairs); the "
+          "axis sweeps quantize to 16/32 bits (conservative, hence extra pairs) and have their ray "
+          "accelerator turned off; creating a proxy in them sorts its endpoints in from the end of "
+          "the axis (O(n)), so their setup is O(n^2).\n\n";
   std::cout << head.str() << std::flush;
 
   Runner runner(opt);
@@ -1309,7 +1463,7 @@ int main(int argc, char** argv) {
     if (opt.only_n > 0 && c.bodies != opt.only_n) continue;
     std::fprintf(stderr, "%s\n", c.label.c_str());
     std::vector<Result> results = runner.run(c, peers);
-    const std::string t = table(c, results);
+    const std::string t = table(c, results, runner.referencePairCount());
     std::cout << t << std::flush;
     body += t;
     all.emplace_back(c, std::move(results));
