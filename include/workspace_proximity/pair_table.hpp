@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "workspace_proximity/hash_mix.hpp"
+
 namespace workspace_proximity {
 
 /// An unordered pair of proxies, stored with proxy_a < proxy_b.
@@ -64,17 +66,9 @@ class PairTable {
 
  private:
   static constexpr std::int32_t kEmpty = -1;
-  // 64-bit finaliser (murmur3 fmix64): proxy ids are small consecutive integers, so the
-  // key needs mixing before masking or the probe sequences cluster.
-  static std::uint64_t mix(std::uint64_t k) {
-    k ^= k >> 33;
-    k *= 0xff51afd7ed558ccdULL;
-    k ^= k >> 33;
-    k *= 0xc4ceb9fe1a85ec53ULL;
-    k ^= k >> 33;
-    return k;
+  std::uint32_t slotOf(std::uint64_t key) const {
+    return static_cast<std::uint32_t>(mixKey(key)) & mask_;
   }
-  std::uint32_t slotOf(std::uint64_t key) const { return static_cast<std::uint32_t>(mix(key)) & mask_; }
   std::uint64_t keyAt(std::int32_t i) const { return key(dense_[i].proxy_a, dense_[i].proxy_b); }
   void grow();
 

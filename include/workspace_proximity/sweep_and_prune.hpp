@@ -108,6 +108,31 @@ class SweepAndPrune {
     std::size_t size = 0;
     void reserve(std::size_t n);
     void clear() { size = 0; }
+    /// Appends a proxy with its keys on the two tested axes; returns its position.
+    std::size_t push(std::int32_t p, std::uint64_t lb, std::uint64_t ub, std::uint64_t lc,
+                     std::uint64_t uc, std::uint32_t first_slab) {
+      const std::size_t pos = size++;
+      id[pos] = p;
+      lower_b[pos] = lb;
+      upper_b[pos] = ub;
+      lower_c[pos] = lc;
+      upper_c[pos] = uc;
+      first[pos] = first_slab;
+      return pos;
+    }
+    /// Removes position pos by moving the last entry into it; returns the moved proxy
+    /// (now at pos), or -1 when pos was the last.
+    std::int32_t removeAt(std::size_t pos) {
+      const std::size_t back = --size;
+      if (pos == back) return -1;
+      id[pos] = id[back];
+      lower_b[pos] = lower_b[back];
+      upper_b[pos] = upper_b[back];
+      lower_c[pos] = lower_c[back];
+      upper_c[pos] = upper_c[back];
+      first[pos] = first[back];
+      return id[pos];
+    }
   };
 
   // Current keys per axis, indexed by endpoint code o = 2 proxy + is_upper: ends_[axis][o].

@@ -1,19 +1,12 @@
 #include "workspace_proximity/event_tracker.hpp"
 
+#include "workspace_proximity/hash_mix.hpp"
+
 #include <algorithm>
 #include <limits>
 
 namespace workspace_proximity {
 namespace {
-
-std::uint64_t mix(std::uint64_t k) {
-  k ^= k >> 33;
-  k *= 0xff51afd7ed558ccdULL;
-  k ^= k >> 33;
-  k *= 0xc4ceb9fe1a85ec53ULL;
-  k ^= k >> 33;
-  return k;
-}
 
 std::uint32_t powerOfTwoAtLeast(std::uint32_t x) {
   std::uint32_t p = 16;
@@ -40,7 +33,7 @@ EventTracker::EventTracker(int initial_capacity) {
 }
 
 std::int32_t EventTracker::find(std::uint64_t key) const {
-  for (std::uint32_t s = static_cast<std::uint32_t>(mix(key)) & mask_;; s = (s + 1) & mask_) {
+  for (std::uint32_t s = static_cast<std::uint32_t>(mixKey(key)) & mask_;; s = (s + 1) & mask_) {
     const std::int32_t r = index_[s];
     if (r == kEmpty) return kEmpty;
     if (records_[r].key == key) return r;
@@ -48,19 +41,19 @@ std::int32_t EventTracker::find(std::uint64_t key) const {
 }
 
 void EventTracker::indexInsert(std::uint64_t key, std::int32_t record) {
-  std::uint32_t s = static_cast<std::uint32_t>(mix(key)) & mask_;
+  std::uint32_t s = static_cast<std::uint32_t>(mixKey(key)) & mask_;
   while (index_[s] != kEmpty) s = (s + 1) & mask_;
   index_[s] = record;
 }
 
 void EventTracker::indexErase(std::uint64_t key) {
-  std::uint32_t hole = static_cast<std::uint32_t>(mix(key)) & mask_;
+  std::uint32_t hole = static_cast<std::uint32_t>(mixKey(key)) & mask_;
   while (records_[index_[hole]].key != key) hole = (hole + 1) & mask_;
   // Backward-shift deletion keeps probe chains intact without tombstones.
   for (std::uint32_t s = (hole + 1) & mask_;; s = (s + 1) & mask_) {
     const std::int32_t r = index_[s];
     if (r == kEmpty) break;
-    const std::uint32_t home = static_cast<std::uint32_t>(mix(records_[r].key)) & mask_;
+    const std::uint32_t home = static_cast<std::uint32_t>(mixKey(records_[r].key)) & mask_;
     const bool home_between = hole <= s ? (hole < home && home <= s) : (hole < home || home <= s);
     if (!home_between) {
       index_[hole] = r;

@@ -704,27 +704,11 @@ bool SweepAndPrune::sweepSlabs(int axis, const double* mean_width, bool rebuild)
                            (p_first | (first[j] != 0u));
           if (hit) foundPair(p, id[j], rebuild);
         }
-        const std::size_t pos = set.size++;
-        set.id[pos] = p;
-        set.lower_b[pos] = lb;
-        set.upper_b[pos] = ub;
-        set.lower_c[pos] = lc;
-        set.upper_c[pos] = uc;
-        set.first[pos] = p_first;
-        active_pos_[p] = static_cast<std::int32_t>(pos);
+        active_pos_[p] = static_cast<std::int32_t>(set.push(p, lb, ub, lc, uc, p_first));
       } else {
         const std::size_t pos = static_cast<std::size_t>(active_pos_[p]);
-        const std::size_t back = --set.size;
-        if (pos != back) {
-          const std::int32_t moved = set.id[back];
-          set.id[pos] = moved;
-          set.lower_b[pos] = set.lower_b[back];
-          set.upper_b[pos] = set.upper_b[back];
-          set.lower_c[pos] = set.lower_c[back];
-          set.upper_c[pos] = set.upper_c[back];
-          set.first[pos] = set.first[back];
-          active_pos_[moved] = static_cast<std::int32_t>(pos);
-        }
+        const std::int32_t moved = set.removeAt(pos);
+        if (moved >= 0) active_pos_[moved] = static_cast<std::int32_t>(pos);
       }
     }
   }
@@ -900,25 +884,11 @@ void SweepAndPrune::sweepForPairs(int axis, bool only_new) {
       const std::uint64_t lc = ec[o], uc = ec[o + 1];
       if (!only_new || p_new) test(active_, p, lb, ub, lc, uc, !only_new);
       test(active_new_, p, lb, ub, lc, uc, !only_new);
-      const std::size_t pos = set.size++;
-      set.id[pos] = p;
-      set.lower_b[pos] = lb;
-      set.upper_b[pos] = ub;
-      set.lower_c[pos] = lc;
-      set.upper_c[pos] = uc;
-      active_pos_[p] = static_cast<std::int32_t>(pos);
+      active_pos_[p] = static_cast<std::int32_t>(set.push(p, lb, ub, lc, uc, 0u));
     } else {
       const std::size_t pos = static_cast<std::size_t>(active_pos_[p]);
-      const std::size_t back = --set.size;
-      if (pos != back) {
-        const std::int32_t moved = set.id[back];
-        set.id[pos] = moved;
-        set.lower_b[pos] = set.lower_b[back];
-        set.upper_b[pos] = set.upper_b[back];
-        set.lower_c[pos] = set.lower_c[back];
-        set.upper_c[pos] = set.upper_c[back];
-        active_pos_[moved] = static_cast<std::int32_t>(pos);
-      }
+      const std::int32_t moved = set.removeAt(pos);
+      if (moved >= 0) active_pos_[moved] = static_cast<std::int32_t>(pos);
     }
   }
 }
