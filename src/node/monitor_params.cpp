@@ -70,7 +70,10 @@ std::vector<std::string> validate(const MonitorParams& p) {
     if (b.name.empty()) errors.push_back(where + "/name: must not be empty");
     if (b.frame.empty()) errors.push_back(where + "/frame: must not be empty");
     if (!b.shape.valid()) errors.push_back(where + "/size: every edge must be finite and > 0 m");
-    if (!b.offset.matrix().allFinite()) errors.push_back(where + "/offset: must be finite");
+    if (!b.offset.matrix().allFinite() ||
+        b.offset.translation().cwiseAbs().maxCoeff() > Limits::kMaxCoordinate) {
+      errors.push_back(where + "/offset: xyz must be finite and within 1e7 m");
+    }
     for (std::size_t j = 0; j < i; ++j) {
       if (p.robot_bodies[j].name == b.name) {
         errors.push_back(where + "/name: '" + b.name + "' is used twice");

@@ -58,6 +58,15 @@ TEST(MonitorParams, EachBadValueIsNamed) {
          b.shape = wp::Shape::box({0.1, 0.1, 0.1});
          p.robot_bodies.push_back(b);
        }},
+      {"~robot_bodies[0]/offset",
+       [](wp::MonitorParams& p) {
+         wp::RobotBodySpec b;
+         b.name = "g";
+         b.frame = "tool0";
+         b.shape = wp::Shape::box({0.1, 0.1, 0.1});
+         b.offset.translation() = Eigen::Vector3d(1e300, 0, 0);
+         p.robot_bodies.push_back(b);
+       }},
       {"~ignore_pairs", [](wp::MonitorParams& p) { p.ignore_pairs.push_back({"colour:red", "*"}); }},
   };
   for (const Case& c : cases) {
