@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
      << "Per cycle, after 30 warm-up cycles, " << cycles << " cycles each. Stage times are "
         "means; the stage timers themselves cost a little.\n\n"
      << "| links | objects | horizon s | median µs | p99 µs | bounds | broad | axis TOI | narrow | "
-        "events | broad pairs | candidates | contacts | FCL queries |\n"
+        "events | broad pairs | candidates | contacts | distance queries |\n"
      << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (int links : {30, 60}) {
     for (int objects : {10, 100, 200}) {

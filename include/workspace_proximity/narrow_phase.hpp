@@ -50,7 +50,7 @@ struct ContactPrediction {
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< nearest point on shape b now, world
   Eigen::Vector3d normal = Eigen::Vector3d::UnitX();  ///< unit, from a towards b
   double closing_speed = 0.0;  ///< m/s along the normal at the nearest points, > 0 approaching
-  int iterations = 0;          ///< FCL queries spent
+  int iterations = 0;          ///< distance queries spent: FCL calls and closed-form ones
 };
 
 /// FCL geometry for a shape. Create once per body and reuse: FCL geometries are immutable.

@@ -34,7 +34,7 @@ struct WorldStats {
   int allowed_pairs = 0;     ///< after the pair rules
   int axis_candidates = 0;   ///< per-axis time of impact within the horizon
   int contacts = 0;          ///< confirmed by the narrow phase
-  int narrow_iterations = 0; ///< FCL queries
+  int narrow_iterations = 0; ///< distance queries (FCL calls and closed-form upright boxes)
   std::int64_t ns_bounds = 0, ns_broad = 0, ns_axis = 0, ns_narrow = 0, ns_events = 0;
   SweepAndPruneStats broad_phase;
 };

@@ -13,6 +13,8 @@
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
+#include "workspace_proximity/upright_box_distance.hpp"
+
 namespace workspace_proximity {
 namespace {
 
@@ -118,7 +120,7 @@ bool certified(const Attempt& attempt) {
 struct Evaluation {
   ShapeDistance shape;
   double lower_bound = 0.0;  ///< m, never above the true distance (0 when overlapping)
-  int queries = 0;           ///< FCL calls spent
+  int queries = 0;           ///< distance queries spent (FCL calls or closed-form)
 };
 
 // FCL contact for overlapping shapes. The libccd solver is used here on purpose: for pairs
@@ -149,6 +151,31 @@ bool contactAttempt(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& p
   return true;
 }
 
+// Two upright boxes (turned about the vertical only, as trackers report people and
+// vehicles) have an exact closed-form distance and contact, at a tenth of the cost of an FCL
+// query. Returns false when FCL must answer: other shapes and tilted boxes.
+bool evaluateUpright(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& pose_a,
+                     const fcl::CollisionGeometryd& b, const Eigen::Isometry3d& pose_b,
+                     Evaluation* e) {
+  if (a.getNodeType() != fcl::GEOM_BOX || b.getNodeType() != fcl::GEOM_BOX ||
+      !isUpright(pose_a.linear()) || !isUpright(pose_b.linear())) {
+    return false;
+  }
+  const UprightBoxDistance d =
+      uprightBoxDistance(pose_a, 0.5 * static_cast<const fcl::Boxd&>(a).side, pose_b,
+                         0.5 * static_cast<const fcl::Boxd&>(b).side);
+  if (!d.solved) return false;
+  e->queries = 1;
+  e->shape.distance = d.distance;
+  e->shape.overlapping = d.overlapping;
+  e->shape.point_a = d.point_a;
+  e->shape.point_b = d.point_b;
+  e->shape.normal = d.normal;
+  // Exact up to rounding; shaved by a few ulps so it stays a lower bound.
+  e->lower_bound = d.distance * (1.0 - 1e-12);
+  return true;
+}
+
 // Distance with certification and fallbacks. FCL 0.7 GJK answers are occasionally far too
 // large: GST_INDEP on rotated box pairs (~0.1 % of random pairs, up to 2x), GST_LIBCCD on
 // axis-aligned box pairs (fcl #508). An answer is accepted only when the separating-axis
@@ -158,6 +185,7 @@ Evaluation evaluate(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& p
                     const fcl::CollisionGeometryd& b, const Eigen::Isometry3d& pose_b,
                     double touch_threshold, bool want_contact) {
   Evaluation e;
+  if (evaluateUpright(a, pose_a, b, pose_b, &e)) return e;
   Attempt best;
   bool gjk_inside = false;
   for (fcl::GJKSolverType solver : {fcl::GST_INDEP, fcl::GST_LIBCCD}) {

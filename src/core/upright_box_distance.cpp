@@ -1,0 +1,182 @@
+#include "workspace_proximity/upright_box_distance.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace workspace_proximity {
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+
+// A box's footprint: centre, unit axes and half sizes in the x-y plane.
+struct Footprint {
+  Vec2 centre, u, v;
+  double hu, hv;
+
+  Footprint(const Eigen::Isometry3d& pose, const Eigen::Vector3d& half)
+      : centre(pose.translation().head<2>()),
+        u(pose.linear().col(0).head<2>()),
+        v(pose.linear().col(1).head<2>()),
+        hu(half.x()),
+        hv(half.y()) {}
+
+  Vec2 corner(int i) const {
+    return centre + ((i & 1) ? hu : -hu) * u + ((i & 2) ? hv : -hv) * v;
+  }
+  // Nearest point of the (solid) rectangle to p.
+  Vec2 clamp(const Vec2& p) const {
+    const Vec2 d = p - centre;
+    return centre + std::clamp(d.dot(u), -hu, hu) * u + std::clamp(d.dot(v), -hv, hv) * v;
+  }
+  // Half width of the projection on unit axis n.
+  double radius(const Vec2& n) const { return hu * std::abs(n.dot(u)) + hv * std::abs(n.dot(v)); }
+};
+
+// Largest separating-axis gap of the two rectangles over their four edge normals; > 0 means
+// the footprints are disjoint (in 2-D these four axes decide it).
+double footprintGap(const Footprint& a, const Footprint& b) {
+  const Vec2 d = b.centre - a.centre;
+  double gap = -HUGE_VAL;
+  for (const Vec2* n : {&a.u, &a.v, &b.u, &b.v}) {
+    gap = std::max(gap, std::abs(n->dot(d)) - a.radius(*n) - b.radius(*n));
+  }
+  return gap;
+}
+
+// A point common to both footprints: a's rectangle clipped by b's four half planes
+// (Sutherland-Hodgman), averaged. False when rounding leaves nothing.
+bool commonPoint(const Footprint& a, const Footprint& b, Vec2* out) {
+  std::array<Vec2, 16> poly, next;
+  int n = 4;
+  poly[0] = a.corner(0);
+  poly[1] = a.corner(1);
+  poly[2] = a.corner(3);
+  poly[3] = a.corner(2);
+  const std::array<std::pair<Vec2, double>, 4> planes = {{{b.u, b.hu + b.u.dot(b.centre)},
+                                                          {-b.u, b.hu - b.u.dot(b.centre)},
+                                                          {b.v, b.hv + b.v.dot(b.centre)},
+                                                          {-b.v, b.hv - b.v.dot(b.centre)}}};
+  for (const auto& plane : planes) {  // keep n . p <= offset
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      const Vec2& p = poly[i];
+      const Vec2& q = poly[(i + 1) % n];
+      const double sp = plane.first.dot(p) - plane.second;
+      const double sq = plane.first.dot(q) - plane.second;
+      if (sp <= 0.0) next[m++] = p;
+      if ((sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0)) {
+        next[m++] = p + (sp / (sp - sq)) * (q - p);
+      }
+    }
+    n = m;
+    std::swap(poly, next);
+    if (n == 0) return false;
+  }
+  Vec2 sum = Vec2::Zero();
+  for (int i = 0; i < n; ++i) sum += poly[i];
+  *out = sum / n;
+  return true;
+}
+
+// Contact of touching or overlapping boxes: `xy`, `z` a common point; the normal is the
+// axis (of the five that can separate two vertical prisms) with the least overlap, pointing
+// from a towards b.
+UprightBoxDistance overlap(const Footprint& fa, const Footprint& fb,
+                           const Eigen::Isometry3d& pose_a, const Eigen::Vector3d& half_a,
+                           const Eigen::Isometry3d& pose_b, const Eigen::Vector3d& half_b,
+                           const Vec2& xy, double z) {
+  UprightBoxDistance out;
+  out.solved = true;
+  out.overlapping = true;
+  out.point_a = out.point_b = Eigen::Vector3d(xy.x(), xy.y(), z);
+  const Eigen::Vector3d d = pose_b.translation() - pose_a.translation();
+  // z first: stacked boxes separate vertically when that is no worse.
+  double least = half_a.z() + half_b.z() - std::abs(d.z());
+  out.normal = Eigen::Vector3d(0.0, 0.0, d.z() < 0.0 ? -1.0 : 1.0);
+  for (const Vec2* n : {&fa.u, &fa.v, &fb.u, &fb.v}) {
+    const double along = n->dot(d.head<2>());
+    const double depth = fa.radius(*n) + fb.radius(*n) - std::abs(along);
+    if (depth < least) {
+      least = depth;
+      out.normal = Eigen::Vector3d(n->x(), n->y(), 0.0) * (along < 0.0 ? -1.0 : 1.0);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+bool isUpright(const Eigen::Matrix3d& r) {
+  // Zero couplings between z and x-y make the box a vertical prism; r(2, 2) is then +-1 up
+  // to the rounding of the quaternion it came from (an upside-down box is upright too).
+  return r(0, 2) == 0.0 && r(1, 2) == 0.0 && r(2, 0) == 0.0 && r(2, 1) == 0.0 &&
+         std::abs(r(2, 2)) > 0.5;
+}
+
+UprightBoxDistance uprightBoxDistance(const Eigen::Isometry3d& pose_a,
+                                      const Eigen::Vector3d& half_a,
+                                      const Eigen::Isometry3d& pose_b,
+                                      const Eigen::Vector3d& half_b) {
+  UprightBoxDistance out;
+  const Footprint fa(pose_a, half_a), fb(pose_b, half_b);
+
+  // Height intervals and their gap.
+  const double za = pose_a.translation().z(), zb = pose_b.translation().z();
+  const double a_lo = za - half_a.z(), a_hi = za + half_a.z();
+  const double b_lo = zb - half_b.z(), b_hi = zb + half_b.z();
+  double pa_z, pb_z;
+  double dz = 0.0;
+  if (b_lo > a_hi) {
+    dz = b_lo - a_hi;
+    pa_z = a_hi;
+    pb_z = b_lo;
+  } else if (a_lo > b_hi) {
+    dz = a_lo - b_hi;
+    pa_z = a_lo;
+    pb_z = b_hi;
+  } else {
+    pa_z = pb_z = 0.5 * (std::max(a_lo, b_lo) + std::min(a_hi, b_hi));
+  }
+
+  Vec2 pa_xy, pb_xy;
+  if (footprintGap(fa, fb) > 0.0) {
+    // Disjoint convex polygons: the nearest pair has a vertex of one of them.
+    double best = HUGE_VAL;
+    for (int i = 0; i < 4; ++i) {
+      const Vec2 ca = fa.corner(i);
+      const Vec2 on_b = fb.clamp(ca);
+      const double da = (on_b - ca).squaredNorm();
+      if (da < best) {
+        best = da;
+        pa_xy = ca;
+        pb_xy = on_b;
+      }
+      const Vec2 cb = fb.corner(i);
+      const Vec2 on_a = fa.clamp(cb);
+      const double db = (cb - on_a).squaredNorm();
+      if (db < best) {
+        best = db;
+        pa_xy = on_a;
+        pb_xy = cb;
+      }
+    }
+  } else {
+    // Footprints overlap: one box straight above the other, or the boxes overlap.
+    if (!commonPoint(fa, fb, &pa_xy)) return out;
+    pb_xy = pa_xy;
+    if (dz == 0.0) return overlap(fa, fb, pose_a, half_a, pose_b, half_b, pa_xy, pa_z);
+  }
+  out.point_a = Eigen::Vector3d(pa_xy.x(), pa_xy.y(), pa_z);
+  out.point_b = Eigen::Vector3d(pb_xy.x(), pb_xy.y(), pb_z);
+  out.distance = (out.point_b - out.point_a).norm();
+  if (!(out.distance > 0.0)) {
+    // Touching: report it as a contact, like overlapping boxes.
+    return overlap(fa, fb, pose_a, half_a, pose_b, half_b, pa_xy, pa_z);
+  }
+  out.normal = (out.point_b - out.point_a) / out.distance;
+  out.solved = true;
+  return out;
+}
+
+}  // namespace workspace_proximity
