@@ -91,6 +91,15 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
            params_.horizon);
 }
 
+ProximityMonitor::~ProximityMonitor() {
+  if (cycles_ > 0) {
+    std::printf("proximity_monitor: %llu cycles; stage times over the last %zu: %s\n",
+                static_cast<unsigned long long>(cycles_),
+                std::min<std::size_t>(cycles_, CycleTiming::kWindow), timing_.summary().c_str());
+    std::fflush(stdout);
+  }
+}
+
 void ProximityMonitor::loadRobot() {
   std::vector<RobotBodySpec> specs = params_.robot_bodies;
   if (params_.use_robot_description) {
@@ -473,9 +482,20 @@ void ProximityMonitor::runCycle(const ros::Time& now) {
     world_.setMotion(kv.second.handle, kv.second.motion.advanced((now - kv.second.stamp).toSec()));
   }
   updateRobot(now);
+  auto mark = start;
+  auto lap = [&](CycleStage stage) {
+    const auto t = std::chrono::steady_clock::now();
+    timing_.add(stage, std::chrono::duration<double, std::milli>(t - mark).count());
+    mark = t;
+  };
+  lap(CycleStage::kInput);
   const std::vector<PairEvent>& events = world_.predict(params_.horizon);
+  lap(CycleStage::kPredict);
   collectStatus(now);
-  publish(now, events);
+  publishContacts(now, events);
+  lap(CycleStage::kContacts);
+  publishMarkers(now);
+  lap(CycleStage::kMarkers);
   ++cycles_;
   last_cycle_ms_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -512,7 +532,8 @@ bool ProximityMonitor::bodyStale(const BodyHandle& body, const ros::Time& now) c
   return r != robot_by_body_.end() && r->second->stale;
 }
 
-void ProximityMonitor::publish(const ros::Time& now, const std::vector<PairEvent>& events) {
+void ProximityMonitor::publishContacts(const ros::Time& now,
+                                       const std::vector<PairEvent>& events) {
   contacts_msg_.header.stamp = now;
   contacts_msg_.header.frame_id = params_.fixed_frame;
   contacts_msg_.events.clear();
@@ -534,7 +555,9 @@ void ProximityMonitor::publish(const ros::Time& now, const std::vector<PairEvent
     }
   }
   contacts_pub_.publish(contacts_msg_);
+}
 
+void ProximityMonitor::publishMarkers(const ros::Time& now) {
   if (!params_.publish_markers) return;
   marker_bodies_.clear();
   auto addMarkerBody = [&](BodyHandle h, bool robot) {
@@ -575,6 +598,11 @@ void ProximityMonitor::diagnose(diagnostic_updater::DiagnosticStatusWrapper& sta
   status.add("cycles", cycles_);
   status.add("cycle time (ms)", last_cycle_ms_);
   status.add("max cycle time (ms)", max_cycle_ms_);
+  for (int i = 0; i < CycleTiming::kStages; ++i) {
+    const auto stage = static_cast<CycleStage>(i);
+    status.addf(std::string("stage ") + CycleTiming::name(stage) + " (ms, last/p99)", "%.3f/%.3f",
+                timing_.last(stage), timing_.percentile(stage, 0.99));
+  }
   status.add("tracks", tracks_.size());
   status.add("robot bodies", robot_.size());
   status.add("robot bodies not posed", robot_unknown_);

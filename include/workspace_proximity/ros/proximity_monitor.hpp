@@ -18,6 +18,7 @@
 
 #include "workspace_proximity/proximity_world.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
+#include "workspace_proximity/ros/cycle_timing.hpp"
 #include "workspace_proximity/ros/marker_builder.hpp"
 #include "workspace_proximity/ros/monitor_params.hpp"
 
@@ -30,6 +31,9 @@ class ProximityMonitor {
   /// not parse.
   ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh,
                    const MonitorParams& params);
+
+  /// Logs the stage timing summary of the last cycles.
+  ~ProximityMonitor();
 
   /// One prediction cycle at `now` (the timer calls this).
   void cycle(const ros::Time& now);
@@ -76,7 +80,8 @@ class ProximityMonitor {
   void collectStatus(const ros::Time& now);
   bool bodyStale(const BodyHandle& body, const ros::Time& now) const;
   Eigen::Vector3d robotCentre() const;
-  void publish(const ros::Time& now, const std::vector<PairEvent>& events);
+  void publishContacts(const ros::Time& now, const std::vector<PairEvent>& events);
+  void publishMarkers(const ros::Time& now);
   void loadRobot();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
@@ -110,6 +115,7 @@ class ProximityMonitor {
   ros::Time last_cycle_;
   double last_cycle_ms_ = 0.0;
   double max_cycle_ms_ = 0.0;
+  CycleTiming timing_;
   std::uint64_t cycles_ = 0;
   std::uint64_t resets_ = 0;
   std::map<std::string, std::uint64_t> rejected_;  // reason -> boxes or arrays dropped

@@ -1,0 +1,44 @@
+#pragma once
+/// Wall time of each stage of the node's prediction cycle over the last cycles, for
+/// diagnostics and the shutdown summary. ROS-free; fixed capacity, no allocation per cycle.
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace workspace_proximity {
+
+/// Stages of one cycle, in order.
+enum class CycleStage : int {
+  kInput = 0,    ///< newest arrays -> tracks (checks, tf, track updates), robot poses from tf
+  kPredict,      ///< ProximityWorld::predict: swept bounds, broad phase, time of impact, FCL
+  kContacts,     ///< ContactEventArray built and published (serialised)
+  kMarkers,      ///< MarkerArray built and published (0 when nobody listens)
+  kCount
+};
+
+/// Ring buffers of the last `kWindow` samples per stage, in milliseconds.
+class CycleTiming {
+ public:
+  static constexpr std::size_t kWindow = 1024;
+  static constexpr int kStages = static_cast<int>(CycleStage::kCount);
+
+  void add(CycleStage stage, double ms);
+  /// One line: "<stage> median/p99/max ms" for every stage, over the window.
+  std::string summary() const;
+  /// p in [0, 1] over the window; 0 when empty.
+  double percentile(CycleStage stage, double p) const;
+  double last(CycleStage stage) const;
+  static const char* name(CycleStage stage);
+
+ private:
+  struct Ring {
+    std::array<double, kWindow> ms{};
+    std::size_t next = 0;
+    std::size_t size = 0;
+  };
+  std::array<Ring, kStages> rings_;
+};
+
+}  // namespace workspace_proximity
