@@ -25,6 +25,9 @@ struct WorldConfig {
   SweepAndPruneConfig broad_phase;   ///< capacities above override its capacities
   NarrowPhaseConfig narrow_phase;
   PairRules rules;                   ///< default: robot-robot pairs skipped
+  /// Time the per-pair stages (axis time of impact, narrow phase) separately. Costs two
+  /// clock reads per pair, so off by default: ns_axis then holds both and ns_narrow is 0.
+  bool time_pair_stages = false;
 };
 
 /// Counts and per-stage times (ns) of the last predict().
@@ -36,6 +39,7 @@ struct WorldStats {
   int contacts = 0;          ///< confirmed by the narrow phase
   int narrow_iterations = 0; ///< distance queries (FCL calls and closed-form upright boxes)
   std::int64_t ns_bounds = 0, ns_broad = 0, ns_axis = 0, ns_narrow = 0, ns_events = 0;
+  std::int64_t ns_pairs = 0;  ///< rules + axis time of impact + narrow phase, all pairs
   SweepAndPruneStats broad_phase;
 };
 

@@ -97,6 +97,11 @@ Eigen::Isometry3d BodyMotion::poseAt(double t) const {
 
 BodyMotion BodyMotion::advanced(double dt) const {
   BodyMotion m = *this;
+  if (angular_velocity.isZero(0.0)) {
+    // Not turning: the orientation stays exactly as it is (no matrix round trip).
+    m.position = position + linear_velocity * dt;
+    return m;
+  }
   const Eigen::Isometry3d pose = poseAt(dt);
   m.position = pose.translation();
   m.orientation = Eigen::Quaterniond(pose.linear()).normalized();

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "workspace_proximity/upright_box_distance.hpp"
+
 namespace workspace_proximity {
 namespace {
 
@@ -77,6 +79,14 @@ TimeInterval movingBoxInterval(const Eigen::Isometry3d& pose_a, const Eigen::Vec
     result.first = std::max(result.first, axis.first);
     result.last = std::min(result.last, axis.last);
   };
+  if (isUpright(ra) && isUpright(rb)) {
+    // Two vertical prisms: every edge cross product is z or a footprint normal, so these
+    // five axes are the whole separating-axis set.
+    for (int i = 0; i < 2 && !result.empty(); ++i) clip(ra.col(i));
+    for (int i = 0; i < 2 && !result.empty(); ++i) clip(rb.col(i));
+    if (!result.empty()) clip(Eigen::Vector3d::UnitZ());
+    return result.empty() ? TimeInterval{} : result;
+  }
   for (int i = 0; i < 3 && !result.empty(); ++i) clip(ra.col(i));
   for (int i = 0; i < 3 && !result.empty(); ++i) clip(rb.col(i));
   for (int i = 0; i < 3 && !result.empty(); ++i) {
