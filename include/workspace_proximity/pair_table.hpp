@@ -13,7 +13,7 @@ struct ProxyPair {
   std::int32_t proxy_a = -1;
   std::int32_t proxy_b = -1;
   std::uint32_t user = 0;   ///< free for the owner of the table (e.g. a cached filter verdict)
-  std::uint32_t stamp = 0;  ///< internal: last rebuild epoch that saw the pair
+  std::uint32_t stamp = 0;  ///< free for the owner too (sweep-and-prune: last rebuild epoch)
 };
 
 /// Pairs live in a dense array (iteration is a linear scan); a linear-probing index of

@@ -29,10 +29,18 @@ geometry_msgs::Point toPoint(const Eigen::Vector3d& v) {
   return m;
 }
 
+// A rejection reason from its parts (only built when a box is rejected).
+template <typename... Parts>
+std::string explain(const Parts&... parts) {
+  std::ostringstream why;
+  (why << ... << parts);
+  return why.str();
+}
+
 }  // namespace
 
 std::string checkTrackedBox(const TrackedBox& box, const BoxLimits& limits) {
-  std::ostringstream why;
+  // Called for every box of every array: the stream is only built to explain a rejection.
   if (box.id.empty()) return "empty id";
   const auto& q = box.pose.orientation;
   if (!finite(box.pose.position) || !std::isfinite(q.x) || !std::isfinite(q.y) ||
@@ -43,34 +51,28 @@ std::string checkTrackedBox(const TrackedBox& box, const BoxLimits& limits) {
   if (!finite(box.twist.linear) || !finite(box.twist.angular)) return "non-finite twist";
   const Eigen::Vector3d d = vec(box.dimensions);
   if ((d.array() < 2.0 * Limits::kMinSize).any()) {
-    why << "dimensions " << d.transpose() << " m: every edge must be at least "
-        << 2.0 * Limits::kMinSize << " m";
-    return why.str();
+    return explain("dimensions ", d.transpose(), " m: every edge must be at least ",
+                   2.0 * Limits::kMinSize, " m");
   }
   if ((d.array() > limits.max_dimension).any()) {
-    why << "dimensions " << d.transpose() << " m: an edge exceeds " << limits.max_dimension
-        << " m";
-    return why.str();
+    return explain("dimensions ", d.transpose(), " m: an edge exceeds ", limits.max_dimension,
+                   " m");
   }
   if (vec(box.pose.position).cwiseAbs().maxCoeff() > limits.max_coordinate) {
-    why << "position " << vec(box.pose.position).transpose() << " m is beyond "
-        << limits.max_coordinate << " m";
-    return why.str();
+    return explain("position ", vec(box.pose.position).transpose(), " m is beyond ",
+                   limits.max_coordinate, " m");
   }
   const double qn = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
   if (std::abs(qn - 1.0) > limits.quaternion_tolerance) {
-    why << "orientation quaternion has length " << qn << " (must be 1 within "
-        << limits.quaternion_tolerance << ")";
-    return why.str();
+    return explain("orientation quaternion has length ", qn, " (must be 1 within ",
+                   limits.quaternion_tolerance, ")");
   }
   if (vec(box.twist.linear).norm() > limits.max_speed) {
-    why << "speed " << vec(box.twist.linear).norm() << " m/s exceeds " << limits.max_speed;
-    return why.str();
+    return explain("speed ", vec(box.twist.linear).norm(), " m/s exceeds ", limits.max_speed);
   }
   if (vec(box.twist.angular).norm() > limits.max_angular_speed) {
-    why << "angular speed " << vec(box.twist.angular).norm() << " rad/s exceeds "
-        << limits.max_angular_speed;
-    return why.str();
+    return explain("angular speed ", vec(box.twist.angular).norm(), " rad/s exceeds ",
+                   limits.max_angular_speed);
   }
   return std::string();
 }
@@ -83,7 +85,10 @@ BodyMotion toMotion(const TrackedBox& box, const Eigen::Isometry3d& fixed_from_b
   const Eigen::Matrix3d rotation = fixed_from_box_frame.linear();
   BodyMotion m;
   m.position = fixed_from_box_frame * vec(box.pose.position);
-  m.orientation = Eigen::Quaterniond(rotation * orientation.toRotationMatrix()).normalized();
+  // Boxes given in the fixed frame (the usual case) keep their quaternion as it is.
+  m.orientation = rotation.isIdentity(0.0)
+                      ? orientation
+                      : Eigen::Quaterniond(rotation * orientation.toRotationMatrix()).normalized();
   m.linear_velocity = rotation * vec(box.twist.linear);
   m.angular_velocity = rotation * vec(box.twist.angular);
   return m;
@@ -122,6 +127,13 @@ std::uint8_t contactLevel(const PairEvent& event, const LabelSettings& a, const 
 ContactEvent toMsg(const PairEvent& event, const BodyDesc& a, const BodyDesc& b,
                    std::uint8_t level) {
   ContactEvent msg;
+  toMsg(event, a, b, level, &msg);
+  return msg;
+}
+
+void toMsg(const PairEvent& event, const BodyDesc& a, const BodyDesc& b, std::uint8_t level,
+           ContactEvent* out) {
+  ContactEvent& msg = *out;
   msg.state = static_cast<std::uint8_t>(event.state);
   msg.id_a = a.id;
   msg.id_b = b.id;
@@ -135,7 +147,7 @@ ContactEvent toMsg(const PairEvent& event, const BodyDesc& a, const BodyDesc& b,
   msg.normal = toVector3(event.normal);
   msg.closing_speed = event.closing_speed;
   msg.level = level;
-  return msg;
+  msg.stale = false;
 }
 
 PairEvent fromMsg(const ContactEvent& msg) {

@@ -1,5 +1,6 @@
 #include "workspace_proximity/ros/marker_builder.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -45,107 +46,125 @@ void setPose(const Eigen::Isometry3d& pose, visualization_msgs::Marker* m) {
   m->pose.orientation.z = q.z();
 }
 
+// Namespaces of the per-body markers, as bits of MarkerBuilder's per-slot masks.
+constexpr std::uint8_t kBodies = 1, kSwept = 2, kVelocity = 4;
+constexpr std::pair<std::uint8_t, const char*> kBodyNamespaces[] = {
+    {kBodies, "bodies"}, {kSwept, "swept"}, {kVelocity, "velocity"}};
+
 }  // namespace
 
 MarkerBuilder::MarkerBuilder(const std::string& frame, double lifetime)
-    : frame_(frame), lifetime_(lifetime) {}
+    : frame_(frame), lifetime_(lifetime), pairs_(256) {}
 
-int MarkerBuilder::idFor(const std::string& key) {
-  auto it = ids_.find(key);
-  if (it != ids_.end()) return it->second;
-  int id;
-  if (!free_ids_.empty()) {
-    id = free_ids_.back();
-    free_ids_.pop_back();
-  } else {
-    id = next_id_++;
-  }
-  ids_.emplace(key, id);
-  keys_.emplace(id, key);
-  return id;
-}
-
-visualization_msgs::Marker MarkerBuilder::base(const std::string& ns, const std::string& key,
-                                               const ros::Time& stamp) {
-  visualization_msgs::Marker m;
+visualization_msgs::Marker& MarkerBuilder::add(const char* ns, std::int32_t id,
+                                               const ros::Time& stamp, std::uint8_t action,
+                                               visualization_msgs::MarkerArray* out) {
+  if (used_ == out->markers.size()) out->markers.emplace_back();
+  visualization_msgs::Marker& m = out->markers[used_++];
   m.header.frame_id = frame_;
   m.header.stamp = stamp;
   m.ns = ns;
-  m.id = idFor(ns + "|" + key);
-  m.action = visualization_msgs::Marker::ADD;
-  m.lifetime = lifetime_;
+  m.id = id;
+  m.type = visualization_msgs::Marker::CUBE;
+  m.action = action;
+  m.pose = geometry_msgs::Pose();
   m.pose.orientation.w = 1.0;
+  m.scale = geometry_msgs::Vector3();
+  m.color = std_msgs::ColorRGBA();
+  m.lifetime = action == visualization_msgs::Marker::ADD ? lifetime_ : ros::Duration();
   m.frame_locked = false;
-  current_.emplace(ns, m.id);
+  m.points.clear();
+  m.colors.clear();
+  m.text.clear();
+  m.mesh_resource.clear();
+  m.mesh_use_embedded_materials = false;
   return m;
 }
 
 void MarkerBuilder::build(const std::vector<MarkerBody>& bodies, const ContactEventArray& events,
+                          const std::vector<std::pair<std::int32_t, std::int32_t>>& event_slots,
                           const ros::Time& stamp, visualization_msgs::MarkerArray* out) {
-  out->markers.clear();
-  current_.clear();
+  using visualization_msgs::Marker;
+  used_ = 0;
+  ++serial_;
+  std::fill(showing_.begin(), showing_.end(), 0);
 
   for (const MarkerBody& b : bodies) {
-    visualization_msgs::Marker m = base("bodies", b.id, stamp);
+    const auto slot = static_cast<std::size_t>(b.slot);
+    if (slot >= showing_.size()) showing_.resize(slot + 1, 0);  // grows with the world only
+
+    Marker& m = add("bodies", b.slot, stamp, Marker::ADD, out);
     setPose(b.pose, &m);
     const Shape& s = b.shape;
     switch (s.type) {
       case ShapeType::kBox:
-        m.type = visualization_msgs::Marker::CUBE;
+        m.type = Marker::CUBE;
         m.scale.x = 2 * s.half_extents.x();
         m.scale.y = 2 * s.half_extents.y();
         m.scale.z = 2 * s.half_extents.z();
         break;
       case ShapeType::kSphere:
-        m.type = visualization_msgs::Marker::SPHERE;
+        m.type = Marker::SPHERE;
         m.scale.x = m.scale.y = m.scale.z = 2 * s.radius;
         break;
       case ShapeType::kCylinder:
       case ShapeType::kCapsule:  // drawn as its enclosing cylinder
-        m.type = visualization_msgs::Marker::CYLINDER;
+        m.type = Marker::CYLINDER;
         m.scale.x = m.scale.y = 2 * s.radius;
         m.scale.z = s.type == ShapeType::kCylinder ? s.length : s.length + 2 * s.radius;
         break;
     }
     m.color = levelColour(b.level, b.robot, 0.8f);
-    out->markers.push_back(m);
+    showing_[slot] |= kBodies;
 
-    visualization_msgs::Marker w = base("swept", b.id, stamp);
-    w.type = visualization_msgs::Marker::CUBE;
+    Marker& w = add("swept", b.slot, stamp, Marker::ADD, out);
+    w.type = Marker::CUBE;
     w.pose.position = point(0.5 * (b.swept.lower + b.swept.upper));
     const Eigen::Vector3d size = b.swept.upper - b.swept.lower;
     w.scale.x = size.x();
     w.scale.y = size.y();
     w.scale.z = size.z();
     w.color = levelColour(b.level, b.robot, 0.12f);
-    out->markers.push_back(w);
+    showing_[slot] |= kSwept;
 
     if (b.velocity.norm() > 1e-3) {
-      visualization_msgs::Marker v = base("velocity", b.id, stamp);
-      v.type = visualization_msgs::Marker::ARROW;
+      Marker& v = add("velocity", b.slot, stamp, Marker::ADD, out);
+      v.type = Marker::ARROW;
       v.points.push_back(point(b.pose.translation()));
       v.points.push_back(point(b.pose.translation() + b.velocity));  // 1 s of motion
       v.scale.x = 0.04;  // shaft diameter
       v.scale.y = 0.08;  // head diameter
       v.scale.z = 0.12;  // head length
       v.color = colour(0.9f, 0.9f, 0.9f, 0.9f);
-      out->markers.push_back(v);
+      showing_[slot] |= kVelocity;
     }
   }
 
-  for (const ContactEvent& e : events.events) {
+  for (std::size_t i = 0; i < events.events.size() && i < event_slots.size(); ++i) {
+    const ContactEvent& e = events.events[i];
     if (e.state == ContactEvent::END) continue;
-    const std::string key = e.id_a + "|" + e.id_b;
-    visualization_msgs::Marker line = base("nearest", key, stamp);
-    line.type = visualization_msgs::Marker::LINE_LIST;
+    bool inserted = false;
+    ProxyPair* pair = pairs_.insert(event_slots[i].first, event_slots[i].second, &inserted);
+    if (inserted) {
+      if (!free_ids_.empty()) {
+        pair->user = static_cast<std::uint32_t>(free_ids_.back());
+        free_ids_.pop_back();
+      } else {
+        pair->user = static_cast<std::uint32_t>(next_id_++);
+      }
+    }
+    pair->stamp = serial_;
+    const auto id = static_cast<std::int32_t>(pair->user);
+
+    Marker& line = add("nearest", id, stamp, Marker::ADD, out);
+    line.type = Marker::LINE_LIST;
     line.points.push_back(e.point_a);
     line.points.push_back(e.point_b);
     line.scale.x = 0.02;
     line.color = levelColour(e.level, false, 1.0f);
-    out->markers.push_back(line);
 
-    visualization_msgs::Marker text = base("ttc_text", key, stamp);
-    text.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+    Marker& text = add("ttc_text", id, stamp, Marker::ADD, out);
+    text.type = Marker::TEXT_VIEW_FACING;
     text.pose.position.x = 0.5 * (e.point_a.x + e.point_b.x);
     text.pose.position.y = 0.5 * (e.point_a.y + e.point_b.y);
     text.pose.position.z = 0.5 * (e.point_a.z + e.point_b.z) + 0.15;
@@ -154,28 +173,30 @@ void MarkerBuilder::build(const std::vector<MarkerBody>& bodies, const ContactEv
     text.text = buffer;
     text.scale.z = 0.18;  // text height, m
     text.color = levelColour(e.level, false, 1.0f);
-    out->markers.push_back(text);
   }
 
-  // Whatever was shown last cycle and is gone now is deleted explicitly.
-  for (const auto& old : published_) {
-    if (current_.count(old)) continue;
-    visualization_msgs::Marker d;
-    d.header.frame_id = frame_;
-    d.header.stamp = stamp;
-    d.ns = old.first;
-    d.id = old.second;
-    d.action = visualization_msgs::Marker::DELETE;
-    out->markers.push_back(d);
-    // Forget the key so a long run with many short tracks does not grow the tables.
-    auto k = keys_.find(old.second);
-    if (k != keys_.end()) {
-      ids_.erase(k->second);
-      keys_.erase(k);
-      free_ids_.push_back(old.second);
+  // Whatever was shown last build and is gone now is deleted explicitly.
+  if (shown_.size() < showing_.size()) shown_.resize(showing_.size(), 0);
+  for (std::size_t slot = 0; slot < shown_.size(); ++slot) {
+    const std::uint8_t now = slot < showing_.size() ? showing_[slot] : 0;
+    const std::uint8_t gone = shown_[slot] & static_cast<std::uint8_t>(~now);
+    if (gone == 0) continue;
+    for (const auto& ns : kBodyNamespaces) {
+      if (gone & ns.first) add(ns.second, static_cast<std::int32_t>(slot), stamp, Marker::DELETE, out);
     }
   }
-  published_.swap(current_);
+  std::copy(showing_.begin(), showing_.end(), shown_.begin());
+  // Backwards: eraseAt moves the last pair into the hole, which has been visited already.
+  for (int i = pairs_.size() - 1; i >= 0; --i) {
+    const ProxyPair& p = pairs_.pairs()[static_cast<std::size_t>(i)];
+    if (p.stamp == serial_) continue;
+    const auto id = static_cast<std::int32_t>(p.user);
+    add("nearest", id, stamp, Marker::DELETE, out);
+    add("ttc_text", id, stamp, Marker::DELETE, out);
+    free_ids_.push_back(id);
+    pairs_.eraseAt(i);
+  }
+  out->markers.resize(used_);
 }
 
 }  // namespace workspace_proximity

@@ -37,6 +37,14 @@ bool needsResize(const Eigen::Vector3d& current, const Eigen::Vector3d& wanted) 
          (wanted.array() < current.array() - kShrinkSlack).any();
 }
 
+// t1 - t0 in seconds, exact to the nanosecond (ros::Time's operator- normalises through a
+// Duration, which is slow in per-track loops).
+double secondsBetween(const ros::Time& t0, const ros::Time& t1) {
+  return static_cast<double>(static_cast<std::int64_t>(t1.toNSec()) -
+                             static_cast<std::int64_t>(t0.toNSec())) *
+         1e-9;
+}
+
 // Reason category for the diagnostics' "dropped by reason" counters: the first word.
 std::string category(const std::string& why) { return why.substr(0, why.find(' ')); }
 
@@ -226,7 +234,9 @@ void ProximityMonitor::processArray(Source& source, const TrackedBoxArray& msg,
     nearest_.resize(room);
   }
 
-  std::unordered_set<std::string> seen;
+  // Every track updated from this array is marked with its serial: a second box with the
+  // same id finds the mark (duplicate) without a per-array set of ids.
+  ++array_serial_;
   for (const auto& entry : nearest_) {
     const TrackedBox& box = msg.boxes[entry.second];
     const std::string why = checkTrackedBox(box);
@@ -234,18 +244,21 @@ void ProximityMonitor::processArray(Source& source, const TrackedBoxArray& msg,
       reject(name, box.id, why);
       continue;
     }
-    if (!seen.insert(box.id).second) {
+    // The single default topic uses ids as they are (no copy); several topics qualify them.
+    const std::string& key =
+        source.qualifier.empty() ? box.id : (scratch_key_ = source.qualifier + "/" + box.id);
+    auto it = tracks_.find(key);
+    if (it != tracks_.end() && it->second.array_serial == array_serial_) {
       reject(name, box.id, "duplicate id in one array; the first is used");
       continue;
     }
-    const std::string key = source.qualifier.empty() ? box.id : source.qualifier + "/" + box.id;
-    if (tracks_.count(key) == 0 && static_cast<int>(tracks_.size()) >= params_.max_tracks &&
+    if (it == tracks_.end() && static_cast<int>(tracks_.size()) >= params_.max_tracks &&
         !evictFarther(entry.first, centre)) {
       reject(name, box.id, "cap: ~max_tracks reached and every kept track is nearer the robot");
       continue;
     }
     try {
-      updateTrack(key, box, toMotion(box, fixed_from_frame), stamp);
+      updateTrack(key, it, box, toMotion(box, fixed_from_frame), stamp);
     } catch (const std::exception& e) {
       // The core's own limits (e.g. a pose that the frame's transform carries past them):
       // drop the box, never the array or the node.
@@ -271,22 +284,22 @@ bool ProximityMonitor::evictFarther(double squared_distance, const Eigen::Vector
   ROS_WARN_THROTTLE(5.0, "proximity_monitor: ~max_tracks = %d reached; dropping track '%s', the "
                          "farthest from the robot, for a nearer one",
                     params_.max_tracks, farthest->first.c_str());
-  track_by_body_.erase(farthest->second.handle.index);
+  setTrackOf(farthest->second.handle, nullptr);
   world_.removeBody(farthest->second.handle);
   tracks_.erase(farthest);
   return true;
 }
 
-void ProximityMonitor::updateTrack(const std::string& key, const TrackedBox& box,
-                                   const BodyMotion& motion, const ros::Time& stamp) {
+void ProximityMonitor::updateTrack(const std::string& key, TrackMap::iterator it,
+                                   const TrackedBox& box, const BodyMotion& motion,
+                                   const ros::Time& stamp) {
   const Shape shape = toShape(box);
-  auto it = tracks_.find(key);
   if (it != tracks_.end() && it->second.label != box.label) {
     ROS_WARN_THROTTLE(2.0, "proximity_monitor: track '%s' changed label '%s' -> '%s'; "
                            "restarting it",
                       key.c_str(), it->second.label.c_str(), box.label.c_str());
     rejected_["relabelled"] += 1;
-    track_by_body_.erase(it->second.handle.index);
+    setTrackOf(it->second.handle, nullptr);
     world_.removeBody(it->second.handle);
     tracks_.erase(it);
     it = tracks_.end();
@@ -297,14 +310,16 @@ void ProximityMonitor::updateTrack(const std::string& key, const TrackedBox& box
     t.stamp = stamp;
     t.motion = motion;
     t.half = shape.half_extents;
+    t.array_serial = array_serial_;
     t.handle = world_.addBody(
         BodyDesc{key, box.label, BodyGroup::kObject, shape, params_.label(box.label).margin},
         motion);
     auto inserted = tracks_.emplace(key, t).first;
-    track_by_body_[t.handle.index] = &inserted->second;
+    setTrackOf(t.handle, &inserted->second);
     return;
   }
   Track& t = it->second;
+  t.array_serial = array_serial_;
   if (stamp < t.stamp) return;  // older than what we have
   t.stamp = stamp;
   t.motion = motion;
@@ -316,8 +331,8 @@ void ProximityMonitor::updateTrack(const std::string& key, const TrackedBox& box
 
 void ProximityMonitor::expireTracks(const ros::Time& now) {
   for (auto it = tracks_.begin(); it != tracks_.end();) {
-    if ((now - it->second.stamp).toSec() > params_.track_timeout) {
-      track_by_body_.erase(it->second.handle.index);
+    if (secondsBetween(it->second.stamp, now) > params_.track_timeout) {
+      setTrackOf(it->second.handle, nullptr);
       world_.removeBody(it->second.handle);
       it = tracks_.erase(it);
     } else {
@@ -398,7 +413,7 @@ void ProximityMonitor::updateRobot(const ros::Time& now) {
                                               body.spec.shape, params_.robot_margin},
                                      motion);
         body.present = true;
-        robot_by_body_[body.handle.index] = &body;
+        bodyInfo(body.handle.index).robot = &body;
       } else {
         world_.setMotion(body.handle, motion);
       }
@@ -430,13 +445,12 @@ void ProximityMonitor::resetHistory(const std::string& why) {
   ++resets_;
   for (auto& kv : tracks_) world_.removeBody(kv.second.handle);
   tracks_.clear();
-  track_by_body_.clear();
   for (RobotBody& body : robot_) {
     if (body.present) world_.removeBody(body.handle);
     body.present = false;
     body.stale = false;
   }
-  robot_by_body_.clear();
+  by_body_.clear();
   for (Source& s : sources_) {
     s.pending.reset();
     s.last_receipt = ros::Time();
@@ -479,7 +493,8 @@ void ProximityMonitor::runCycle(const ros::Time& now) {
   expireTracks(now);
   for (auto& kv : tracks_) {
     // Latency compensation: every track is moved from its own stamp to the cycle instant.
-    world_.setMotion(kv.second.handle, kv.second.motion.advanced((now - kv.second.stamp).toSec()));
+    world_.setMotion(kv.second.handle,
+                     kv.second.motion.advanced(secondsBetween(kv.second.stamp, now)));
   }
   updateRobot(now);
   auto mark = start;
@@ -523,22 +538,37 @@ void ProximityMonitor::collectStatus(const ros::Time& now) {
                                                               : ContactEventArray::DEGRADED;
 }
 
+ProximityMonitor::BodyInfo& ProximityMonitor::bodyInfo(std::int32_t index) {
+  const auto i = static_cast<std::size_t>(index);
+  if (i >= by_body_.size()) by_body_.resize(i + 1);  // grows with the world's slots only
+  return by_body_[i];
+}
+
+void ProximityMonitor::setTrackOf(BodyHandle body, const Track* track) {
+  bodyInfo(body.index).track = track;
+}
+
 bool ProximityMonitor::bodyStale(const BodyHandle& body, const ros::Time& now) const {
-  auto t = track_by_body_.find(body.index);
-  if (t != track_by_body_.end()) {
-    return (now - t->second->stamp).toSec() > params_.stale_after;
-  }
-  auto r = robot_by_body_.find(body.index);
-  return r != robot_by_body_.end() && r->second->stale;
+  const auto i = static_cast<std::size_t>(body.index);
+  if (i >= by_body_.size()) return false;
+  const BodyInfo& info = by_body_[i];
+  if (info.track != nullptr) return secondsBetween(info.track->stamp, now) > params_.stale_after;
+  return info.robot != nullptr && info.robot->stale;
 }
 
 void ProximityMonitor::publishContacts(const ros::Time& now,
                                        const std::vector<PairEvent>& events) {
   contacts_msg_.header.stamp = now;
   contacts_msg_.header.frame_id = params_.fixed_frame;
-  contacts_msg_.events.clear();
-  worst_level_.clear();
-  for (const PairEvent& e : events) {
+  // Resized, not cleared: kept elements keep their strings' capacity, so steady cycles
+  // rewrite the message in place.
+  contacts_msg_.events.resize(events.size());
+  event_slots_.resize(events.size());
+  ++publish_serial_;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    const PairEvent& e = events[i];
+    ContactEvent& msg = contacts_msg_.events[i];
+    event_slots_[i] = {e.body_a.index, e.body_b.index};
     const BodyDesc& a = world_.desc(e.body_a);
     const BodyDesc& b = world_.desc(e.body_b);
     const LabelSettings& la =
@@ -546,39 +576,41 @@ void ProximityMonitor::publishContacts(const ros::Time& now,
     const LabelSettings& lb =
         b.group == BodyGroup::kRobot ? params_.robot_thresholds : params_.label(b.label);
     const std::uint8_t level = contactLevel(e, la, lb);
-    contacts_msg_.events.push_back(toMsg(e, a, b, level));
+    toMsg(e, a, b, level, &msg);
     if (e.state == ContactState::kEnd) continue;
-    contacts_msg_.events.back().stale = bodyStale(e.body_a, now) || bodyStale(e.body_b, now);
+    msg.stale = bodyStale(e.body_a, now) || bodyStale(e.body_b, now);
     for (const BodyHandle& h : {e.body_a, e.body_b}) {
-      auto it = worst_level_.find(h.index);
-      if (it == worst_level_.end() || it->second < level) worst_level_[h.index] = level;
+      BodyInfo& info = bodyInfo(h.index);
+      if (info.level_serial != publish_serial_ || info.level < level) info.level = level;
+      info.level_serial = publish_serial_;
     }
   }
   contacts_pub_.publish(contacts_msg_);
 }
 
 void ProximityMonitor::publishMarkers(const ros::Time& now) {
-  if (!params_.publish_markers) return;
+  // Nobody watching (no RViz): building thousands of markers would be wasted work.
+  if (!params_.publish_markers || markers_pub_.getNumSubscribers() == 0) return;
   marker_bodies_.clear();
   auto addMarkerBody = [&](BodyHandle h, bool robot) {
     MarkerBody m;
     const BodyDesc& d = world_.desc(h);
     const BodyMotion& motion = world_.motion(h);
-    m.id = d.id;
+    m.slot = h.index;
     m.robot = robot;
     m.shape = d.shape;
     m.pose = motion.poseAt(0.0);
     m.velocity = motion.linear_velocity;
     m.swept = world_.sweptBounds(h);
-    auto it = worst_level_.find(h.index);
-    m.level = it == worst_level_.end() ? -1 : it->second;
+    const BodyInfo& info = bodyInfo(h.index);
+    m.level = info.level_serial == publish_serial_ ? info.level : -1;
     marker_bodies_.push_back(m);
   };
   for (const auto& kv : tracks_) addMarkerBody(kv.second.handle, false);
   for (const RobotBody& body : robot_) {
     if (body.present) addMarkerBody(body.handle, true);
   }
-  markers_.build(marker_bodies_, contacts_msg_, now, &markers_msg_);
+  markers_.build(marker_bodies_, contacts_msg_, event_slots_, now, &markers_msg_);
   markers_pub_.publish(markers_msg_);
 }
 

@@ -47,6 +47,10 @@ std::uint8_t contactLevel(const PairEvent& event, const LabelSettings& a, const 
 /// Core event + the two bodies' descriptions -> message.
 ContactEvent toMsg(const PairEvent& event, const BodyDesc& a, const BodyDesc& b,
                    std::uint8_t level);
+/// The same, written into an existing message (its strings' capacity is reused); `stale`
+/// is set to false.
+void toMsg(const PairEvent& event, const BodyDesc& a, const BodyDesc& b, std::uint8_t level,
+           ContactEvent* out);
 
 /// Message -> core event (body handles are not in the message and stay invalid).
 PairEvent fromMsg(const ContactEvent& msg);

@@ -45,6 +45,7 @@ class ProximityMonitor {
     ros::Time stamp;        // observation time of `motion`
     BodyMotion motion;      // in the fixed frame, at `stamp`
     Eigen::Vector3d half = Eigen::Vector3d::Zero();  // current shape's half extents
+    std::uint64_t array_serial = 0;  // serial of the last array that updated it
   };
   struct RobotBody {
     RobotBodySpec spec;
@@ -65,11 +66,24 @@ class ProximityMonitor {
     std::uint64_t arrays = 0;
   };
 
+  using TrackMap = std::unordered_map<std::string, Track>;
+  // What the node knows of a world body, by BodyHandle::index (slots are reused, so entries
+  // are set on add and cleared on removal).
+  struct BodyInfo {
+    const Track* track = nullptr;
+    const RobotBody* robot = nullptr;
+    std::uint8_t level = 0;          // worst level this publish, valid when level_serial matches
+    std::uint64_t level_serial = 0;
+  };
+
   void runCycle(const ros::Time& now);
   void onBoxes(const TrackedBoxArray::ConstPtr& msg, std::size_t source);
   void processArray(Source& source, const TrackedBoxArray& msg, const ros::Time& now);
-  void updateTrack(const std::string& key, const TrackedBox& box, const BodyMotion& motion,
-                   const ros::Time& stamp);
+  // `it`: the track for `key` in tracks_, or tracks_.end() for a new one.
+  void updateTrack(const std::string& key, TrackMap::iterator it, const TrackedBox& box,
+                   const BodyMotion& motion, const ros::Time& stamp);
+  BodyInfo& bodyInfo(std::int32_t index);
+  void setTrackOf(BodyHandle body, const Track* track);
   void reject(const std::string& source, const std::string& id, const std::string& why);
   bool evictFarther(double squared_distance, const Eigen::Vector3d& centre);
   void expireTracks(const ros::Time& now);
@@ -98,18 +112,20 @@ class ProximityMonitor {
   diagnostic_updater::Updater diagnostics_;
 
   ProximityWorld world_;
-  std::unordered_map<std::string, Track> tracks_;
-  std::unordered_map<std::int32_t, const Track*> track_by_body_;  // body index -> track
-  std::vector<RobotBody> robot_;
-  std::unordered_map<std::int32_t, const RobotBody*> robot_by_body_;
+  TrackMap tracks_;
+  std::vector<RobotBody> robot_;  // never resized after loadRobot(): BodyInfo points into it
+  std::vector<BodyInfo> by_body_;
   MarkerBuilder markers_;
 
   // Reused every cycle.
   ContactEventArray contacts_msg_;
   visualization_msgs::MarkerArray markers_msg_;
   std::vector<MarkerBody> marker_bodies_;
-  std::unordered_map<std::int32_t, int> worst_level_;  // body index -> worst level
+  std::vector<std::pair<std::int32_t, std::int32_t>> event_slots_;  // body slots per event
   std::vector<std::pair<double, std::size_t>> nearest_;  // scratch for the track cap
+  std::string scratch_key_;                              // qualified track id
+  std::uint64_t array_serial_ = 0;                       // arrays processed
+  std::uint64_t publish_serial_ = 0;                     // contact arrays built
 
   // Figures for diagnostics.
   ros::Time last_cycle_;
