@@ -435,6 +435,9 @@ void ProximityMonitor::resetHistory(const std::string& why) {
     s.rate = 0.0;
   }
   tf_buffer_.clear();
+  // diagnostic_updater publishes once its next time (set from the old clock) is reached:
+  // publish now, which also restarts its period from the new clock.
+  diagnostics_.force_update();
 }
 
 void ProximityMonitor::cycle(const ros::Time& now) {
