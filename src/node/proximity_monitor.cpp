@@ -335,6 +335,15 @@ bool ProximityMonitor::robotMotion(const RobotBody& body, const ros::Time& now, 
   if (t1.isZero()) return true;  // a static chain: no motion, never stale
 
   const double age = (now - t1).toSec();
+  if (-age > params_.max_future) {
+    // Stamped ahead of the clock: left over from before the clock jumped back (a publisher
+    // that saw the jump after our reset). tf2 refuses data older than its newest entry by
+    // more than the cache time, so the fresh transforms would never be used: drop it all.
+    tf_buffer_.clear();
+    *why = format("latest transform is stamped %.3f s ahead of the clock; tf history cleared",
+                  -age);
+    return false;
+  }
   if (age > params_.tf_timeout) {
     *why = format("latest transform is %.3f s old", age);
     return false;
