@@ -140,8 +140,11 @@ void ProximityMonitor::onBoxes(const TrackedBoxArray::ConstPtr& msg, std::size_t
   Source& source = sources_[index];
   const ros::Time now = ros::Time::now();
   if (!source.last_receipt.isZero() && now > source.last_receipt) {
-    const double rate = 1.0 / (now - source.last_receipt).toSec();
-    source.rate = source.rate == 0.0 ? rate : 0.9 * source.rate + 0.1 * rate;
+    // Smooth the interval, not its inverse: the mean of 1 / interval overstates the rate
+    // (arrays arriving in pairs 5 ms apart at 20 per second read as 100 Hz).
+    const double interval = (now - source.last_receipt).toSec();
+    source.rate = source.rate == 0.0 ? 1.0 / interval
+                                     : 1.0 / (0.9 / source.rate + 0.1 * interval);
   }
   source.last_receipt = now;
   ++source.arrays;
@@ -359,6 +362,15 @@ bool ProximityMonitor::robotMotion(const RobotBody& body, const ros::Time& now, 
   if (t1.isZero()) return true;  // a static chain: no motion, never stale
 
   const double age = (now - t1).toSec();
+  if (-age > params_.max_future) {
+    // Stamped ahead of the clock: left over from before the clock jumped back (a publisher
+    // that saw the jump after our reset). tf2 refuses data older than its newest entry by
+    // more than the cache time, so the fresh transforms would never be used: drop it all.
+    tf_buffer_.clear();
+    *why = format("latest transform is stamped %.3f s ahead of the clock; tf history cleared",
+                  -age);
+    return false;
+  }
   if (age > params_.tf_timeout) {
     *why = format("latest transform is %.3f s old", age);
     return false;
@@ -458,6 +470,9 @@ void ProximityMonitor::resetHistory(const std::string& why) {
     s.rate = 0.0;
   }
   tf_buffer_.clear();
+  // diagnostic_updater publishes once its next time (set from the old clock) is reached:
+  // publish now, which also restarts its period from the new clock.
+  diagnostics_.force_update();
 }
 
 void ProximityMonitor::cycle(const ros::Time& now) {

@@ -529,6 +529,84 @@ def check_scene_events(tc, msg, bodies, horizon, ambiguity=5e-3, thresholds=None
     return len(got)
 
 
+# ---------------------------------------------------------------------------------------------
+# /diagnostics and general sanity of event numbers (reliability tests)
+
+DIAG_NAME = "proximity_monitor: proximity monitor"  # "<node name>: <task>" (diagnostic_updater)
+
+
+def diag_values(status):
+    """key -> value (str) of a DiagnosticStatus; a repeated key keeps its values in a list
+    under key + "[]" as well (e.g. "degraded")."""
+    out = {}
+    for kv in status.values:
+        out.setdefault(kv.key + "[]", []).append(kv.value)
+        out[kv.key] = kv.value
+    return out
+
+
+class DiagnosticsCollector(object):
+    """Records the node's status from /diagnostics, with the wall-clock (monotonic) time of
+    receipt, so it also works under simulated time."""
+
+    def __init__(self, name=DIAG_NAME):
+        import time
+        from diagnostic_msgs.msg import DiagnosticArray
+        self._time = time
+        self.name = name
+        self.lock = threading.Lock()
+        self.statuses = []  # (monotonic receipt, header stamp rospy.Time, DiagnosticStatus)
+        self.sub = rospy.Subscriber("/diagnostics", DiagnosticArray, self._on_diag,
+                                    queue_size=100)
+
+    def _on_diag(self, msg):
+        now = self._time.monotonic()
+        with self.lock:
+            for st in msg.status:
+                if st.name == self.name:
+                    self.statuses.append((now, msg.header.stamp, st))
+
+    def since(self, wall):
+        """Statuses received at or after the monotonic time `wall`."""
+        with self.lock:
+            return [(s, st) for t, s, st in self.statuses if t >= wall]
+
+    def latest(self):
+        with self.lock:
+            return self.statuses[-1][2] if self.statuses else None
+
+    def wait_for(self, predicate, timeout, since=None):
+        """Waits (wall clock) for a status received after `since` (monotonic) with
+        predicate(status, values) true; returns it, or None."""
+        deadline = self._time.monotonic() + timeout
+        while True:
+            for _, st in self.since(since if since is not None else 0.0):
+                if predicate(st, diag_values(st)):
+                    return st
+            if self._time.monotonic() > deadline or rospy.is_shutdown():
+                return None
+            self._time.sleep(0.05)
+
+
+def check_event_numbers(tc, msg, horizon, what=""):
+    """No NaN anywhere, and times within [0, horizon] (END: +inf / 0) in every event."""
+    eps = 1e-6
+    for ev in msg.events:
+        ctx = "%s T=%.4f %s" % (what, msg.header.stamp.to_sec(), fmt_event(ev))
+        numbers = [ev.time_to_contact, ev.time_to_separation, ev.distance, ev.closing_speed]
+        numbers += list(pt(ev.point_a)) + list(pt(ev.point_b)) + list(pt(ev.normal))
+        tc.assertFalse(any(math.isnan(x) for x in numbers), "NaN in " + ctx)
+        if ev.state == END:
+            tc.assertEqual(ev.time_to_contact, math.inf, "END ttc " + ctx)
+            tc.assertEqual(ev.time_to_separation, 0.0, "END tts " + ctx)
+            continue
+        tc.assertTrue(0.0 <= ev.time_to_contact <= horizon + eps, "ttc out of [0, H]: " + ctx)
+        tc.assertTrue(ev.time_to_contact <= ev.time_to_separation <= horizon + eps,
+                      "tts out of [ttc, H]: " + ctx)
+        tc.assertTrue(0.0 <= ev.distance < 1e6 and math.isfinite(ev.closing_speed),
+                      "distance / closing speed: " + ctx)
+
+
 def find_node_binary():
     from roslib.packages import find_node
     found = find_node("workspace_proximity", "proximity_monitor")
