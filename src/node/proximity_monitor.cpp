@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <unordered_set>
 
 #include <ros/package.h>
@@ -45,8 +46,19 @@ double secondsBetween(const ros::Time& t0, const ros::Time& t1) {
          1e-9;
 }
 
-// Reason category for the diagnostics' "dropped by reason" counters: the first word.
-std::string category(const std::string& why) { return why.substr(0, why.find(' ')); }
+// Reason category for the diagnostics' "dropped by reason" counters.
+std::string category(const std::string& why) {
+  static const std::pair<const char*, const char*> kCategories[] = {
+      {"empty id", "empty id"},           {"non-finite", "non-finite"},
+      {"dimensions", "dimensions"},       {"position", "position"},
+      {"orientation", "orientation"},     {"speed", "speed"},
+      {"angular speed", "angular speed"}, {"duplicate", "duplicate id"},
+      {"cap", "cap"},                     {"rejected by the core", "core limits"}};
+  for (const auto& c : kCategories) {
+    if (why.compare(0, std::strlen(c.first), c.first) == 0) return c.second;
+  }
+  return why.substr(0, why.find(' '));
+}
 
 std::string format(const char* fmt, double value) {
   char buffer[128];
@@ -535,10 +547,13 @@ void ProximityMonitor::runCycle(const ros::Time& now) {
 
 void ProximityMonitor::collectStatus(const ros::Time& now) {
   contacts_msg_.status_details.clear();
+  // A source is silent after ~source_timeout, and never later than ~track_timeout: by then
+  // its tracks are gone, and an empty scene from a silent source must not read as clear.
+  const double silent_after = std::min(params_.source_timeout, params_.track_timeout);
   for (const Source& s : sources_) {
     if (s.last_receipt.isZero()) {
       contacts_msg_.status_details.push_back("source " + s.topic + ": no data yet");
-    } else if ((now - s.last_receipt).toSec() > params_.source_timeout) {
+    } else if (secondsBetween(s.last_receipt, now) > silent_after) {
       contacts_msg_.status_details.push_back(
           "source " + s.topic + format(": no data for %.2f s", (now - s.last_receipt).toSec()));
     }

@@ -14,13 +14,14 @@ Phases and checks:
    added; the source's rate within a factor 2 of 20 Hz and its age under 0.5 s; no dropped
    boxes other than superseded arrays.
 2. bad boxes in the same arrays (NaN position, a zero edge, an empty id): "dropped:
-   non-finite", "dropped: dimensions", "dropped: empty" count up; still 4 tracks and OK.
+   non-finite", "dropped: dimensions", "dropped: empty id" count up; still 4 tracks and OK.
 3. irregular delivery: the same 20 arrays/s arrive in pairs 5 ms apart (two trackers on one
    topic): the rate stays within a factor 2 of 20 Hz.
 4. the link's tf stops for 1.5 s: WARN "degraded: ... post ...", 1 body not posed, tf
    failures counting; OK again once tf is back.
-5. the source goes silent: WARN "degraded: source /tracked_objects ...", age over
-   ~source_timeout, tracks 0.
+5. the source goes silent: WARN "degraded: source /tracked_objects ...", once its age is
+   over min(~source_timeout, ~track_timeout) (0.5 s here: never "clear" from a silent
+   source whose tracks have just been dropped), and still WARN when the tracks are 0.
 ERROR (a cycle longer than the period) is not provoked: it needs a slow cycle, which a test
 cannot cause honestly on a shared machine.
 """
@@ -184,7 +185,7 @@ class DiagnosticsTest(unittest.TestCase):
         with scene.lock:
             scene.tracks.extend(bad)
         start = time.monotonic()
-        want = ("dropped: non-finite", "dropped: dimensions", "dropped: empty")
+        want = ("dropped: non-finite", "dropped: dimensions", "dropped: empty id")
         st = diags.wait_for(lambda st, v: all(int(v.get(k, "0")) > 0 for k in want), 5.0,
                             since=start + 0.3)
         self.assertIsNotNone(st, "dropped boxes not counted: %s" % diag_values(diags.latest()))
@@ -242,9 +243,17 @@ class DiagnosticsTest(unittest.TestCase):
             diags.latest()))
         v = diag_values(st)
         self.assertTrue(st.message.startswith("degraded: source " + SOURCE), st.message)
-        self.assertGreater(num(v, AGE_KEY), 1.0, v)
-        self.assertGreaterEqual(time.monotonic() - start, 0.9, "WARN before ~source_timeout")
-        self.assertEqual(int(v["tracks"]), 0, v)
+        silent_after = 0.5  # min(~source_timeout 1.0, ~track_timeout 0.5)
+        self.assertGreater(num(v, AGE_KEY), silent_after - 0.05, v)
+        self.assertGreaterEqual(time.monotonic() - start, silent_after - 0.1,
+                                "WARN before the source was silent for min(~source_timeout, "
+                                "~track_timeout)")
+        # Its tracks are dropped at about the same time; the status must not go back to OK.
+        st = diags.wait_for(lambda st, v: int(v.get("tracks", "-1")) == 0, 3.0, since=start)
+        self.assertIsNotNone(st, "tracks of the silent source never dropped: %s" % diag_values(
+            diags.latest()))
+        v = diag_values(st)
+        self.assertEqual(st.level, WARN, "clear while the source is silent: %s" % v)
         self.assertEqual(int(v["predicted contacts"]), 0, v)
         source.stop.set()
         link.stop.set()
