@@ -34,6 +34,7 @@ const char* CycleTiming::name(CycleStage stage) {
     case CycleStage::kPredict: return "predict";
     case CycleStage::kContacts: return "contacts";
     case CycleStage::kMarkers: return "markers";
+    case CycleStage::kArrival: return "arrival";
     default: return "?";
   }
 }

@@ -148,7 +148,6 @@ void ProximityMonitor::loadRobot() {
 }
 
 void ProximityMonitor::onBoxes(const TrackedBoxArray::ConstPtr& msg, std::size_t index) {
-  // Non-blocking and cheap: keep the newest array, work happens in the cycle.
   Source& source = sources_[index];
   const ros::Time now = ros::Time::now();
   if (!source.last_receipt.isZero() && now > source.last_receipt) {
@@ -162,6 +161,26 @@ void ProximityMonitor::onBoxes(const TrackedBoxArray::ConstPtr& msg, std::size_t
   ++source.arrays;
   if (source.pending) rejected_["superseded"] += 1;  // flood: the older array is skipped
   source.pending = msg;
+
+  // Work ahead: turn the array into tracks now, while the cycle waits, so the cycle itself
+  // only extrapolates, predicts and publishes. At most one array per source between cycles
+  // (a flood supersedes the rest into `pending`, which the cycle takes), and never after
+  // the clock went back (the cycle resets the history first).
+  if (source.taken_since_cycle || (!last_cycle_.isZero() && now < last_cycle_)) return;
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    if (!processArray(source, *msg, now, true)) return;  // deferred to the cycle
+  } catch (const std::exception& e) {
+    // Never out of a callback; the cycle reports failures of its own.
+    ROS_ERROR_THROTTLE(1.0, "proximity_monitor: array on %s failed: %s", source.topic.c_str(),
+                       e.what());
+    rejected_["array failure"] += 1;
+  }
+  source.pending.reset();
+  source.taken_since_cycle = true;
+  timing_.add(CycleStage::kArrival, std::chrono::duration<double, std::milli>(
+                                        std::chrono::steady_clock::now() - start)
+                                        .count());
 }
 
 void ProximityMonitor::reject(const std::string& source, const std::string& id,
@@ -171,14 +190,14 @@ void ProximityMonitor::reject(const std::string& source, const std::string& id,
                     id.c_str(), why.c_str());
 }
 
-void ProximityMonitor::processArray(Source& source, const TrackedBoxArray& msg,
-                                    const ros::Time& now) {
+bool ProximityMonitor::processArray(Source& source, const TrackedBoxArray& msg,
+                                    const ros::Time& now, bool on_arrival) {
   const std::string& name = source.topic;
   if (msg.header.frame_id.empty()) {
     rejected_["frame"] += 1;
     ROS_WARN_THROTTLE(5.0, "proximity_monitor: array on %s has an empty frame_id; dropped",
                       name.c_str());
-    return;
+    return true;
   }
   ros::Time stamp = msg.header.stamp;
   if (stamp.isZero()) {
@@ -191,27 +210,29 @@ void ProximityMonitor::processArray(Source& source, const TrackedBoxArray& msg,
     ROS_WARN_THROTTLE(5.0, "proximity_monitor: array on %s is stamped %.3f s in the future "
                            "(clocks out of sync?); dropped",
                       name.c_str(), (stamp - now).toSec());
-    return;
+    return true;
   }
   if ((now - stamp).toSec() > params_.track_timeout) {
     rejected_["old"] += 1;
     ROS_WARN_THROTTLE(5.0, "proximity_monitor: array on %s is %.3f s old (> ~track_timeout); "
                            "dropped",
                       name.c_str(), (now - stamp).toSec());
-    return;
+    return true;
   }
   if (!source.last_stamp.isZero() && stamp < source.last_stamp) {
     rejected_["out-of-order"] += 1;
     ROS_WARN_THROTTLE(5.0, "proximity_monitor: array on %s is older than the previous one; "
                            "dropped",
                       name.c_str());
-    return;
+    return true;
   }
   Eigen::Isometry3d fixed_from_frame;
   try {
     fixed_from_frame = tf2::transformToEigen(
         tf_buffer_.lookupTransform(params_.fixed_frame, msg.header.frame_id, stamp));
   } catch (const tf2::TransformException& at_stamp) {
+    // On arrival tf may simply not have caught up yet: leave the array for the cycle.
+    if (on_arrival) return false;
     // The newest transform is the best we have when tf lags the tracker; a frame tf cannot
     // reach at all drops the array.
     try {
@@ -226,7 +247,7 @@ void ProximityMonitor::processArray(Source& source, const TrackedBoxArray& msg,
       ROS_WARN_THROTTLE(5.0, "proximity_monitor: %s: cannot transform '%s' to '%s': %s; dropped",
                         name.c_str(), msg.header.frame_id.c_str(), params_.fixed_frame.c_str(),
                         e.what());
-      return;
+      return true;
     }
   }
   source.last_stamp = stamp;
@@ -262,65 +283,79 @@ void ProximityMonitor::processArray(Source& source, const TrackedBoxArray& msg,
     // The single default topic uses ids as they are (no copy); several topics qualify them.
     const std::string& key =
         source.qualifier.empty() ? box.id : (scratch_key_ = source.qualifier + "/" + box.id);
-    auto it = tracks_.find(key);
-    if (it != tracks_.end() && it->second.array_serial == array_serial_) {
+    const auto found = track_index_.find(key);
+    const std::int32_t index = found == track_index_.end() ? -1 : found->second;
+    if (index >= 0 && tracks_[static_cast<std::size_t>(index)].array_serial == array_serial_) {
       reject(name, box.id, "duplicate id in one array; the first is used");
       continue;
     }
-    if (it == tracks_.end() && static_cast<int>(tracks_.size()) >= params_.max_tracks &&
+    if (index < 0 && static_cast<int>(tracks_.size()) >= params_.max_tracks &&
         !evictFarther(entry.first, centre)) {
       reject(name, box.id, "cap: ~max_tracks reached and every kept track is nearer the robot");
       continue;
     }
     try {
-      updateTrack(key, it, box, toMotion(box, fixed_from_frame), stamp);
+      updateTrack(key, index, box, toMotion(box, fixed_from_frame), stamp);
     } catch (const std::exception& e) {
       // The core's own limits (e.g. a pose that the frame's transform carries past them):
       // drop the box, never the array or the node.
       reject(name, box.id, std::string("rejected by the core: ") + e.what());
     }
   }
+  return true;
 }
 
 bool ProximityMonitor::evictFarther(double squared_distance, const Eigen::Vector3d& centre) {
   // At the cap, the track farthest from the robot (at its last observed position) gives way
   // to a nearer newcomer, whichever source it came from.
-  auto farthest = tracks_.end();
+  std::int32_t farthest = -1;
   double worst = squared_distance;
-  for (auto it = tracks_.begin(); it != tracks_.end(); ++it) {
-    const double d = (it->second.motion.position - centre).squaredNorm();
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    const double d = (tracks_[i].motion.position - centre).squaredNorm();
     if (d > worst) {
       worst = d;
-      farthest = it;
+      farthest = static_cast<std::int32_t>(i);
     }
   }
-  if (farthest == tracks_.end()) return false;
+  if (farthest < 0) return false;
   rejected_["cap"] += 1;
   ROS_WARN_THROTTLE(5.0, "proximity_monitor: ~max_tracks = %d reached; dropping track '%s', the "
                          "farthest from the robot, for a nearer one",
-                    params_.max_tracks, farthest->first.c_str());
-  setTrackOf(farthest->second.handle, nullptr);
-  world_.removeBody(farthest->second.handle);
-  tracks_.erase(farthest);
+                    params_.max_tracks, tracks_[static_cast<std::size_t>(farthest)].key.c_str());
+  removeTrack(farthest);
   return true;
 }
 
-void ProximityMonitor::updateTrack(const std::string& key, TrackMap::iterator it,
+void ProximityMonitor::removeTrack(std::int32_t index) {
+  // Swap-and-pop keeps the tracks dense; the moved track's index entries follow it.
+  const auto i = static_cast<std::size_t>(index);
+  setTrackOf(tracks_[i].handle, -1);
+  world_.removeBody(tracks_[i].handle);
+  track_index_.erase(tracks_[i].key);
+  if (i + 1 != tracks_.size()) {
+    tracks_[i] = std::move(tracks_.back());
+    track_index_[tracks_[i].key] = index;
+    setTrackOf(tracks_[i].handle, index);
+  }
+  tracks_.pop_back();
+}
+
+void ProximityMonitor::updateTrack(const std::string& key, std::int32_t index,
                                    const TrackedBox& box, const BodyMotion& motion,
                                    const ros::Time& stamp) {
   const Shape shape = toShape(box);
-  if (it != tracks_.end() && it->second.label != box.label) {
+  if (index >= 0 && tracks_[static_cast<std::size_t>(index)].label != box.label) {
     ROS_WARN_THROTTLE(2.0, "proximity_monitor: track '%s' changed label '%s' -> '%s'; "
                            "restarting it",
-                      key.c_str(), it->second.label.c_str(), box.label.c_str());
+                      key.c_str(), tracks_[static_cast<std::size_t>(index)].label.c_str(),
+                      box.label.c_str());
     rejected_["relabelled"] += 1;
-    setTrackOf(it->second.handle, nullptr);
-    world_.removeBody(it->second.handle);
-    tracks_.erase(it);
-    it = tracks_.end();
+    removeTrack(index);
+    index = -1;
   }
-  if (it == tracks_.end()) {
+  if (index < 0) {
     Track t;
+    t.key = key;
     t.label = box.label;
     t.stamp = stamp;
     t.motion = motion;
@@ -329,11 +364,13 @@ void ProximityMonitor::updateTrack(const std::string& key, TrackMap::iterator it
     t.handle = world_.addBody(
         BodyDesc{key, box.label, BodyGroup::kObject, shape, params_.label(box.label).margin},
         motion);
-    auto inserted = tracks_.emplace(key, t).first;
-    setTrackOf(t.handle, &inserted->second);
+    const auto added = static_cast<std::int32_t>(tracks_.size());
+    tracks_.push_back(std::move(t));
+    track_index_.emplace(key, added);
+    setTrackOf(tracks_.back().handle, added);
     return;
   }
-  Track& t = it->second;
+  Track& t = tracks_[static_cast<std::size_t>(index)];
   t.array_serial = array_serial_;
   if (stamp < t.stamp) return;  // older than what we have
   t.stamp = stamp;
@@ -345,13 +382,10 @@ void ProximityMonitor::updateTrack(const std::string& key, TrackMap::iterator it
 }
 
 void ProximityMonitor::expireTracks(const ros::Time& now) {
-  for (auto it = tracks_.begin(); it != tracks_.end();) {
-    if (secondsBetween(it->second.stamp, now) > params_.track_timeout) {
-      setTrackOf(it->second.handle, nullptr);
-      world_.removeBody(it->second.handle);
-      it = tracks_.erase(it);
-    } else {
-      ++it;
+  // Backwards: removeTrack moves the last track into the hole, which was visited already.
+  for (std::size_t i = tracks_.size(); i-- > 0;) {
+    if (secondsBetween(tracks_[i].stamp, now) > params_.track_timeout) {
+      removeTrack(static_cast<std::int32_t>(i));
     }
   }
 }
@@ -467,8 +501,9 @@ void ProximityMonitor::resetHistory(const std::string& why) {
   // drop the tracks (their pairs END), the robot's poses and the tf history.
   ROS_WARN("proximity_monitor: %s; resetting tracks, robot poses and the tf buffer", why.c_str());
   ++resets_;
-  for (auto& kv : tracks_) world_.removeBody(kv.second.handle);
+  for (const Track& t : tracks_) world_.removeBody(t.handle);
   tracks_.clear();
+  track_index_.clear();
   for (RobotBody& body : robot_) {
     if (body.present) world_.removeBody(body.handle);
     body.present = false;
@@ -512,16 +547,16 @@ void ProximityMonitor::runCycle(const ros::Time& now) {
   last_cycle_ = now;
 
   for (Source& source : sources_) {
+    source.taken_since_cycle = false;
     if (!source.pending) continue;
     const TrackedBoxArray::ConstPtr msg = source.pending;
     source.pending.reset();
-    processArray(source, *msg, now);
+    processArray(source, *msg, now, false);
   }
   expireTracks(now);
-  for (auto& kv : tracks_) {
+  for (const Track& t : tracks_) {
     // Latency compensation: every track is moved from its own stamp to the cycle instant.
-    world_.setMotion(kv.second.handle,
-                     kv.second.motion.advanced(secondsBetween(kv.second.stamp, now)));
+    world_.setMotion(t.handle, t.motion.advanced(secondsBetween(t.stamp, now)));
   }
   updateRobot(now);
   auto mark = start;
@@ -574,7 +609,7 @@ ProximityMonitor::BodyInfo& ProximityMonitor::bodyInfo(std::int32_t index) {
   return by_body_[i];
 }
 
-void ProximityMonitor::setTrackOf(BodyHandle body, const Track* track) {
+void ProximityMonitor::setTrackOf(BodyHandle body, std::int32_t track) {
   bodyInfo(body.index).track = track;
 }
 
@@ -582,7 +617,10 @@ bool ProximityMonitor::bodyStale(const BodyHandle& body, const ros::Time& now) c
   const auto i = static_cast<std::size_t>(body.index);
   if (i >= by_body_.size()) return false;
   const BodyInfo& info = by_body_[i];
-  if (info.track != nullptr) return secondsBetween(info.track->stamp, now) > params_.stale_after;
+  if (info.track >= 0) {
+    return secondsBetween(tracks_[static_cast<std::size_t>(info.track)].stamp, now) >
+           params_.stale_after;
+  }
   return info.robot != nullptr && info.robot->stale;
 }
 
@@ -636,7 +674,7 @@ void ProximityMonitor::publishMarkers(const ros::Time& now) {
     m.level = info.level_serial == publish_serial_ ? info.level : -1;
     marker_bodies_.push_back(m);
   };
-  for (const auto& kv : tracks_) addMarkerBody(kv.second.handle, false);
+  for (const Track& t : tracks_) addMarkerBody(t.handle, false);
   for (const RobotBody& body : robot_) {
     if (body.present) addMarkerBody(body.handle, true);
   }

@@ -5,7 +5,8 @@
 //   of it spent after the cycle started (the node's own work plus transport), cycles seen.
 //
 // Private parameters: ~count (boxes, 1000), ~rate (Hz, 30), ~duration (s, 60), ~report (s,
-// 10), ~cell (side of the square cell, m, 20), ~seed.
+// 10), ~cell (side of the square cell, m, 20), ~seed, ~subscribe_markers (false: like RViz,
+// also receive the monitor's markers, which it only builds when someone listens).
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +17,7 @@
 
 #include <ros/ros.h>
 #include <workspace_proximity/ContactEventArray.h>
+#include <visualization_msgs/MarkerArray.h>
 #include <workspace_proximity/TrackedBoxArray.h>
 
 namespace {
@@ -57,6 +59,8 @@ int main(int argc, char** argv) {
   int count = 1000;
   double rate = 30.0, duration = 60.0, report = 10.0, cell = 20.0;
   int seed = 1;
+  bool subscribe_markers = false;
+  pnh.param("subscribe_markers", subscribe_markers, subscribe_markers);
   pnh.param("count", count, count);
   pnh.param("rate", rate, rate);
   pnh.param("duration", duration, duration);
@@ -103,10 +107,19 @@ int main(int argc, char** argv) {
   ros::Subscriber sub = nh.subscribe<workspace_proximity::ContactEventArray>(
       "contacts", 100, on_contacts, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   ros::Publisher pub = nh.advertise<workspace_proximity::TrackedBoxArray>("tracked_objects", 1);
+  std::size_t marker_arrays = 0;
+  ros::Subscriber markers_sub;
+  if (subscribe_markers) {
+    markers_sub = nh.subscribe<visualization_msgs::MarkerArray>(
+        "markers", 10, [&](const visualization_msgs::MarkerArray::ConstPtr&) {
+          std::lock_guard<std::mutex> lock(mutex);
+          ++marker_arrays;
+        });
+  }
 
   // Contacts are received on their own thread, so receipt times are not held back by the
   // publishing loop.
-  ros::AsyncSpinner spinner(1);
+  ros::AsyncSpinner spinner(subscribe_markers ? 2 : 1);
   spinner.start();
   // Wait for the monitor to connect, at most 10 s.
   const ros::WallTime wait_until = ros::WallTime::now() + ros::WallDuration(10.0);
@@ -163,6 +176,7 @@ int main(int argc, char** argv) {
   }
   ros::WallDuration(0.3).sleep();
   std::lock_guard<std::mutex> lock(mutex);
+  if (subscribe_markers) std::printf("markers arrays=%zu\n", marker_arrays);
   stats.print("summary");
   return 0;
 }

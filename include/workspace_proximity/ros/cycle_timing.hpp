@@ -11,10 +11,11 @@ namespace workspace_proximity {
 
 /// Stages of one cycle, in order.
 enum class CycleStage : int {
-  kInput = 0,    ///< newest arrays -> tracks (checks, tf, track updates), robot poses from tf
+  kInput = 0,    ///< arrays left for the cycle -> tracks, extrapolation, robot poses from tf
   kPredict,      ///< ProximityWorld::predict: swept bounds, broad phase, time of impact, FCL
   kContacts,     ///< ContactEventArray built and published (serialised)
   kMarkers,      ///< MarkerArray built and published (0 when nobody listens)
+  kArrival,      ///< not in the cycle: an array turned into tracks when it arrives
   kCount
 };
 

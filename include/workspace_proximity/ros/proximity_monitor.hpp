@@ -40,6 +40,7 @@ class ProximityMonitor {
 
  private:
   struct Track {
+    std::string key;        // id, qualified by the topic with several input topics
     BodyHandle handle;
     std::string label;
     ros::Time stamp;        // observation time of `motion`
@@ -54,8 +55,9 @@ class ProximityMonitor {
     bool stale = false;    // not posed this cycle: kept at its last pose, pairs marked stale
     std::string why;       // why it is stale
   };
-  // One input topic. The callback only keeps the newest array; the cycle processes it, so
-  // a flood costs one array per cycle and nothing queues up.
+  // One input topic. The callback processes the first array after a cycle at once and keeps
+  // later ones (only the newest) for the cycle, so a flood costs at most two arrays per
+  // cycle and nothing queues up.
   struct Source {
     std::string topic;      // resolved name
     std::string qualifier;  // prefix for ids ("" with the single default topic)
@@ -64,13 +66,13 @@ class ProximityMonitor {
     ros::Time last_stamp;
     double rate = 0.0;      // Hz, smoothed
     std::uint64_t arrays = 0;
+    bool taken_since_cycle = false;  // an array was processed on arrival since the last cycle
   };
 
-  using TrackMap = std::unordered_map<std::string, Track>;
   // What the node knows of a world body, by BodyHandle::index (slots are reused, so entries
   // are set on add and cleared on removal).
   struct BodyInfo {
-    const Track* track = nullptr;
+    std::int32_t track = -1;  // index into tracks_
     const RobotBody* robot = nullptr;
     std::uint8_t level = 0;          // worst level this publish, valid when level_serial matches
     std::uint64_t level_serial = 0;
@@ -78,12 +80,17 @@ class ProximityMonitor {
 
   void runCycle(const ros::Time& now);
   void onBoxes(const TrackedBoxArray::ConstPtr& msg, std::size_t source);
-  void processArray(Source& source, const TrackedBoxArray& msg, const ros::Time& now);
-  // `it`: the track for `key` in tracks_, or tracks_.end() for a new one.
-  void updateTrack(const std::string& key, TrackMap::iterator it, const TrackedBox& box,
+  // Tracks from one array. `on_arrival`: called from the subscription callback, and returns
+  // false (nothing done) when tf has no transform at the array's stamp yet, so the cycle
+  // retries; otherwise true (used or rejected).
+  bool processArray(Source& source, const TrackedBoxArray& msg, const ros::Time& now,
+                    bool on_arrival);
+  // `index`: the track for `key` in tracks_, or -1 for a new one.
+  void updateTrack(const std::string& key, std::int32_t index, const TrackedBox& box,
                    const BodyMotion& motion, const ros::Time& stamp);
+  void removeTrack(std::int32_t index);
   BodyInfo& bodyInfo(std::int32_t index);
-  void setTrackOf(BodyHandle body, const Track* track);
+  void setTrackOf(BodyHandle body, std::int32_t track);
   void reject(const std::string& source, const std::string& id, const std::string& why);
   bool evictFarther(double squared_distance, const Eigen::Vector3d& centre);
   void expireTracks(const ros::Time& now);
@@ -112,7 +119,10 @@ class ProximityMonitor {
   diagnostic_updater::Updater diagnostics_;
 
   ProximityWorld world_;
-  TrackMap tracks_;
+  // Tracks in a dense array (the per-cycle loops walk it linearly), found by key through
+  // the index; removal swaps the last track into the hole.
+  std::vector<Track> tracks_;
+  std::unordered_map<std::string, std::int32_t> track_index_;
   std::vector<RobotBody> robot_;  // never resized after loadRobot(): BodyInfo points into it
   std::vector<BodyInfo> by_body_;
   MarkerBuilder markers_;
