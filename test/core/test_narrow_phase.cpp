@@ -828,6 +828,29 @@ TEST(NarrowPhasePredict, TumblingBoxesWithMargins) {
   expectMatchesOracle(a, b, 0.0, 3.0, 5e-3);
 }
 
+/// Zero false negatives against a sampled oracle: every millisecond in [0, 1] at which
+/// `touching` holds lies in [time_to_contact, time_to_separation]. `any`: some sample touched.
+::testing::AssertionResult coversSampledContacts(const ContactPrediction& p,
+                                                 const std::function<bool(double)>& touching,
+                                                 bool* any) {
+  *any = false;
+  for (int k = 0; k <= 1000; ++k) {
+    const double t = k * 1e-3;
+    if (!touching(t)) continue;
+    *any = true;
+    if (!p.contact) return ::testing::AssertionFailure() << "touches at " << t << ", no contact";
+    if (p.time_to_contact > t) {
+      return ::testing::AssertionFailure()
+             << "touches at " << t << ", contact predicted at " << p.time_to_contact;
+    }
+    if (p.time_to_separation < t) {
+      return ::testing::AssertionFailure()
+             << "touches at " << t << ", separation predicted at " << p.time_to_separation;
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
 /// Random moving body: size from `shape_of`, position within 1 m of the origin, speeds up
 /// to ~2.6 m/s and ~5 rad/s.
 template <typename ShapeOf>
@@ -853,14 +876,7 @@ void checkRandomPairs(unsigned seed, int pairs, ShapeOf shape_of, double max_mar
     const ContactPrediction p = predict(a, b, 0.0, 1.0, phase);
     const std::function<bool(double)> touching = make_oracle(a, b);
     bool any = false;
-    for (int k = 0; k <= 1000; ++k) {
-      const double t = k * 1e-3;
-      if (!touching(t)) continue;
-      any = true;
-      ASSERT_TRUE(p.contact) << "pair " << i << " touches at " << t;
-      ASSERT_LE(p.time_to_contact, t) << "pair " << i;
-      ASSERT_GE(p.time_to_separation, t) << "pair " << i;
-    }
+    ASSERT_TRUE(coversSampledContacts(p, touching, &any)) << "pair " << i;
     if (!any) {
       false_alarms += p.contact;
       continue;
@@ -905,14 +921,7 @@ TEST(NarrowPhasePredict, RandomTranslatingBoxesHaveNoFalseNegatives) {
     const ContactPrediction p = predict(a, b, 0.0, 1.0, phase);
     const std::function<bool(double)> touching = boxContactOracle(a, b);
     bool any = false;
-    for (int k = 0; k <= 1000; ++k) {
-      const double t = k * 1e-3;
-      if (!touching(t)) continue;
-      any = true;
-      ASSERT_TRUE(p.contact) << "pair " << i << " touches at " << t;
-      ASSERT_LE(p.time_to_contact, t) << "pair " << i;
-      ASSERT_GE(p.time_to_separation, t) << "pair " << i;
-    }
+    ASSERT_TRUE(coversSampledContacts(p, touching, &any)) << "pair " << i;
     if (!any) continue;
     ++with_contact;
     double first = 0.0, last = 0.0;
@@ -968,14 +977,7 @@ TEST(UprightBoxes, RandomYawingAndTranslatingPairsHaveNoFalseNegatives) {
     const ContactPrediction p = predict(a, b, 0.0, 1.0, phase);
     const std::function<bool(double)> touching = boxContactOracle(a, b);
     bool any = false;
-    for (int k = 0; k <= 1000; ++k) {
-      const double t = k * 1e-3;
-      if (!touching(t)) continue;
-      any = true;
-      ASSERT_TRUE(p.contact) << "pair " << i << " touches at " << t;
-      ASSERT_LE(p.time_to_contact, t) << "pair " << i;
-      ASSERT_GE(p.time_to_separation, t) << "pair " << i;
-    }
+    ASSERT_TRUE(coversSampledContacts(p, touching, &any)) << "pair " << i;
     if (!any) continue;
     ++with_contact;
     double first = 0.0, last = 0.0;
