@@ -15,8 +15,9 @@
 # addresses, and the once-a-second corpus reload is timed. So this mode turns off address
 # randomisation for the fuzzer (setarch -R, where the kernel allows it; said if not),
 # comparison tracing (-use_cmp=0) and the reload (-reload=0). Coverage feedback stays on.
-# OUT_DIR gets <harness>.log (libFuzzer's output),# <harness>.summary (the summary line) and artifacts/<harness>/ (crash, leak, timeout and
-# out-of-memory inputs). Exit status: libFuzzer's (0: nothing found).
+# OUT_DIR gets <harness>.log (libFuzzer's output), <harness>.summary (the summary line) and
+# <harness>/ (crash, leak, timeout and out-of-memory inputs). Exit status: libFuzzer's (0:
+# nothing found).
 set -uo pipefail
 runner=("$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/$(basename "${BASH_SOURCE[0]}")" "$@")
 reproducible=0
@@ -27,7 +28,7 @@ if [ $# -lt 3 ]; then
 fi
 binary="$1"; seed_dir="$2"; out="$3"; shift 3
 h="$(basename "${binary}")"
-artifacts="${out}/artifacts/${h}"
+artifacts="${out}/${h}"
 log="${out}/${h}.log"
 summary_file="${out}/${h}.summary"
 mkdir -p "${artifacts}"
