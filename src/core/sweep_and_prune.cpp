@@ -183,7 +183,7 @@ inline bool validBounds(const Aabb& b) {
   bool ok = true;
   for (int axis = 0; axis < 3; ++axis) {
     const double lo = b.lower[axis], hi = b.upper[axis];
-    ok &= std::isfinite(lo) & std::isfinite(hi) & (lo <= hi);
+    ok = ok && std::isfinite(lo) && std::isfinite(hi) && lo <= hi;
   }
   return ok;
 }

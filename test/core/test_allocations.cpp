@@ -18,6 +18,10 @@ namespace {
 std::atomic<long> g_allocations{0};
 }
 
+// malloc/free behind replaced global new/delete: GCC's -Wmismatched-new-delete cannot see
+// that they pair up.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 void* operator new(std::size_t size) {
   ++g_allocations;
   if (void* p = std::malloc(size ? size : 1)) return p;
@@ -28,6 +32,7 @@ void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
 
 namespace wp = workspace_proximity;
 

@@ -239,7 +239,7 @@ TEST(ProximityWorld, RejectedBodiesLeaveNoTraceAndLimitsHold) {
   EXPECT_THROW(world.addBody(object("far", kCube), at({1e308, 0, 0})), std::invalid_argument);
   EXPECT_THROW(world.addBody(object("fast", kCube), at({0, 0, 0}, {1e300, 0, 0})),
                std::invalid_argument);
-  EXPECT_THROW(world.addBody(object("denormal", wp::Shape::box({2.4e-324, 1, 1})), at({0, 0, 0})),
+  EXPECT_THROW(world.addBody(object("denormal", wp::Shape::box({std::numeric_limits<double>::denorm_min(), 1, 1})), at({0, 0, 0})),
                std::invalid_argument);
   EXPECT_THROW(world.addBody(object("enormous", wp::Shape::box({1e15, 1, 1})), at({0, 0, 0})),
                std::invalid_argument);
