@@ -22,8 +22,7 @@ Phases and checks:
 5. the source goes silent: WARN "degraded: source /tracked_objects ...", once its age is
    over min(~source_timeout, ~track_timeout) (0.5 s here: never "clear" from a silent
    source whose tracks have just been dropped), and still WARN when the tracks are 0.
-ERROR (a cycle longer than the period) is not provoked: it needs a slow cycle, which a test
-cannot cause honestly on a shared machine.
+ERROR (a cycle longer than the period) is covered by test_diagnostics_overrun.py.
 """
 import math
 import os
