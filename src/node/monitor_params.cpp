@@ -1,5 +1,7 @@
 #include "workspace_proximity/ros/monitor_params.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -50,6 +52,12 @@ std::vector<std::string> validate(const MonitorParams& p) {
   checkRange(&errors, "velocity_window", p.velocity_window, 0.005, 2.0, "s");
   checkRange(&errors, "tf_timeout", p.tf_timeout, 0.001, 3600.0, "s");
   checkRange(&errors, "marker_lifetime", p.marker_lifetime, 0.01, 3600.0, "s");
+  checkRange(&errors, "marker_rate", p.marker_rate, 0.1, 1000.0, "Hz");
+  if (p.marker_rate > 0.0 && p.rate > 0.0 &&
+      p.marker_lifetime <= 1.0 / std::min(p.marker_rate, p.rate)) {
+    errors.push_back("~marker_lifetime: must be longer than the marker period 1 / min(~marker_rate, "
+                     "~rate) (markers would blink)");
+  }
   for (std::size_t i = 0; i < p.input_topics.size(); ++i) {
     if (p.input_topics[i].empty()) {
       errors.push_back("~input_topics[" + std::to_string(i) + "]: must not be empty");

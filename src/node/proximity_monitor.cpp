@@ -659,6 +659,13 @@ void ProximityMonitor::publishContacts(const ros::Time& now,
 void ProximityMonitor::publishMarkers(const ros::Time& now) {
   // Nobody watching (no RViz): building thousands of markers would be wasted work.
   if (!params_.publish_markers || markers_pub_.getNumSubscribers() == 0) return;
+  // At most ~marker_rate: due when a marker period has passed, less half a cycle so that
+  // 10 Hz on 30 Hz cycles is every third cycle; a clock that went back publishes at once.
+  if (!last_markers_.isZero() && now >= last_markers_ &&
+      secondsBetween(last_markers_, now) < 1.0 / params_.marker_rate - 0.5 / params_.rate) {
+    return;
+  }
+  last_markers_ = now;
   marker_bodies_.clear();
   auto addMarkerBody = [&](BodyHandle h, bool robot) {
     MarkerBody m;

@@ -137,6 +137,7 @@ MonitorParams readParams(const ros::NodeHandle& nh) {
   readPairs(nh, "check_pairs", &p.check_pairs);
   readBool(nh, "publish_markers", &p.publish_markers);
   readDouble(nh, "marker_lifetime", &p.marker_lifetime);
+  readDouble(nh, "marker_rate", &p.marker_rate);
 
   XmlRpcValue v;
   if (nh.getParam("robot_bodies", v)) {

@@ -33,6 +33,7 @@ CASES = [
     ("velocity_window_too_small", ["_velocity_window:=0.001"], {}, ["velocity_window"]),
     ("robot_margin_negative", ["_robot_margin:=-0.1"], {}, ["robot_margin"]),
     ("marker_lifetime_negative", ["_marker_lifetime:=-1.0"], {}, ["marker_lifetime"]),
+    ("marker_rate_zero", ["_marker_rate:=0.0"], {}, ["marker_rate"]),
     ("label_margin_negative", [], {"labels": {"default": dict(LABEL_OK, margin=-0.1)}},
      ["labels", "margin"]),
     ("robot_body_size_negative", [],

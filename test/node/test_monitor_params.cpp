@@ -35,6 +35,8 @@ TEST(MonitorParams, EachBadValueIsNamed) {
       {"~velocity_window", [](wp::MonitorParams& p) { p.velocity_window = 0; }},
       {"~tf_timeout", [](wp::MonitorParams& p) { p.tf_timeout = -1; }},
       {"~marker_lifetime", [](wp::MonitorParams& p) { p.marker_lifetime = 0; }},
+      {"~marker_rate", [](wp::MonitorParams& p) { p.marker_rate = 0; }},
+      {"~marker_lifetime", [](wp::MonitorParams& p) { p.marker_lifetime = 0.05; }},
       {"~fixed_frame", [](wp::MonitorParams& p) { p.fixed_frame.clear(); }},
       {"~input_topics", [](wp::MonitorParams& p) { p.input_topics = {"a", "a"}; }},
       {"~labels", [](wp::MonitorParams& p) { p.labels.erase("default"); }},

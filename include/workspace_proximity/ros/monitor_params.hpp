@@ -58,6 +58,9 @@ struct MonitorParams {
 
   bool publish_markers = true;
   double marker_lifetime = 0.5;  ///< s
+  /// Hz, markers are published at most this often (every cycle when >= rate): RViz needs
+  /// far fewer than the prediction, and 1 000 bodies' markers cost as much as a prediction.
+  double marker_rate = 10.0;
 
   MonitorParams();
   /// Settings for a label ("default" when not listed).

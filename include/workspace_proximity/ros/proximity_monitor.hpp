@@ -139,6 +139,7 @@ class ProximityMonitor {
 
   // Figures for diagnostics.
   ros::Time last_cycle_;
+  ros::Time last_markers_;  // stamp of the last MarkerArray
   double last_cycle_ms_ = 0.0;
   double max_cycle_ms_ = 0.0;
   CycleTiming timing_;
