@@ -105,6 +105,12 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   diagnostics_.add("proximity monitor", this, &ProximityMonitor::diagnose);
   timer_ = nh_.createTimer(ros::Duration(1.0 / params_.rate),
                            [this](const ros::TimerEvent&) { cycle(ros::Time::now()); });
+  // Markers are built half a period after the cycle that predicted them, so that their
+  // cost (and their megabyte on the wire) never delays the contacts of the next cycle or
+  // coincides with this one's delivery. One-shot, re-armed by the cycle when markers are due.
+  marker_timer_ = nh_.createTimer(
+      ros::Duration(0.5 / params_.rate), [this](const ros::TimerEvent&) { publishMarkers(); },
+      true, false);
   ROS_INFO("proximity_monitor: %zu robot bodies, %zu input topics, fixed frame '%s', %.1f Hz, "
            "horizon %.2f s",
            robot_.size(), sources_.size(), params_.fixed_frame.c_str(), params_.rate,
@@ -571,8 +577,7 @@ void ProximityMonitor::runCycle(const ros::Time& now) {
   collectStatus(now);
   publishContacts(now, events);
   lap(CycleStage::kContacts);
-  publishMarkers(now);
-  lap(CycleStage::kMarkers);
+  scheduleMarkers(now);
   ++cycles_;
   last_cycle_ms_ =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -656,7 +661,7 @@ void ProximityMonitor::publishContacts(const ros::Time& now,
   contacts_pub_.publish(contacts_msg_);
 }
 
-void ProximityMonitor::publishMarkers(const ros::Time& now) {
+void ProximityMonitor::scheduleMarkers(const ros::Time& now) {
   // Nobody watching (no RViz): building thousands of markers would be wasted work.
   if (!params_.publish_markers || markers_pub_.getNumSubscribers() == 0) return;
   // At most ~marker_rate: due when a marker period has passed, less half a cycle so that
@@ -666,6 +671,26 @@ void ProximityMonitor::publishMarkers(const ros::Time& now) {
     return;
   }
   last_markers_ = now;
+  marker_timer_.stop();
+  marker_timer_.setPeriod(ros::Duration(0.5 / params_.rate));  // re-arms the one-shot
+  marker_timer_.start();
+}
+
+void ProximityMonitor::publishMarkers() {
+  const auto start = std::chrono::steady_clock::now();
+  const ros::Time now = last_markers_;  // the prediction instant they show
+  try {
+    buildMarkers(now);
+  } catch (const std::exception& e) {
+    ROS_ERROR_THROTTLE(1.0, "proximity_monitor: markers failed: %s", e.what());
+    return;
+  }
+  timing_.add(CycleStage::kMarkers,
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                  .count());
+}
+
+void ProximityMonitor::buildMarkers(const ros::Time& now) {
   marker_bodies_.clear();
   auto addMarkerBody = [&](BodyHandle h, bool robot) {
     MarkerBody m;

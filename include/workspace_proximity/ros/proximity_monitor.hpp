@@ -102,7 +102,9 @@ class ProximityMonitor {
   bool bodyStale(const BodyHandle& body, const ros::Time& now) const;
   Eigen::Vector3d robotCentre() const;
   void publishContacts(const ros::Time& now, const std::vector<PairEvent>& events);
-  void publishMarkers(const ros::Time& now);
+  void scheduleMarkers(const ros::Time& now);  // arms marker_timer_ when markers are due
+  void publishMarkers();                        // marker_timer_: half a period after a cycle
+  void buildMarkers(const ros::Time& now);
   void loadRobot();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
@@ -116,6 +118,7 @@ class ProximityMonitor {
   ros::Publisher contacts_pub_;
   ros::Publisher markers_pub_;
   ros::Timer timer_;
+  ros::Timer marker_timer_;
   diagnostic_updater::Updater diagnostics_;
 
   ProximityWorld world_;
