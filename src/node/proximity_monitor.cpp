@@ -374,6 +374,7 @@ void ProximityMonitor::updateTrack(const std::string& key, std::int32_t index,
     tracks_.push_back(std::move(t));
     track_index_.emplace(key, added);
     setTrackOf(tracks_.back().handle, added);
+    bodyInfo(tracks_.back().handle.index).settings = &params_.label(box.label);
     return;
   }
   Track& t = tracks_[static_cast<std::size_t>(index)];
@@ -478,6 +479,7 @@ void ProximityMonitor::updateRobot(const ros::Time& now) {
                                      motion);
         body.present = true;
         bodyInfo(body.handle.index).robot = &body;
+        bodyInfo(body.handle.index).settings = &params_.robot_thresholds;
       } else {
         world_.setMotion(body.handle, motion);
       }
@@ -614,6 +616,13 @@ ProximityMonitor::BodyInfo& ProximityMonitor::bodyInfo(std::int32_t index) {
   return by_body_[i];
 }
 
+const LabelSettings& ProximityMonitor::settingsOf(BodyHandle body, const BodyDesc& desc) const {
+  // Cached when the body was added: no string-keyed look-up per event and cycle.
+  const auto i = static_cast<std::size_t>(body.index);
+  if (i < by_body_.size() && by_body_[i].settings != nullptr) return *by_body_[i].settings;
+  return desc.group == BodyGroup::kRobot ? params_.robot_thresholds : params_.label(desc.label);
+}
+
 void ProximityMonitor::setTrackOf(BodyHandle body, std::int32_t track) {
   bodyInfo(body.index).track = track;
 }
@@ -644,10 +653,8 @@ void ProximityMonitor::publishContacts(const ros::Time& now,
     event_slots_[i] = {e.body_a.index, e.body_b.index};
     const BodyDesc& a = world_.desc(e.body_a);
     const BodyDesc& b = world_.desc(e.body_b);
-    const LabelSettings& la =
-        a.group == BodyGroup::kRobot ? params_.robot_thresholds : params_.label(a.label);
-    const LabelSettings& lb =
-        b.group == BodyGroup::kRobot ? params_.robot_thresholds : params_.label(b.label);
+    const LabelSettings& la = settingsOf(e.body_a, a);
+    const LabelSettings& lb = settingsOf(e.body_b, b);
     const std::uint8_t level = contactLevel(e, la, lb);
     toMsg(e, a, b, level, &msg);
     if (e.state == ContactState::kEnd) continue;

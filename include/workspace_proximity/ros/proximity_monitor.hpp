@@ -74,6 +74,7 @@ class ProximityMonitor {
   struct BodyInfo {
     std::int32_t track = -1;  // index into tracks_
     const RobotBody* robot = nullptr;
+    const LabelSettings* settings = nullptr;  // into params_ (never modified after start)
     std::uint8_t level = 0;          // worst level this publish, valid when level_serial matches
     std::uint64_t level_serial = 0;
   };
@@ -91,6 +92,7 @@ class ProximityMonitor {
   void removeTrack(std::int32_t index);
   BodyInfo& bodyInfo(std::int32_t index);
   void setTrackOf(BodyHandle body, std::int32_t track);
+  const LabelSettings& settingsOf(BodyHandle body, const BodyDesc& desc) const;
   void reject(const std::string& source, const std::string& id, const std::string& why);
   bool evictFarther(double squared_distance, const Eigen::Vector3d& centre);
   void expireTracks(const ros::Time& now);
