@@ -26,6 +26,9 @@ struct PairEvent {
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< nearest point on b now, world, m
   Eigen::Vector3d normal = Eigen::Vector3d::UnitX();  ///< unit, from a towards b
   double closing_speed = 0.0;       ///< m/s, > 0 when approaching
+  /// Small non-negative integer naming the pair for its whole life (from its BEGIN to its END
+  /// inclusive); reused by later pairs after the END. Set by the EventTracker.
+  std::int32_t pair = -1;
 };
 
 }  // namespace workspace_proximity

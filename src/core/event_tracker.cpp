@@ -119,6 +119,7 @@ void EventTracker::report(std::uint64_t key, const PairEvent& prediction) {
   Record& rec = records_[r];
   rec.event = prediction;
   rec.event.state = state;
+  rec.event.pair = r;
   rec.stamp = cycle_;
   events_.push_back(rec.event);
 }

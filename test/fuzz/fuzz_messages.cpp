@@ -2,7 +2,7 @@
 // proximity_monitor does with every TrackedBox it receives, and with its parameters.
 //
 // Boxes (most inputs): a TrackedBox from arbitrary doubles and strings goes through
-// checkTrackedBox(); when it is accepted, toShape() / toMotion() with an arbitrary finite
+// observe() and checkBox(); when it is accepted, boxShape() / boxMotion() with an arbitrary finite
 // isometry (the tf of the box's frame) must give finite numbers, a valid shape and a valid
 // motion, and ProximityWorld must accept the body (addBody with any valid label margin,
 // setMotion of the latency-compensated motion) and predict() any valid horizon without
@@ -25,7 +25,7 @@
 #include "fuzz_input.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
-#include "workspace_proximity/ros/monitor_params.hpp"
+#include "workspace_proximity/monitor/monitor_params.hpp"
 
 namespace wp = workspace_proximity;
 using wp_fuzz::fail;
@@ -140,17 +140,19 @@ void fuzzBoxes(Input& in) {
   const int count = 1 + in.byte() % kMaxBoxes;
   for (int i = 0; i < count && !in.empty(); ++i) {
     const wp::TrackedBox box = makeBox(in);
-    const std::string why = wp::checkTrackedBox(box);
-    if (trace()) std::fprintf(stderr, "box %s: %s\n", describe(box).c_str(), why.empty() ? "accepted" : why.c_str());
-    if (!why.empty()) continue;
+    const wp::BoxObservation observed = wp::observe(box);
+    std::string why;
+    const bool accepted = wp::checkBox(observed, wp::BoxLimits(), &why) == wp::Drop::kCount;
+    if (trace()) std::fprintf(stderr, "box %s: %s\n", describe(box).c_str(), accepted ? "accepted" : why.c_str());
+    if (!accepted) continue;
     const std::string where = describe(box);
 
     const Eigen::Isometry3d fixed_from_frame = makeTransform(in);
-    const wp::Shape shape = wp::toShape(box);
+    const wp::Shape shape = wp::boxShape(observed);
     if (!shape.valid() || !shape.half_extents.allFinite() || !(shape.half_extents.array() > 0.0).all()) {
       fail("accepted box gives an invalid shape", where);
     }
-    const wp::BodyMotion motion = wp::toMotion(box, fixed_from_frame);
+    const wp::BodyMotion motion = wp::boxMotion(observed, fixed_from_frame);
     if (!motion.position.allFinite() || !motion.linear_velocity.allFinite() ||
         !motion.angular_velocity.allFinite() || !motion.orientation.coeffs().allFinite()) {
       fail("accepted box gives a non-finite motion", where);

@@ -1,36 +1,17 @@
-// Conversions between messages and the core: round trips and rejection of bad boxes.
+// Conversions between messages and the monitor/core: round trips, and the contacts message
+// rendered from a cycle's report.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 #include <random>
 
+#include "workspace_proximity/ros/contact_publisher.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
 
 namespace wp = workspace_proximity;
 
-namespace {
-
-wp::TrackedBox goodBox() {
-  wp::TrackedBox b;
-  b.id = "7";
-  b.label = "person";
-  b.pose.position.x = 1.0;
-  b.pose.position.y = 2.0;
-  b.pose.position.z = 0.9;
-  b.pose.orientation.w = 1.0;
-  b.dimensions.x = 0.5;
-  b.dimensions.y = 0.6;
-  b.dimensions.z = 1.8;
-  b.twist.linear.x = 1.2;
-  b.twist.angular.z = 0.3;
-  return b;
-}
-
-}  // namespace
-
-TEST(Conversions, TrackedBoxRoundTripsThroughTheCore) {
+TEST(Conversions, TrackedBoxRoundTripsThroughTheMonitor) {
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> u(-5, 5), s(0.1, 3);
   for (int i = 0; i < 500; ++i) {
@@ -41,25 +22,34 @@ TEST(Conversions, TrackedBoxRoundTripsThroughTheCore) {
     m.angular_velocity = {u(rng), u(rng), u(rng)};
     const wp::Shape shape = wp::Shape::box({s(rng), s(rng), s(rng)});
     const wp::TrackedBox box = wp::toTrackedBox("id", "label", shape, m);
-    ASSERT_EQ(wp::checkTrackedBox(box), "");
-    const wp::BodyMotion back = wp::toMotion(box, Eigen::Isometry3d::Identity());
+    const wp::BoxObservation seen = wp::observe(box);
+    EXPECT_EQ(seen.id, "id");
+    EXPECT_EQ(seen.label, "label");
+    std::string why;
+    ASSERT_EQ(wp::checkBox(seen, wp::BoxLimits(), &why), wp::Drop::kCount) << why;
+    const wp::BodyMotion back = wp::boxMotion(seen, Eigen::Isometry3d::Identity());
     EXPECT_TRUE(back.position.isApprox(m.position, 1e-12));
     EXPECT_NEAR(std::abs(back.orientation.dot(m.orientation)), 1.0, 1e-12);
     EXPECT_TRUE(back.linear_velocity.isApprox(m.linear_velocity, 1e-12));
     EXPECT_TRUE(back.angular_velocity.isApprox(m.angular_velocity, 1e-12));
-    EXPECT_TRUE(wp::toShape(box).half_extents.isApprox(shape.half_extents, 1e-12));
+    EXPECT_TRUE(wp::boxShape(seen).half_extents.isApprox(shape.half_extents, 1e-12));
   }
 }
 
-TEST(Conversions, FrameTransformMovesPoseAndRotatesTwist) {
-  wp::TrackedBox box = goodBox();
-  Eigen::Isometry3d fixed_from_frame = Eigen::Isometry3d::Identity();
-  fixed_from_frame.translation() = Eigen::Vector3d(10, 0, 0);
-  fixed_from_frame.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const wp::BodyMotion m = wp::toMotion(box, fixed_from_frame);
-  EXPECT_TRUE(m.position.isApprox(Eigen::Vector3d(8, 1, 0.9), 1e-12));
-  EXPECT_TRUE(m.linear_velocity.isApprox(Eigen::Vector3d(0, 1.2, 0), 1e-12));
-  EXPECT_TRUE(m.angular_velocity.isApprox(Eigen::Vector3d(0, 0, 0.3), 1e-12));
+TEST(Conversions, ObservationViewsTheMessageWithoutCopies) {
+  wp::TrackedBox box;
+  box.id = "a rather long track id that no small-string buffer holds";
+  box.label = "person";
+  const wp::BoxObservation seen = wp::observe(box);
+  EXPECT_EQ(seen.id.data(), box.id.data());
+  EXPECT_EQ(seen.label.data(), box.label.data());
+}
+
+TEST(Conversions, StampsRoundTripToTheNanosecond) {
+  for (const ros::Time t : {ros::Time(0, 0), ros::Time(1, 1), ros::Time(1763891234, 999999999)}) {
+    EXPECT_EQ(wp::toTime(wp::toStamp(t)), t);
+  }
+  EXPECT_EQ(wp::toStamp(ros::Time(2, 5)), 2000000005);
 }
 
 TEST(Conversions, PairEventRoundTripsThroughTheMessage) {
@@ -77,7 +67,7 @@ TEST(Conversions, PairEventRoundTripsThroughTheMessage) {
   a.label = "robot";
   b.id = "bob";
   b.label = "person";
-  const wp::ContactEvent msg = wp::toMsg(e, a, b, wp::ContactEvent::WARNING);
+  const wp::ContactEvent msg = wp::toMsg(e, a, b, wp::Level::kWarning);
   EXPECT_EQ(msg.id_a, "arm");
   EXPECT_EQ(msg.label_b, "person");
   EXPECT_EQ(msg.state, wp::ContactEvent::ONGOING);
@@ -93,56 +83,43 @@ TEST(Conversions, PairEventRoundTripsThroughTheMessage) {
   EXPECT_EQ(back.closing_speed, e.closing_speed);
 }
 
-TEST(Conversions, LevelsFollowTheStricterThreshold) {
-  wp::LabelSettings person;  // warning 1.0 s / 0.5 m, critical 0.4 s / 0.2 m
-  wp::LabelSettings lax;
-  lax.warning_time = 0.1;
-  lax.critical_time = 0.05;
-  lax.warning_distance = 0.01;
-  lax.critical_distance = 0.0;
-  wp::PairEvent e;
-  e.distance = 2.0;
-  e.time_to_contact = 1.5;
-  EXPECT_EQ(wp::contactLevel(e, person, lax), wp::ContactEvent::NOTICE);
-  e.time_to_contact = 0.9;
-  EXPECT_EQ(wp::contactLevel(e, person, lax), wp::ContactEvent::WARNING);
-  EXPECT_EQ(wp::contactLevel(e, lax, lax), wp::ContactEvent::NOTICE);
-  e.time_to_contact = 0.3;
-  EXPECT_EQ(wp::contactLevel(e, lax, person), wp::ContactEvent::CRITICAL);
-  e.time_to_contact = 5.0;
-  e.distance = 0.1;
-  EXPECT_EQ(wp::contactLevel(e, person, lax), wp::ContactEvent::CRITICAL);
-  e.state = wp::ContactState::kEnd;
-  EXPECT_EQ(wp::contactLevel(e, person, person), wp::ContactEvent::NOTICE);
-}
+TEST(Conversions, ContactsMessageCarriesTheReport) {
+  // Two unit cubes 2 m apart closing at 1 m/s: one BEGIN at t = 2 s (analytic).
+  wp::ProximityWorld world;
+  wp::BodyMotion ma, mb;
+  mb.position = {3, 0, 0};
+  mb.linear_velocity = {-1, 0, 0};
+  const wp::BodyHandle a = world.addBody({"a", "robot", wp::BodyGroup::kRobot, wp::Shape::box({0.5, 0.5, 0.5}), 0.0}, ma);
+  const wp::BodyHandle b = world.addBody({"b", "person", wp::BodyGroup::kObject, wp::Shape::box({0.5, 0.5, 0.5}), 0.0}, mb);
+  const std::vector<wp::PairEvent>& events = world.predict(5.0);
+  ASSERT_EQ(events.size(), 1u);
+  wp::CycleReport report;
+  report.stamp = 7000000001;
+  report.events = &events;
+  report.levels = {wp::Level::kCritical};
+  report.stale = {1};
+  report.degraded = true;
+  report.status_lines = {"source /x: no data yet"};
+  wp::ContactEventArray msg;
+  wp::fillContacts(report, world, "map", &msg);
+  EXPECT_EQ(msg.header.stamp, ros::Time(7, 1));
+  EXPECT_EQ(msg.header.frame_id, "map");
+  ASSERT_EQ(msg.events.size(), 1u);
+  EXPECT_EQ(msg.events[0].state, wp::ContactEvent::BEGIN);
+  EXPECT_EQ(msg.events[0].id_a, world.desc(a).id);
+  EXPECT_EQ(msg.events[0].id_b, world.desc(b).id);
+  EXPECT_NEAR(msg.events[0].time_to_contact, 2.0, 1e-9);
+  EXPECT_EQ(msg.events[0].level, wp::ContactEvent::CRITICAL);
+  EXPECT_TRUE(msg.events[0].stale);
+  EXPECT_EQ(msg.status, wp::ContactEventArray::DEGRADED);
+  EXPECT_EQ(msg.status_details, report.status_lines);
 
-TEST(Conversions, BadBoxesAreRejectedWithAReason) {
-  EXPECT_EQ(wp::checkTrackedBox(goodBox()), "");
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  const double inf = std::numeric_limits<double>::infinity();
-  auto with = [](auto change) {
-    wp::TrackedBox b = goodBox();
-    change(b);
-    return wp::checkTrackedBox(b);
-  };
-  EXPECT_NE(with([](wp::TrackedBox& b) { b.id.clear(); }), "");
-  EXPECT_NE(with([&](wp::TrackedBox& b) { b.pose.position.x = nan; }), "");
-  EXPECT_NE(with([&](wp::TrackedBox& b) { b.pose.orientation.z = inf; }), "");
-  EXPECT_NE(with([&](wp::TrackedBox& b) { b.twist.angular.y = nan; }), "");
-  EXPECT_NE(with([&](wp::TrackedBox& b) { b.dimensions.y = nan; }), "");
-  EXPECT_NE(with([](wp::TrackedBox& b) { b.dimensions.x = 0.0; }), "");
-  EXPECT_NE(with([](wp::TrackedBox& b) { b.dimensions.z = -1.0; }), "");
-  EXPECT_NE(with([](wp::TrackedBox& b) { b.dimensions.x = 5000.0; }), "");
-  EXPECT_NE(with([](wp::TrackedBox& b) { b.pose.position.y = 1e7; }), "");
-  EXPECT_NE(with([](wp::TrackedBox& b) { b.pose.orientation.w = 0.0; }), "");
-  EXPECT_NE(with([](wp::TrackedBox& b) { b.pose.orientation.w = 2.0; }), "");
-  // Nearly unit quaternions are normalised, not rejected.
-  EXPECT_EQ(with([](wp::TrackedBox& b) { b.pose.orientation.w = 1.004; }), "");
-  wp::TrackedBox nearly = goodBox();
-  nearly.pose.orientation.w = 1.004;
-  EXPECT_NEAR(wp::toMotion(nearly, Eigen::Isometry3d::Identity()).orientation.norm(), 1.0, 1e-12);
-  EXPECT_NE(with([](wp::TrackedBox& b) { b.twist.linear.x = 500.0; }), "");
-  EXPECT_NE(wp::checkTrackedBox(goodBox(), wp::BoxLimits{1000.0, 0.5, 100.0, 100.0, 0.01}), "");
+  // A report without events (a failed cycle) empties the message but keeps it DEGRADED.
+  report.events = nullptr;
+  report.status_lines = {"cycle failed: boom"};
+  wp::fillContacts(report, world, "map", &msg);
+  EXPECT_TRUE(msg.events.empty());
+  EXPECT_EQ(msg.status, wp::ContactEventArray::DEGRADED);
 }
 
 int main(int argc, char** argv) {

@@ -1,64 +1,52 @@
 #pragma once
-/// RViz markers for the bodies, their swept volumes, predicted contacts and velocities.
+/// RViz markers for the bodies, their swept volumes, predicted contacts and velocities,
+/// rendered from a cycle's report.
 
 #include <cstdint>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <ros/time.h>
 #include <visualization_msgs/MarkerArray.h>
-#include <workspace_proximity/ContactEventArray.h>
 
-#include "workspace_proximity/aabb.hpp"
-#include "workspace_proximity/body.hpp"
-#include "workspace_proximity/pair_table.hpp"
+#include "workspace_proximity/monitor/cycle_report.hpp"
+#include "workspace_proximity/proximity_world.hpp"
 
 namespace workspace_proximity {
 
-/// What the markers show of one body this cycle (fixed frame).
-struct MarkerBody {
-  /// Small non-negative integer naming the body for its whole life (the world's body slot,
-  /// BodyHandle::index); it is the body's marker id. A slot reused by a later body reuses
-  /// the id, which simply redraws it.
-  std::int32_t slot = 0;
-  bool robot = false;
-  Shape shape;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< m/s
-  Aabb swept;
-  int level = -1;  ///< worst ContactEvent level involving it, -1 for none
-};
-
-/// Builds one MarkerArray per cycle. Namespaces: "bodies", "swept", "velocity" (one marker
-/// per body, id = its slot, stable for the body's life), "nearest" and "ttc_text" (one per
-/// predicted pair, id stable for the pair's life). Markers that existed last cycle but not
-/// now are sent with action DELETE; every marker has `lifetime` so everything vanishes if the
-/// node stops. Bookkeeping is in flat arrays and an open-addressing pair table; the output
-/// array is rewritten in place, so steady cycles allocate (almost) nothing.
+/// Builds one MarkerArray from a report. Namespaces: "bodies", "swept", "velocity" (one marker
+/// per body, id = its world slot, stable for the body's life), "nearest" and "ttc_text" (one
+/// per predicted pair, id = the pair's id, stable for the pair's life). Markers shown by the
+/// last build but not by this one are sent with action DELETE; every marker has `lifetime`,
+/// so everything vanishes if the node stops. Bookkeeping is in flat arrays indexed by slot
+/// and pair id; the output array is rewritten in place, so steady builds allocate (almost)
+/// nothing.
 class MarkerBuilder {
  public:
   MarkerBuilder(const std::string& frame, double lifetime);
 
-  /// `event_slots[i]` are the slots of the two bodies of `events.events[i]`.
-  void build(const std::vector<MarkerBody>& bodies, const ContactEventArray& events,
-             const std::vector<std::pair<std::int32_t, std::int32_t>>& event_slots,
-             const ros::Time& stamp, visualization_msgs::MarkerArray* out);
+  /// Markers of `report` (bodies named and posed from `world`), stamped with the report's
+  /// instant.
+  void build(const CycleReport& report, const ProximityWorld& world,
+             visualization_msgs::MarkerArray* out);
 
  private:
   // Next marker of the output, every field reset (its vectors and strings keep capacity).
-  visualization_msgs::Marker& add(const char* ns, std::int32_t id, const ros::Time& stamp,
-                                  std::uint8_t action, visualization_msgs::MarkerArray* out);
+  visualization_msgs::Marker& add(const char* ns, std::int32_t id, std::uint8_t action,
+                                  visualization_msgs::MarkerArray* out);
+  void addBody(const ReportedBody& body, int level, const ProximityWorld& world,
+               visualization_msgs::MarkerArray* out);
+  void addPair(const PairEvent& event, Level level, visualization_msgs::MarkerArray* out);
+  void deleteVanished(visualization_msgs::MarkerArray* out);
 
   std::string frame_;
   ros::Duration lifetime_;
+  ros::Time stamp_;                   // of the build under way
   std::size_t used_ = 0;              // markers written into the output this build
-  std::vector<std::uint8_t> shown_;   // per slot: body namespaces shown last build (bits)
+  std::vector<std::uint8_t> shown_;   // per body slot: namespaces shown last build (bits)
   std::vector<std::uint8_t> showing_; // the same, this build
-  PairTable pairs_;                   // shown pairs: user = marker id, stamp = last build
-  std::vector<std::int32_t> free_ids_;
-  std::int32_t next_id_ = 0;
-  std::uint32_t serial_ = 0;          // builds so far
+  std::vector<std::uint8_t> pair_shown_;    // per pair id: shown last build
+  std::vector<std::uint8_t> pair_showing_;  // the same, this build
 };
 
 }  // namespace workspace_proximity

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "workspace_proximity/ros/monitor_params.hpp"
+#include "workspace_proximity/monitor/monitor_params.hpp"
 
 namespace workspace_proximity {
 

@@ -3,7 +3,7 @@
 
 #include <ros/node_handle.h>
 
-#include "workspace_proximity/ros/monitor_params.hpp"
+#include "workspace_proximity/monitor/monitor_params.hpp"
 
 namespace workspace_proximity {
 

@@ -3,6 +3,7 @@
 /// diagnostics and the shutdown summary. ROS-free; fixed capacity, no allocation per cycle.
 
 #include <array>
+#include <chrono>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -40,6 +41,27 @@ class CycleTiming {
     std::size_t size = 0;
   };
   std::array<Ring, kStages> rings_;
+};
+
+/// Laps of one cycle: each lap() adds the time since the previous lap (or the start) to a
+/// stage. Two clock reads per stage, none per pair.
+class StageClock {
+ public:
+  using Clock = std::chrono::steady_clock;
+  StageClock(CycleTiming* timing, Clock::time_point start) : timing_(timing), mark_(start) {}
+  explicit StageClock(CycleTiming* timing) : StageClock(timing, Clock::now()) {}
+  /// Adds the time since the last lap to `stage`; returns it in milliseconds.
+  double lap(CycleStage stage) {
+    const Clock::time_point now = Clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - mark_).count();
+    timing_->add(stage, ms);
+    mark_ = now;
+    return ms;
+  }
+
+ private:
+  CycleTiming* timing_;
+  Clock::time_point mark_;
 };
 
 }  // namespace workspace_proximity

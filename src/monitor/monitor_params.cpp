@@ -1,4 +1,4 @@
-#include "workspace_proximity/ros/monitor_params.hpp"
+#include "workspace_proximity/monitor/monitor_params.hpp"
 
 #include <algorithm>
 

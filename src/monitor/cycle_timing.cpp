@@ -1,4 +1,4 @@
-#include "workspace_proximity/ros/cycle_timing.hpp"
+#include "workspace_proximity/monitor/cycle_timing.hpp"
 
 #include <algorithm>
 #include <cstdio>

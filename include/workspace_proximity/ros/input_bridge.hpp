@@ -1,0 +1,59 @@
+#pragma once
+/// Tracker arrays into the monitor: stamps, tf lookups into the fixed frame, and the one path
+/// every array takes. Needs no master (tf comes from any tf2::BufferCore), so the node and the
+/// offline replay share it.
+///
+/// Each source keeps at most one waiting array. The first array after a cycle is used as soon
+/// as it arrives (so the cycle only extrapolates, predicts and publishes); later ones before
+/// the next cycle replace the waiting one (counted as superseded) and the cycle uses the
+/// newest. An array whose transform tf does not have yet at its stamp waits for the cycle,
+/// which then falls back to the newest transform.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <tf2/buffer_core.h>
+#include <workspace_proximity/TrackedBoxArray.h>
+
+#include "workspace_proximity/monitor/monitor.hpp"
+
+namespace workspace_proximity {
+
+class InputBridge {
+ public:
+  /// `monitor` and `tf` are borrowed. `fixed_frame`: the frame of the prediction.
+  InputBridge(Monitor* monitor, tf2::BufferCore* tf, const std::string& fixed_frame);
+
+  /// An array of source `source` arrived at `now` (the subscription callback).
+  void onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp now);
+  /// At the cycle: every waiting array is used (the newest per source).
+  void takePending(Stamp now);
+  /// Forgets waiting arrays (after the clock went back).
+  void reset();
+
+  /// Arrays whose frame tf could not reach at all.
+  std::uint64_t tfFailures() const { return tf_failures_; }
+
+ private:
+  struct Waiting {
+    TrackedBoxArray::ConstPtr msg;
+    bool taken_since_cycle = false;  // an array was used on arrival since the last cycle
+  };
+  // The one path of an array. `at_cycle`: tf's newest transform is acceptable when it has none
+  // at the stamp; otherwise the array keeps waiting. Returns false when it keeps waiting.
+  bool take(int source, Stamp now, bool at_cycle);
+  bool use(int source, const TrackedBoxArray& msg, Stamp now, bool at_cycle);
+  // Pose of `frame` in the fixed frame at `stamp`; false when it is not known (yet).
+  bool lookup(int source, const std::string& frame, Stamp stamp, bool at_cycle,
+              Eigen::Isometry3d* fixed_from_frame, bool* wait);
+
+  Monitor* monitor_;
+  tf2::BufferCore* tf_;
+  std::string fixed_frame_;
+  std::vector<Waiting> waiting_;
+  std::vector<BoxObservation> boxes_;  // reused by every array
+  std::uint64_t tf_failures_ = 0;
+};
+
+}  // namespace workspace_proximity

@@ -1,0 +1,37 @@
+#pragma once
+/// Robot bodies posed from tf every cycle: the newest transform of each body's frame into the
+/// fixed frame, extrapolated to the cycle instant with a velocity from finite differences over
+/// ~velocity_window of tf history. A body tf cannot pose (missing, older than ~tf_timeout,
+/// stamped ahead of the clock) is marked unknown in the monitor. Needs no master.
+
+#include <cstdint>
+#include <string>
+
+#include <tf2/buffer_core.h>
+
+#include "workspace_proximity/monitor/monitor.hpp"
+
+namespace workspace_proximity {
+
+class RobotTfBridge {
+ public:
+  /// `monitor` and `tf` are borrowed.
+  RobotTfBridge(Monitor* monitor, tf2::BufferCore* tf);
+
+  /// Poses every robot body at `now`.
+  void update(Stamp now);
+
+  /// Robot body poses tf could not give.
+  std::uint64_t tfFailures() const { return tf_failures_; }
+
+ private:
+  // Motion of robot body i at `now`; false with the reason when tf cannot give it.
+  bool motionOf(int i, Stamp now, BodyMotion* motion, std::string* why);
+
+  Monitor* monitor_;
+  tf2::BufferCore* tf_;
+  const MonitorParams& params_;
+  std::uint64_t tf_failures_ = 0;
+};
+
+}  // namespace workspace_proximity

@@ -1,0 +1,109 @@
+#include "workspace_proximity/monitor/monitor.hpp"
+
+#include <algorithm>
+
+namespace workspace_proximity {
+namespace {
+
+WorldConfig worldConfig(const MonitorParams& params) {
+  WorldConfig config;
+  config.rules = makePairRules(params);
+  return config;
+}
+
+}  // namespace
+
+Monitor::Monitor(const MonitorParams& params, std::vector<RobotBodySpec> robot,
+                 const std::vector<std::string>& sources, bool qualify, RejectionSink* sink)
+    : params_(params),
+      labels_(params_),
+      sink_(sink),
+      world_(worldConfig(params_)),
+      sources_(sources, qualify),
+      tracks_(&world_, &labels_, params_.max_tracks, BoxLimits(), &drops_, sink),
+      robot_(&world_, std::move(robot), params_.robot_margin) {}
+
+bool Monitor::acceptStamp(int source, Stamp stamp, Stamp now) {
+  const Drop why =
+      sources_.checkStamp(source, stamp, now, params_.max_future, params_.track_timeout, &detail_);
+  if (why == Drop::kCount) return true;
+  drop(why, sources_.source(source).name, detail_);
+  return false;
+}
+
+void Monitor::ingest(int source, Stamp stamp, const Eigen::Isometry3d& fixed_from_frame,
+                     const std::vector<BoxObservation>& boxes) {
+  const Source& s = sources_.source(source);
+  sources_.accept(source, stamp);
+  ArrayContext array;
+  array.source = s.name;
+  array.qualifier = s.qualifier;
+  array.stamp = stamp;
+  array.fixed_from_frame = fixed_from_frame;
+  array.robot_centre = robot_.centre();
+  tracks_.ingest(array, boxes);
+}
+
+void Monitor::drop(Drop reason, std::string_view source, std::string detail) {
+  drops_.add(reason);
+  if (sink_ != nullptr) sink_->onRejection(Rejection{reason, source, std::string_view(), std::move(detail)});
+}
+
+void Monitor::reset() {
+  ++resets_;
+  tracks_.clear();
+  robot_.clear();
+  sources_.reset();
+}
+
+const CycleReport& Monitor::cycle(Stamp now, StageClock* clock) {
+  last_cycle_ = now;
+  tracks_.expire(now, params_.track_timeout);
+  tracks_.advance(now);
+  clock->lap(CycleStage::kInput);
+
+  const std::vector<PairEvent>& events = world_.predict(params_.horizon);
+  ReportInputs in;
+  in.now = now;
+  in.events = &events;
+  in.world = &world_;
+  in.tracks = &tracks_;
+  in.robot = &robot_;
+  in.labels = &labels_;
+  in.stale_after = params_.stale_after;
+  buildEventReport(in, &report_);
+  report_.stats = world_.stats();
+  buildStatus(now);
+  ++cycles_;
+  clock->lap(CycleStage::kPredict);
+  return report_;
+}
+
+void Monitor::buildStatus(Stamp now) {
+  report_.status_lines.clear();
+  // A source is silent after ~source_timeout, and never later than ~track_timeout: by then
+  // its tracks are gone, and an empty scene from a silent source must not read as clear.
+  sources_.silentLines(now, std::min(params_.source_timeout, params_.track_timeout),
+                       &report_.status_lines);
+  robot_.statusLines(&report_.status_lines);
+  for (const std::string& line : permanent_issues_) report_.status_lines.push_back(line);
+  report_.degraded = !report_.status_lines.empty();
+}
+
+void Monitor::cycleFailed(Stamp now, const std::string& what) {
+  drops_.add(Drop::kCycleFailure);
+  // Silence must not read as clear: the failed cycle's report has no events and says why.
+  report_.stamp = now;
+  report_.events = nullptr;
+  report_.levels.clear();
+  report_.stale.clear();
+  report_.degraded = true;
+  report_.status_lines.assign(1, "cycle failed: " + what);
+}
+
+void Monitor::noteCycleTime(double ms) {
+  last_cycle_ms_ = ms;
+  max_cycle_ms_ = std::max(max_cycle_ms_, ms);
+}
+
+}  // namespace workspace_proximity

@@ -1,0 +1,54 @@
+#include "workspace_proximity/ros/diagnostics_bridge.hpp"
+
+#include <string>
+
+#include <diagnostic_msgs/DiagnosticStatus.h>
+
+namespace workspace_proximity {
+
+void diagnose(const Monitor& monitor, const BridgeCounters& bridges, Stamp now,
+              diagnostic_updater::DiagnosticStatusWrapper* status) {
+  const CycleReport& report = monitor.report();
+  const double period_ms = 1000.0 / monitor.params().rate;
+  if (monitor.lastCycleMs() > period_ms) {
+    status->summaryf(diagnostic_msgs::DiagnosticStatus::ERROR,
+                     "cycle takes %.1f ms, longer than the %.1f ms period", monitor.lastCycleMs(),
+                     period_ms);
+  } else if (report.degraded) {
+    status->summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                    "degraded: " + report.status_lines.front());
+  } else {
+    status->summary(diagnostic_msgs::DiagnosticStatus::OK, "predicting");
+  }
+  status->add("cycles", monitor.cycles());
+  status->add("cycle time (ms)", monitor.lastCycleMs());
+  status->add("max cycle time (ms)", monitor.maxCycleMs());
+  const CycleTiming& timing = monitor.timing();
+  for (int i = 0; i < CycleTiming::kStages; ++i) {
+    const auto stage = static_cast<CycleStage>(i);
+    status->addf(std::string("stage ") + CycleTiming::name(stage) + " (ms, last/p99)", "%.3f/%.3f",
+                 timing.last(stage), timing.percentile(stage, 0.99));
+  }
+  status->add("tracks", monitor.tracks().size());
+  status->add("robot bodies", monitor.robot().size());
+  status->add("robot bodies not posed", monitor.robot().unknownCount());
+  status->add("tf failures", bridges.tf_failures);
+  status->add("broad-phase pairs", report.stats.broad_pairs);
+  status->add("predicted contacts", report.stats.contacts);
+  status->add("history resets (clock jumps)", monitor.resets());
+  const SourceTable& sources = monitor.sources();
+  for (int i = 0; i < sources.size(); ++i) {
+    const Source& s = sources.source(i);
+    status->add("source " + s.name + " rate (Hz)", s.rate);
+    status->add("source " + s.name + " age (s)",
+                s.last_receipt == 0 ? -1.0 : secondsBetween(s.last_receipt, now));
+  }
+  for (int i = 0; i < static_cast<int>(Drop::kCount); ++i) {
+    const auto reason = static_cast<Drop>(i);
+    const std::uint64_t n = monitor.drops().count(reason);
+    if (n > 0) status->add(std::string("dropped: ") + dropName(reason), n);
+  }
+  for (const std::string& line : report.status_lines) status->add("degraded", line);
+}
+
+}  // namespace workspace_proximity

@@ -1,0 +1,116 @@
+#include "workspace_proximity/ros/input_bridge.hpp"
+
+#include <chrono>
+#include <exception>
+
+#include <ros/console.h>
+#include <tf2/exceptions.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+#include "workspace_proximity/ros/conversions.hpp"
+
+namespace workspace_proximity {
+
+InputBridge::InputBridge(Monitor* monitor, tf2::BufferCore* tf, const std::string& fixed_frame)
+    : monitor_(monitor),
+      tf_(tf),
+      fixed_frame_(fixed_frame),
+      waiting_(static_cast<std::size_t>(monitor->sources().size())) {}
+
+void InputBridge::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp now) {
+  monitor_->noteReceipt(source, now);
+  Waiting& w = waiting_[static_cast<std::size_t>(source)];
+  if (w.msg) {
+    monitor_->drop(Drop::kSuperseded, monitor_->sources().source(source).name,
+                   "a newer array arrived before it was used");
+  }
+  w.msg = msg;
+  // Work ahead while the cycle waits: at most one array per source between cycles (a flood
+  // supersedes the rest, and the cycle takes the newest), and never after the clock went back
+  // (the cycle resets the history first).
+  if (w.taken_since_cycle || monitor_->clockWentBack(now)) return;
+  const auto start = std::chrono::steady_clock::now();
+  if (!take(source, now, false)) return;
+  w.taken_since_cycle = true;
+  monitor_->timing().add(CycleStage::kArrival, std::chrono::duration<double, std::milli>(
+                                                   std::chrono::steady_clock::now() - start)
+                                                   .count());
+}
+
+void InputBridge::takePending(Stamp now) {
+  for (std::size_t i = 0; i < waiting_.size(); ++i) {
+    waiting_[i].taken_since_cycle = false;
+    if (waiting_[i].msg) take(static_cast<int>(i), now, true);
+  }
+}
+
+void InputBridge::reset() {
+  for (Waiting& w : waiting_) w = Waiting();
+}
+
+bool InputBridge::take(int source, Stamp now, bool at_cycle) {
+  Waiting& w = waiting_[static_cast<std::size_t>(source)];
+  try {
+    if (!use(source, *w.msg, now, at_cycle)) return false;
+  } catch (const std::exception& e) {
+    // Never out of a callback or the cycle: the array is lost, counted and logged.
+    monitor_->drop(Drop::kArrayFailure, monitor_->sources().source(source).name, e.what());
+  }
+  w.msg.reset();
+  return true;
+}
+
+bool InputBridge::use(int source, const TrackedBoxArray& msg, Stamp now, bool at_cycle) {
+  const std::string& name = monitor_->sources().source(source).name;
+  if (msg.header.frame_id.empty()) {
+    monitor_->drop(Drop::kFrame, name, "the array has an empty frame_id");
+    return true;
+  }
+  Stamp stamp = toStamp(msg.header.stamp);
+  if (stamp == 0) {
+    ROS_WARN_THROTTLE(5.0, "proximity_monitor: array on %s has stamp 0; using the receive time",
+                      name.c_str());
+    stamp = monitor_->sources().source(source).last_receipt;
+  }
+  if (!monitor_->acceptStamp(source, stamp, now)) return true;
+  Eigen::Isometry3d fixed_from_frame;
+  bool wait = false;
+  if (!lookup(source, msg.header.frame_id, stamp, at_cycle, &fixed_from_frame, &wait)) return !wait;
+  boxes_.resize(msg.boxes.size());
+  for (std::size_t i = 0; i < msg.boxes.size(); ++i) observe(msg.boxes[i], &boxes_[i]);
+  monitor_->ingest(source, stamp, fixed_from_frame, boxes_);
+  return true;
+}
+
+bool InputBridge::lookup(int source, const std::string& frame, Stamp stamp, bool at_cycle,
+                         Eigen::Isometry3d* fixed_from_frame, bool* wait) {
+  try {
+    *fixed_from_frame =
+        tf2::transformToEigen(tf_->lookupTransform(fixed_frame_, frame, toTime(stamp)));
+    return true;
+  } catch (const tf2::TransformException& at_stamp) {
+    // On arrival tf may simply not have caught up yet: leave the array for the cycle.
+    if (!at_cycle) {
+      *wait = true;
+      return false;
+    }
+    // The newest transform is the best we have when tf lags the tracker; a frame tf cannot
+    // reach at all drops the array.
+    const std::string& name = monitor_->sources().source(source).name;
+    try {
+      *fixed_from_frame =
+          tf2::transformToEigen(tf_->lookupTransform(fixed_frame_, frame, ros::Time(0)));
+      ROS_WARN_THROTTLE(5.0, "proximity_monitor: %s: no transform at the array's stamp (%s); "
+                             "using the latest",
+                        name.c_str(), at_stamp.what());
+      return true;
+    } catch (const tf2::TransformException& e) {
+      ++tf_failures_;
+      monitor_->drop(Drop::kFrame, name,
+                     "cannot transform '" + frame + "' to '" + fixed_frame_ + "': " + e.what());
+      return false;
+    }
+  }
+}
+
+}  // namespace workspace_proximity

@@ -1,0 +1,147 @@
+#include "workspace_proximity/ros/proximity_monitor.hpp"
+
+#include <chrono>
+#include <cstdio>
+
+#include "workspace_proximity/ros/conversions.hpp"
+#include "workspace_proximity/ros/diagnostics_bridge.hpp"
+#include "workspace_proximity/ros/robot_description.hpp"
+
+namespace workspace_proximity {
+namespace {
+
+// Resolved input topics: ~input_topics, or the single default topic.
+std::vector<std::string> inputTopics(const ros::NodeHandle& nh, const MonitorParams& params) {
+  std::vector<std::string> topics = params.input_topics;
+  if (topics.empty()) topics.push_back("tracked_objects");
+  for (std::string& t : topics) t = nh.resolveName(t);
+  return topics;
+}
+
+}  // namespace
+
+ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh,
+                                   const MonitorParams& params)
+    : nh_(nh),
+      params_(params),
+      tf_buffer_(ros::Duration(std::max(10.0, 4.0 * params.velocity_window))),
+      tf_listener_(tf_buffer_),
+      markers_(params.fixed_frame, params.marker_lifetime),
+      diagnostics_(nh_, private_nh) {
+  const std::vector<std::string> topics = inputTopics(nh_, params_);
+  monitor_ = std::make_unique<Monitor>(params_, loadRobotBodies(nh_, params_), topics,
+                                       !params_.input_topics.empty(), &rejection_log_);
+  input_ = std::make_unique<InputBridge>(monitor_.get(), &tf_buffer_, params_.fixed_frame);
+  robot_ = std::make_unique<RobotTfBridge>(monitor_.get(), &tf_buffer_);
+  contacts_ = std::make_unique<ContactPublisher>(nh_, params_.fixed_frame);
+  if (params_.publish_markers) {
+    markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("markers", 10);
+  }
+  for (std::size_t i = 0; i < topics.size(); ++i) {
+    // Queue of 1: only the newest array of each source is worth predicting from.
+    subscribers_.push_back(nh_.subscribe<TrackedBoxArray>(
+        topics[i], 1,
+        [this, i](const TrackedBoxArray::ConstPtr& msg) {
+          input_->onArray(static_cast<int>(i), msg, toStamp(ros::Time::now()));
+        },
+        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
+  }
+  diagnostics_.setHardwareID("workspace_proximity");
+  diagnostics_.add("proximity monitor", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
+    const BridgeCounters bridges{input_->tfFailures() + robot_->tfFailures()};
+    diagnose(*monitor_, bridges, toStamp(ros::Time::now()), &s);
+  });
+  timer_ = nh_.createTimer(ros::Duration(1.0 / params_.rate),
+                           [this](const ros::TimerEvent&) { cycle(ros::Time::now()); });
+  // Markers are built half a period after the cycle that predicted them, so that their
+  // cost (and their megabyte on the wire) never delays the contacts of the next cycle or
+  // coincides with this one's delivery. One-shot, re-armed by the cycle when markers are due.
+  marker_timer_ = nh_.createTimer(
+      ros::Duration(0.5 / params_.rate), [this](const ros::TimerEvent&) { publishMarkers(); },
+      true, false);
+  ROS_INFO("proximity_monitor: %d robot bodies, %zu input topics, fixed frame '%s', %.1f Hz, "
+           "horizon %.2f s",
+           monitor_->robot().size(), topics.size(), params_.fixed_frame.c_str(), params_.rate,
+           params_.horizon);
+}
+
+ProximityMonitor::~ProximityMonitor() {
+  if (monitor_ && monitor_->cycles() > 0) {
+    std::printf("proximity_monitor: %llu cycles; stage times over the last %zu: %s\n",
+                static_cast<unsigned long long>(monitor_->cycles()),
+                std::min<std::size_t>(monitor_->cycles(), CycleTiming::kWindow),
+                monitor_->timing().summary().c_str());
+    std::fflush(stdout);
+  }
+}
+
+void ProximityMonitor::cycle(const ros::Time& now) {
+  try {
+    runCycle(now);
+  } catch (const std::exception& e) {
+    // Nothing may stop the cycle: report it loudly, and still publish, saying the prediction
+    // is missing (silence must not read as clear).
+    ROS_ERROR_THROTTLE(1.0, "proximity_monitor: cycle failed: %s", e.what());
+    monitor_->cycleFailed(toStamp(now), e.what());
+    contacts_->publish(monitor_->report(), monitor_->world());
+  }
+}
+
+void ProximityMonitor::runCycle(const ros::Time& now) {
+  const auto start = std::chrono::steady_clock::now();
+  const Stamp stamp = toStamp(now);
+  if (monitor_->clockWentBack(stamp)) reset(now);
+  input_->takePending(stamp);
+  robot_->update(stamp);
+  StageClock clock(&monitor_->timing(), start);
+  const CycleReport& report = monitor_->cycle(stamp, &clock);
+  contacts_->publish(report, monitor_->world());
+  clock.lap(CycleStage::kContacts);
+  scheduleMarkers(now);
+  monitor_->noteCycleTime(
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  diagnostics_.update();
+}
+
+void ProximityMonitor::reset(const ros::Time& now) {
+  // A clock that jumps back (bag loop, simulation reset) invalidates every stamp we hold:
+  // drop the tracks (their pairs END), the robot's poses, waiting arrays and the tf history.
+  ROS_WARN("proximity_monitor: clock jumped back by %.3f s; resetting tracks, robot poses and "
+           "the tf buffer",
+           secondsBetween(toStamp(now), monitor_->lastCycle()));
+  monitor_->reset();
+  input_->reset();
+  tf_buffer_.clear();
+  // diagnostic_updater publishes once its next time (set from the old clock) is reached:
+  // publish now, which also restarts its period from the new clock.
+  diagnostics_.force_update();
+}
+
+void ProximityMonitor::scheduleMarkers(const ros::Time& now) {
+  // Nobody watching (no RViz): building thousands of markers would be wasted work.
+  if (!params_.publish_markers || markers_pub_.getNumSubscribers() == 0) return;
+  // At most ~marker_rate: due when a marker period has passed, less half a cycle so that
+  // 10 Hz on 30 Hz cycles is every third cycle; a clock that went back publishes at once.
+  if (!last_markers_.isZero() && now >= last_markers_ &&
+      (now - last_markers_).toSec() < 1.0 / params_.marker_rate - 0.5 / params_.rate) {
+    return;
+  }
+  last_markers_ = now;
+  marker_timer_.stop();
+  marker_timer_.setPeriod(ros::Duration(0.5 / params_.rate));  // re-arms the one-shot
+  marker_timer_.start();
+}
+
+void ProximityMonitor::publishMarkers() {
+  StageClock clock(&monitor_->timing());
+  try {
+    markers_.build(monitor_->report(), monitor_->world(), &markers_msg_);
+  } catch (const std::exception& e) {
+    ROS_ERROR_THROTTLE(1.0, "proximity_monitor: markers failed: %s", e.what());
+    return;
+  }
+  markers_pub_.publish(markers_msg_);
+  clock.lap(CycleStage::kMarkers);
+}
+
+}  // namespace workspace_proximity

@@ -1,0 +1,95 @@
+#include "workspace_proximity/ros/robot_tf_bridge.hpp"
+
+#include <cstdio>
+
+#include <ros/console.h>
+#include <tf2/exceptions.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+#include "workspace_proximity/ros/conversions.hpp"
+
+namespace workspace_proximity {
+namespace {
+
+std::string format(const char* fmt, double value) {
+  char buffer[128];
+  std::snprintf(buffer, sizeof buffer, fmt, value);
+  return buffer;
+}
+
+}  // namespace
+
+RobotTfBridge::RobotTfBridge(Monitor* monitor, tf2::BufferCore* tf)
+    : monitor_(monitor), tf_(tf), params_(monitor->params()) {}
+
+void RobotTfBridge::update(Stamp now) {
+  RobotBodies& robot = monitor_->robot();
+  for (int i = 0; i < robot.size(); ++i) {
+    const RobotBodySpec& spec = robot.spec(i);
+    BodyMotion motion;
+    std::string why;
+    if (!motionOf(i, now, &motion, &why) || !motion.valid()) {
+      ++tf_failures_;
+      robot.markUnknown(i, why);
+      ROS_WARN_THROTTLE(5.0, "proximity_monitor: robot body '%s' (frame '%s') not posed: %s",
+                        spec.name.c_str(), spec.frame.c_str(), robot.why(i).c_str());
+      continue;
+    }
+    const bool was_stale = robot.present(i) && robot.stale(i);
+    if (!robot.pose(i, motion)) {
+      ROS_WARN_THROTTLE(5.0, "proximity_monitor: robot body '%s': %s", spec.name.c_str(),
+                        robot.why(i).c_str());
+    } else if (was_stale) {
+      ROS_INFO("proximity_monitor: robot body '%s' is posed again", spec.name.c_str());
+    }
+  }
+}
+
+bool RobotTfBridge::motionOf(int i, Stamp now, BodyMotion* motion, std::string* why) {
+  const RobotBodySpec& spec = monitor_->robot().spec(i);
+  geometry_msgs::TransformStamped latest;
+  try {
+    latest = tf_->lookupTransform(params_.fixed_frame, spec.frame, ros::Time(0));
+  } catch (const tf2::TransformException& e) {
+    *why = e.what();
+    return false;
+  }
+  const Eigen::Isometry3d pose1 = tf2::transformToEigen(latest) * spec.offset;
+  motion->position = pose1.translation();
+  motion->orientation = Eigen::Quaterniond(pose1.linear()).normalized();
+  motion->linear_velocity.setZero();
+  motion->angular_velocity.setZero();
+  const Stamp t1 = toStamp(latest.header.stamp);
+  if (t1 == 0) return true;  // a static chain: no motion, never stale
+
+  const double age = secondsBetween(t1, now);
+  if (-age > params_.max_future) {
+    // Stamped ahead of the clock: left over from before the clock jumped back (a publisher
+    // that saw the jump after our reset). tf2 refuses data older than its newest entry by
+    // more than the cache time, so the fresh transforms would never be used: drop it all.
+    tf_->clear();
+    *why = format("latest transform is stamped %.3f s ahead of the clock; tf history cleared", -age);
+    return false;
+  }
+  if (age > params_.tf_timeout) {
+    *why = format("latest transform is %.3f s old", age);
+    return false;
+  }
+  // Velocity by finite difference over the last velocity_window seconds of tf history.
+  const Stamp t0 = t1 - nanoseconds(params_.velocity_window);
+  try {
+    const Eigen::Isometry3d pose0 =
+        tf2::transformToEigen(tf_->lookupTransform(params_.fixed_frame, spec.frame, toTime(t0))) *
+        spec.offset;
+    const double dt = secondsBetween(t0, t1);
+    motion->linear_velocity = (pose1.translation() - pose0.translation()) / dt;
+    const Eigen::AngleAxisd turn(pose1.linear() * pose0.linear().transpose());
+    motion->angular_velocity = turn.axis() * (turn.angle() / dt);
+  } catch (const tf2::TransformException&) {
+    // Not enough history yet (just started): treat the link as momentarily still.
+  }
+  *motion = motion->advanced(age);
+  return true;
+}
+
+}  // namespace workspace_proximity

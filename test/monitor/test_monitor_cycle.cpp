@@ -1,0 +1,214 @@
+// The monitor's cycle, ROS-free: array stamps accepted or dropped by rule, latency-compensated
+// analytic contacts, levels and stale flags per event, body levels, the OK / DEGRADED status
+// and its reasons (silent or never-heard sources, unknown robot bodies, permanent issues,
+// failed cycles), and the reset after a clock jump. Expected numbers are worked out by hand.
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "workspace_proximity/monitor/monitor.hpp"
+
+namespace wp = workspace_proximity;
+
+namespace {
+
+constexpr wp::Stamp kSecond = 1000000000;
+constexpr wp::Stamp kT0 = 1000 * kSecond;  // an arbitrary clock reading
+
+bool mentions(const std::vector<std::string>& lines, const std::string& text) {
+  for (const std::string& l : lines) {
+    if (l.find(text) != std::string::npos) return true;
+  }
+  return false;
+}
+
+wp::MonitorParams params() {
+  wp::MonitorParams p;
+  p.horizon = 5.0;
+  p.robot_margin = 0.0;
+  p.labels["default"].margin = 0.0;
+  p.labels["person"] = wp::LabelSettings{0.0, 2.5, 0.5, 0.1, 0.05};
+  p.robot_thresholds = wp::LabelSettings{0.0, 1.0, 0.4, 0.1, 0.05};
+  return p;
+}
+
+wp::RobotBodySpec post() {
+  wp::RobotBodySpec s;
+  s.name = "post";
+  s.frame = "base";
+  s.shape = wp::Shape::box({0.5, 0.5, 0.5});
+  return s;
+}
+
+struct Fixture {
+  Fixture() : monitor(params(), {post()}, {"/boxes"}, false, nullptr), clock(&monitor.timing()) {}
+  // A person (1 m cube) at x, walking at v (m/s along x), observed at `stamp`.
+  void person(double x, double v, wp::Stamp stamp, wp::Stamp now) {
+    wp::BoxObservation b;
+    b.id = "p1";
+    b.label = "person";
+    b.position = {x, 0, 0};
+    b.dimensions = {1, 1, 1};
+    b.linear_velocity = {v, 0, 0};
+    monitor.noteReceipt(0, now);
+    ASSERT_TRUE(monitor.acceptStamp(0, stamp, now));
+    monitor.ingest(0, stamp, Eigen::Isometry3d::Identity(), {b});
+  }
+  void posePost() { ASSERT_TRUE(monitor.robot().pose(0, wp::BodyMotion())); }
+  const wp::CycleReport& cycle(wp::Stamp now) { return monitor.cycle(now, &clock); }
+
+  wp::Monitor monitor;
+  wp::StageClock clock;
+};
+
+}  // namespace
+
+TEST(MonitorCycle, AHeadOnApproachGivesTheAnalyticContactLatencyCompensated) {
+  Fixture f;
+  f.posePost();
+  // Person's near face at 4.5 m, the post's at 0.5 m: gap 4 m at 2 m/s, observed 0.1 s before
+  // the cycle, so 3.8 m at the cycle instant: contact 1.9 s ahead, separation when the person
+  // has passed through (gap + 2 m of overlap) = 2.9 s.
+  f.person(5.0, -2.0, kT0 - kSecond / 10, kT0 - kSecond / 20);
+  const wp::CycleReport& r = f.cycle(kT0);
+  ASSERT_EQ(r.eventCount(), 1u);
+  const wp::PairEvent& e = r.event(0);
+  EXPECT_EQ(e.state, wp::ContactState::kBegin);
+  EXPECT_NEAR(e.time_to_contact, 1.9, 1e-6);
+  EXPECT_NEAR(e.time_to_separation, 2.9, 1e-6);
+  EXPECT_NEAR(e.distance, 3.8, 1e-9);
+  EXPECT_EQ(r.stamp, kT0);
+  // Person thresholds: warning at 2.5 s -> WARNING (the robot's 1.0 s alone would be NOTICE).
+  EXPECT_EQ(r.levels[0], wp::Level::kWarning);
+  EXPECT_EQ(r.stale[0], 0);
+  EXPECT_EQ(r.bodyLevel(e.body_a.index), static_cast<int>(wp::Level::kWarning));
+  EXPECT_EQ(r.bodyLevel(e.body_b.index), static_cast<int>(wp::Level::kWarning));
+  EXPECT_EQ(r.bodies.size(), 2u);
+  EXPECT_FALSE(r.degraded) << (r.status_lines.empty() ? "" : r.status_lines[0]);
+  EXPECT_EQ(f.monitor.cycles(), 1u);
+}
+
+TEST(MonitorCycle, AnOldTrackMakesItsPairsStale) {
+  Fixture f;
+  f.posePost();
+  // stale_after 0.25 s: observed 0.3 s before the cycle (track_timeout 0.5 s keeps it).
+  f.person(3.0, -1.0, kT0 - 3 * kSecond / 10, kT0);
+  const wp::CycleReport& r = f.cycle(kT0);
+  ASSERT_EQ(r.eventCount(), 1u);
+  EXPECT_EQ(r.stale[0], 1);
+}
+
+TEST(MonitorCycle, StatusIsDegradedForEveryUnknownInputAndOkWhenAllIsFresh) {
+  Fixture f;
+  // Nothing heard, robot body never posed.
+  const wp::CycleReport& r0 = f.cycle(kT0);
+  EXPECT_TRUE(r0.degraded);
+  EXPECT_TRUE(mentions(r0.status_lines, "source /boxes: no data yet"));
+  EXPECT_TRUE(mentions(r0.status_lines, "robot body post unknown"));
+  // Fresh data everywhere: OK.
+  f.posePost();
+  f.person(5.0, 0.0, kT0, kT0);
+  EXPECT_FALSE(f.cycle(kT0 + kSecond / 10).degraded);
+  // Silent for more than min(source_timeout 1.0, track_timeout 0.5) = 0.5 s: DEGRADED.
+  f.posePost();
+  const wp::CycleReport& r1 = f.cycle(kT0 + 6 * kSecond / 10);
+  EXPECT_TRUE(r1.degraded);
+  EXPECT_TRUE(mentions(r1.status_lines, "source /boxes: no data for 0.60 s"));
+  // A robot body that cannot be posed: stale with its reason, its pairs stale.
+  f.person(3.0, -1.0, kT0 + kSecond, kT0 + kSecond);
+  f.monitor.robot().markUnknown(0, "no transform");
+  const wp::CycleReport& r2 = f.cycle(kT0 + kSecond);
+  EXPECT_TRUE(r2.degraded);
+  EXPECT_TRUE(mentions(r2.status_lines, "robot body post stale: no transform"));
+  ASSERT_EQ(r2.eventCount(), 1u);
+  EXPECT_EQ(r2.stale[0], 1);
+  // Kept where it was, without velocity.
+  EXPECT_TRUE(f.monitor.world().motion(f.monitor.robot().handle(0)).linear_velocity.isZero());
+}
+
+TEST(MonitorCycle, APermanentIssueKeepsTheStatusDegraded) {
+  Fixture f;
+  f.monitor.addPermanentIssue("robot link arm: mesh cannot be read");
+  f.posePost();
+  f.person(5.0, 0.0, kT0, kT0);
+  const wp::CycleReport& r = f.cycle(kT0);
+  EXPECT_TRUE(r.degraded);
+  EXPECT_EQ(r.status_lines, std::vector<std::string>{"robot link arm: mesh cannot be read"});
+}
+
+TEST(MonitorCycle, ArrayStampsAreCheckedAndCounted) {
+  Fixture f;
+  const wp::MonitorParams p = params();  // max_future 0.5 s, track_timeout 0.5 s
+  EXPECT_FALSE(f.monitor.acceptStamp(0, kT0 + 6 * kSecond / 10, kT0));
+  EXPECT_EQ(f.monitor.drops().count(wp::Drop::kFuture), 1u);
+  EXPECT_TRUE(f.monitor.acceptStamp(0, kT0 + 4 * kSecond / 10, kT0));
+  EXPECT_FALSE(f.monitor.acceptStamp(0, kT0 - 6 * kSecond / 10, kT0));
+  EXPECT_EQ(f.monitor.drops().count(wp::Drop::kOld), 1u);
+  f.person(5.0, 0.0, kT0, kT0);  // used: the source's newest stamp is kT0
+  EXPECT_FALSE(f.monitor.acceptStamp(0, kT0 - kSecond / 10, kT0));
+  EXPECT_EQ(f.monitor.drops().count(wp::Drop::kOutOfOrder), 1u);
+  EXPECT_TRUE(f.monitor.acceptStamp(0, kT0, kT0));  // equal stamps are in order
+  EXPECT_EQ(f.monitor.drops().total(), 3u);
+  (void)p;
+}
+
+TEST(MonitorCycle, TheClockGoingBackResetsEveryStamp) {
+  Fixture f;
+  f.posePost();
+  f.person(3.0, -1.0, kT0, kT0);
+  ASSERT_EQ(f.cycle(kT0).eventCount(), 1u);
+  const wp::Stamp back = kT0 - 53 * kSecond;
+  ASSERT_TRUE(f.monitor.clockWentBack(back));
+  f.monitor.reset();
+  EXPECT_EQ(f.monitor.resets(), 1u);
+  EXPECT_EQ(f.monitor.tracks().size(), 0);
+  EXPECT_FALSE(f.monitor.robot().present(0));
+  EXPECT_EQ(f.monitor.sources().source(0).last_stamp, 0);
+  // The old pair ends; arrays stamped in the new time are accepted again.
+  const wp::CycleReport& r = f.cycle(back);
+  ASSERT_EQ(r.eventCount(), 1u);
+  EXPECT_EQ(r.event(0).state, wp::ContactState::kEnd);
+  EXPECT_TRUE(f.monitor.acceptStamp(0, back, back));
+  EXPECT_FALSE(f.monitor.clockWentBack(back));
+}
+
+TEST(MonitorCycle, AFailedCycleReportsNothingAndSaysWhy) {
+  Fixture f;
+  f.posePost();
+  f.person(3.0, -1.0, kT0, kT0);
+  f.cycle(kT0);
+  f.monitor.cycleFailed(kT0 + kSecond / 30, "boom");
+  const wp::CycleReport& r = f.monitor.report();
+  EXPECT_EQ(r.eventCount(), 0u);
+  EXPECT_TRUE(r.degraded);
+  EXPECT_EQ(r.status_lines, std::vector<std::string>{"cycle failed: boom"});
+  EXPECT_EQ(f.monitor.drops().count(wp::Drop::kCycleFailure), 1u);
+}
+
+TEST(MonitorCycle, TheRobotCentreSteersTheCap) {
+  wp::MonitorParams p = params();
+  p.max_tracks = 1;
+  wp::RobotBodySpec s = post();
+  wp::Monitor monitor(p, {s}, {"/boxes"}, false, nullptr);
+  wp::BodyMotion at;
+  at.position = {10, 0, 0};
+  ASSERT_TRUE(monitor.robot().pose(0, at));
+  EXPECT_TRUE(monitor.robot().centre().isApprox(Eigen::Vector3d(10, 0, 0)));
+  wp::BoxObservation near, far;
+  near.id = "near";
+  near.position = {9, 0, 0};
+  far.id = "far";
+  far.position = {0, 0, 0};
+  monitor.noteReceipt(0, kT0);
+  ASSERT_TRUE(monitor.acceptStamp(0, kT0, kT0));
+  monitor.ingest(0, kT0, Eigen::Isometry3d::Identity(), {far, near});
+  ASSERT_EQ(monitor.tracks().size(), 1);
+  EXPECT_EQ(monitor.tracks().track(0).key, "near");
+}
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
