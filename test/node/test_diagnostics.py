@@ -35,11 +35,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import rospy  # noqa: E402
 import rostest  # noqa: E402
-import tf2_ros  # noqa: E402
-from geometry_msgs.msg import TransformStamped  # noqa: E402
 
-from wp_node_testlib import (DiagnosticsCollector, ScenePublisher, Track,  # noqa: E402
-                             diag_values)
+from wp_node_testlib import (DiagnosticsCollector, ScenePublisher, TfBroadcaster,  # noqa: E402
+                             Track, diag_values)
 
 OK, WARN = 0, 1
 RATE = 20.0
@@ -94,30 +92,6 @@ class Source(object):
                 self.stop.wait(0.02)
 
 
-class LinkBroadcaster(object):
-    """world -> carriage at (0, 5, 0), re-stamped at 50 Hz, unless paused."""
-
-    def __init__(self):
-        self.br = tf2_ros.TransformBroadcaster()
-        self.paused = threading.Event()
-        self.stop = threading.Event()
-        self.thread = threading.Thread(target=self.run)
-        self.thread.daemon = True
-        self.thread.start()
-
-    def run(self):
-        while not self.stop.is_set() and not rospy.is_shutdown():
-            if not self.paused.is_set():
-                t = TransformStamped()
-                t.header.stamp = rospy.Time.now()
-                t.header.frame_id = "world"
-                t.child_frame_id = "carriage"
-                t.transform.translation.y = 5.0
-                t.transform.rotation.w = 1.0
-                self.br.sendTransform(t)
-            self.stop.wait(0.02)
-
-
 def num(values, key):
     return float(values[key])
 
@@ -129,7 +103,8 @@ class DiagnosticsTest(unittest.TestCase):
 
     def test_diagnostics(self):
         diags = DiagnosticsCollector()
-        link = LinkBroadcaster()
+        # world -> carriage at (0, 5, 0), re-stamped at 50 Hz, unless paused.
+        link = TfBroadcaster("world", "carriage", lambda stamp: (0.0, 5.0, 0.0))
         tracks = [Track("a", "default", (-0.4, 0.0, 0.0), (1, 1, 1)),
                   Track("b", "default", (0.4, 0.0, 0.0), (1, 1, 1)),
                   Track("c", "default", (0.0, 5.5, 0.0), (1, 1, 1)),

@@ -17,18 +17,16 @@ are exact again.
 """
 import os
 import sys
-import threading
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import rospy  # noqa: E402
 import rostest  # noqa: E402
-import tf2_ros  # noqa: E402
-from geometry_msgs.msg import TransformStamped  # noqa: E402
 
 from wp_node_testlib import (END, TIME_TOL, Collector, ContactEventArray,  # noqa: E402
-                             ScenePublisher, Track, check_array_basics, degraded_about,
+                             ScenePublisher, TfBroadcaster, Track, check_array_basics,
+                             degraded_about,
                              events_for, fmt_event, state_sequence)
 
 SLIDER_SPEED = 0.5
@@ -38,39 +36,14 @@ X0 = -2.0
 TF_TIMEOUT = 0.5
 
 
-class CarriageBroadcaster(object):
-    def __init__(self, t0):
-        self.t0 = t0
-        self.br = tf2_ros.TransformBroadcaster()
-        self.paused = threading.Event()
-        self.stop = threading.Event()
-        self.last_stamp = None
-        self.thread = threading.Thread(target=self.run)
-        self.thread.daemon = True
-        self.thread.start()
-
-    def run(self):
-        while not self.stop.is_set() and not rospy.is_shutdown():
-            if not self.paused.is_set():
-                t = TransformStamped()
-                t.header.stamp = rospy.Time.now()
-                t.header.frame_id = "world"
-                t.child_frame_id = "carriage"
-                t.transform.translation.x = (X0 + SLIDER_SPEED *
-                                             (t.header.stamp - self.t0).to_sec())
-                t.transform.rotation.w = 1.0
-                self.br.sendTransform(t)
-                self.last_stamp = t.header.stamp
-            self.stop.wait(0.02)
-
-
 class RobotMovingTfTest(unittest.TestCase):
     def test_moving_robot_link(self):
         col = Collector()
         self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
         # t0 lies 1 s ahead: the publishers connect and the node gathers tf history first.
         t0 = rospy.Time.now() + rospy.Duration(1.0)
-        carriage = CarriageBroadcaster(t0)
+        carriage = TfBroadcaster(
+            "world", "carriage", lambda stamp: (X0 + SLIDER_SPEED * (stamp - t0).to_sec(), 0.0, 0.0))
         obj = Track("obj", "default", (1.0, 0.0, 0.0), (1, 1, 1), (-OBJ_SPEED, 0.0, 0.0))
         scene = ScenePublisher("tracked_objects", [obj], latency=0.05)
         scene.start(t0)

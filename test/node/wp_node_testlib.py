@@ -278,6 +278,37 @@ class Collector(object):
         return predicate(self.contact_msgs())
 
 
+class TfBroadcaster(object):
+    """parent -> child re-stamped with rospy.Time.now() every `period` s in a thread, at the
+    translation `position(stamp)` (x, y, z) with no rotation, unless `paused` is set; `stop`
+    ends it. `last_stamp` is the stamp of the last transform sent."""
+
+    def __init__(self, parent, child, position, period=0.02):
+        self.parent, self.child, self.position, self.period = parent, child, position, period
+        import tf2_ros
+        self.br = tf2_ros.TransformBroadcaster()
+        self.paused = threading.Event()
+        self.stop = threading.Event()
+        self.last_stamp = None
+        self.thread = threading.Thread(target=self.run)
+        self.thread.daemon = True
+        self.thread.start()
+
+    def run(self):
+        while not self.stop.is_set() and not rospy.is_shutdown():
+            if not self.paused.is_set():
+                t = TransformStamped()
+                t.header.stamp = rospy.Time.now()
+                t.header.frame_id = self.parent
+                t.child_frame_id = self.child
+                (t.transform.translation.x, t.transform.translation.y,
+                 t.transform.translation.z) = self.position(t.header.stamp)
+                t.transform.rotation.w = 1.0
+                self.br.sendTransform(t)
+                self.last_stamp = t.header.stamp
+            self.stop.wait(self.period)
+
+
 def broadcast_static(transforms):
     """transforms: list of (parent, child, xyz, rpy). Returns the broadcaster (keep it alive)."""
     import tf2_ros
