@@ -29,10 +29,10 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
       markers_(params.fixed_frame, params.marker_lifetime),
       diagnostics_(nh_, private_nh) {
   const std::vector<std::string> topics = inputTopics(nh_, params_);
-  monitor_ = std::make_unique<Monitor>(params_, loadRobotBodies(nh_, params_), topics,
-                                       !params_.input_topics.empty(), &rejection_log_);
-  input_ = std::make_unique<InputBridge>(monitor_.get(), &tf_buffer_, params_.fixed_frame);
-  robot_ = std::make_unique<RobotTfBridge>(monitor_.get(), &tf_buffer_);
+  pipeline_ = std::make_unique<MonitorPipeline>(params_, loadRobotBodies(nh_, params_), topics,
+                                                !params_.input_topics.empty(), &tf_buffer_,
+                                                &rejection_log_);
+  monitor_ = &pipeline_->monitor();
   contacts_ = std::make_unique<ContactPublisher>(nh_, params_.fixed_frame);
   if (params_.publish_markers) {
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("markers", 10);
@@ -42,14 +42,13 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
     subscribers_.push_back(nh_.subscribe<TrackedBoxArray>(
         topics[i], 1,
         [this, i](const TrackedBoxArray::ConstPtr& msg) {
-          input_->onArray(static_cast<int>(i), msg, toStamp(ros::Time::now()));
+          pipeline_->onArray(static_cast<int>(i), msg, toStamp(ros::Time::now()));
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
   }
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("proximity monitor", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
-    const BridgeCounters bridges{input_->tfFailures() + robot_->tfFailures()};
-    diagnose(*monitor_, bridges, toStamp(ros::Time::now()), &s);
+    diagnose(*monitor_, pipeline_->counters(), toStamp(ros::Time::now()), &s);
   });
   timer_ = nh_.createTimer(ros::Duration(1.0 / params_.rate),
                            [this](const ros::TimerEvent&) { cycle(ros::Time::now()); });
@@ -66,7 +65,7 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
 }
 
 ProximityMonitor::~ProximityMonitor() {
-  if (monitor_ && monitor_->cycles() > 0) {
+  if (monitor_ != nullptr && monitor_->cycles() > 0) {
     std::printf("proximity_monitor: %llu cycles; stage times over the last %zu: %s\n",
                 static_cast<unsigned long long>(monitor_->cycles()),
                 std::min<std::size_t>(monitor_->cycles(), CycleTiming::kWindow),
@@ -89,32 +88,18 @@ void ProximityMonitor::cycle(const ros::Time& now) {
 
 void ProximityMonitor::runCycle(const ros::Time& now) {
   const auto start = std::chrono::steady_clock::now();
-  const Stamp stamp = toStamp(now);
-  if (monitor_->clockWentBack(stamp)) reset(now);
-  input_->takePending(stamp);
-  robot_->update(stamp);
   StageClock clock(&monitor_->timing(), start);
-  const CycleReport& report = monitor_->cycle(stamp, &clock);
+  bool reset = false;
+  const CycleReport& report = pipeline_->cycle(toStamp(now), &clock, &reset);
+  // diagnostic_updater publishes once its next time (set from the old clock) is reached:
+  // after a jump back publish now, which also restarts its period from the new clock.
+  if (reset) diagnostics_.force_update();
   contacts_->publish(report, monitor_->world());
   clock.lap(CycleStage::kContacts);
   scheduleMarkers(now);
   monitor_->noteCycleTime(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   diagnostics_.update();
-}
-
-void ProximityMonitor::reset(const ros::Time& now) {
-  // A clock that jumps back (bag loop, simulation reset) invalidates every stamp we hold:
-  // drop the tracks (their pairs END), the robot's poses, waiting arrays and the tf history.
-  ROS_WARN("proximity_monitor: clock jumped back by %.3f s; resetting tracks, robot poses and "
-           "the tf buffer",
-           secondsBetween(toStamp(now), monitor_->lastCycle()));
-  monitor_->reset();
-  input_->reset();
-  tf_buffer_.clear();
-  // diagnostic_updater publishes once its next time (set from the old clock) is reached:
-  // publish now, which also restarts its period from the new clock.
-  diagnostics_.force_update();
 }
 
 void ProximityMonitor::scheduleMarkers(const ros::Time& now) {

@@ -1,9 +1,9 @@
 #pragma once
-/// The proximity_monitor node: wires the ROS-free Monitor to ROS. Subscriptions feed the input
-/// bridge, tf feeds the robot bridge, a timer runs the cycle, and the cycle's report goes to
+/// The proximity_monitor node: wires the monitor pipeline to ROS. Subscriptions feed its input
+/// bridge, tf2_ros its robot bridge, a timer runs the cycle, and the cycle's report goes to
 /// the contact publisher, the marker builder and the diagnostics:
 ///   arrays -> InputBridge -> Monitor (TrackTable) ; tf -> RobotTfBridge -> Monitor (RobotBodies)
-///   timer -> Monitor::cycle -> CycleReport -> {contacts, markers, /diagnostics}
+///   timer -> MonitorPipeline::cycle -> CycleReport -> {contacts, markers, /diagnostics}
 
 #include <memory>
 #include <vector>
@@ -14,12 +14,10 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include "workspace_proximity/monitor/monitor.hpp"
 #include "workspace_proximity/ros/contact_publisher.hpp"
-#include "workspace_proximity/ros/input_bridge.hpp"
 #include "workspace_proximity/ros/marker_builder.hpp"
+#include "workspace_proximity/ros/monitor_pipeline.hpp"
 #include "workspace_proximity/ros/rejection_log.hpp"
-#include "workspace_proximity/ros/robot_tf_bridge.hpp"
 
 namespace workspace_proximity {
 
@@ -39,7 +37,6 @@ class ProximityMonitor {
 
  private:
   void runCycle(const ros::Time& now);
-  void reset(const ros::Time& now);
   void scheduleMarkers(const ros::Time& now);  // arms marker_timer_ when markers are due
   void publishMarkers();                        // marker_timer_: half a period after a cycle
 
@@ -48,9 +45,8 @@ class ProximityMonitor {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   RejectionLog rejection_log_;
-  std::unique_ptr<Monitor> monitor_;
-  std::unique_ptr<InputBridge> input_;
-  std::unique_ptr<RobotTfBridge> robot_;
+  std::unique_ptr<MonitorPipeline> pipeline_;
+  Monitor* monitor_ = nullptr;  // the pipeline's
   std::unique_ptr<ContactPublisher> contacts_;
   MarkerBuilder markers_;
   visualization_msgs::MarkerArray markers_msg_;  // reused
