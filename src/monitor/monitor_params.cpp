@@ -28,6 +28,20 @@ void checkLabel(std::vector<std::string>* errors, const std::string& prefix,
              "m");
 }
 
+// tf2 refuses frame ids that are empty or start with '/' (a tf1 habit) in every lookup, so
+// such a frame would start the node and then fail every cycle: refuse it up front.
+void checkFrame(std::vector<std::string>* errors, const std::string& name, const std::string& frame) {
+  if (frame.empty()) {
+    errors->push_back("~" + name + ": must not be empty");
+  } else if (frame[0] == '/') {
+    errors->push_back("~" + name + " = '" + frame + "': tf2 frame ids cannot start with '/' (use '" +
+                      frame.substr(frame.find_first_not_of('/') == std::string::npos
+                                       ? frame.size()
+                                       : frame.find_first_not_of('/')) +
+                      "')");
+  }
+}
+
 }  // namespace
 
 MonitorParams::MonitorParams() { labels["default"] = LabelSettings(); }
@@ -40,7 +54,7 @@ const LabelSettings& MonitorParams::label(const std::string& name) const {
 
 std::vector<std::string> validate(const MonitorParams& p) {
   std::vector<std::string> errors;
-  if (p.fixed_frame.empty()) errors.push_back("~fixed_frame: must not be empty");
+  checkFrame(&errors, "fixed_frame", p.fixed_frame);
   checkRange(&errors, "rate", p.rate, 0.1, 1000.0, "Hz");
   checkRange(&errors, "horizon", p.horizon, 0.0, 60.0, "s");
   checkRange(&errors, "track_timeout", p.track_timeout, 0.001, 3600.0, "s");
@@ -76,7 +90,7 @@ std::vector<std::string> validate(const MonitorParams& p) {
     const RobotBodySpec& b = p.robot_bodies[i];
     const std::string where = "~robot_bodies[" + std::to_string(i) + "]";
     if (b.name.empty()) errors.push_back(where + "/name: must not be empty");
-    if (b.frame.empty()) errors.push_back(where + "/frame: must not be empty");
+    checkFrame(&errors, where.substr(1) + "/frame", b.frame);
     if (!b.shape.valid()) errors.push_back(where + "/size: every edge must be finite and > 0 m");
     if (!b.offset.matrix().allFinite() ||
         b.offset.translation().cwiseAbs().maxCoeff() > Limits::kMaxCoordinate) {

@@ -10,7 +10,7 @@ RobotBodies::RobotBodies(ProximityWorld* world, std::vector<RobotBodySpec> specs
   for (std::size_t i = 0; i < specs.size(); ++i) bodies_[i].spec = std::move(specs[i]);
 }
 
-bool RobotBodies::pose(int i, const BodyMotion& motion) {
+bool RobotBodies::pose(int i, const BodyMotion& motion, const std::string& stale_reason) {
   Body& b = bodies_[static_cast<std::size_t>(i)];
   try {
     if (!b.present) {
@@ -27,8 +27,8 @@ bool RobotBodies::pose(int i, const BodyMotion& motion) {
     markUnknown(i, std::string("rejected by the core: ") + e.what());
     return false;
   }
-  b.stale = false;
-  b.why.clear();
+  b.stale = !stale_reason.empty();
+  b.why = stale_reason;
   return true;
 }
 

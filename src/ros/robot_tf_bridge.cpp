@@ -27,8 +27,8 @@ void RobotTfBridge::update(Stamp now) {
   for (int i = 0; i < robot.size(); ++i) {
     const RobotBodySpec& spec = robot.spec(i);
     BodyMotion motion;
-    std::string why;
-    if (!motionOf(i, now, &motion, &why) || !motion.valid()) {
+    std::string why, stale;
+    if (!motionOf(i, now, &motion, &why, &stale) || !motion.valid()) {
       ++tf_failures_;
       robot.markUnknown(i, why);
       ROS_WARN_THROTTLE(5.0, "proximity_monitor: robot body '%s' (frame '%s') not posed: %s",
@@ -36,16 +36,17 @@ void RobotTfBridge::update(Stamp now) {
       continue;
     }
     const bool was_stale = robot.present(i) && robot.stale(i);
-    if (!robot.pose(i, motion)) {
+    if (!robot.pose(i, motion, stale)) {
       ROS_WARN_THROTTLE(5.0, "proximity_monitor: robot body '%s': %s", spec.name.c_str(),
                         robot.why(i).c_str());
-    } else if (was_stale) {
+    } else if (was_stale && stale.empty()) {
       ROS_INFO("proximity_monitor: robot body '%s' is posed again", spec.name.c_str());
     }
   }
 }
 
-bool RobotTfBridge::motionOf(int i, Stamp now, BodyMotion* motion, std::string* why) {
+bool RobotTfBridge::motionOf(int i, Stamp now, BodyMotion* motion, std::string* why,
+                             std::string* stale) {
   const RobotBodySpec& spec = monitor_->robot().spec(i);
   geometry_msgs::TransformStamped latest;
   try {
@@ -86,7 +87,10 @@ bool RobotTfBridge::motionOf(int i, Stamp now, BodyMotion* motion, std::string* 
     const Eigen::AngleAxisd turn(pose1.linear() * pose0.linear().transpose());
     motion->angular_velocity = turn.axis() * (turn.angle() / dt);
   } catch (const tf2::TransformException&) {
-    // Not enough history yet (just started): treat the link as momentarily still.
+    // Not enough history yet (at start-up, after a reset): the link may be moving, so it must
+    // not read as standing still. Posed where tf last saw it, stale until the window fills.
+    *stale = format("velocity not known yet (less than ~velocity_window = %.3f s of tf history)",
+                    params_.velocity_window);
   }
   *motion = motion->advanced(age);
   return true;

@@ -38,6 +38,7 @@ TEST(MonitorParams, EachBadValueIsNamed) {
       {"~marker_rate", [](wp::MonitorParams& p) { p.marker_rate = 0; }},
       {"~marker_lifetime", [](wp::MonitorParams& p) { p.marker_lifetime = 0.05; }},
       {"~fixed_frame", [](wp::MonitorParams& p) { p.fixed_frame.clear(); }},
+      {"~fixed_frame = '/map'", [](wp::MonitorParams& p) { p.fixed_frame = "/map"; }},
       {"~input_topics", [](wp::MonitorParams& p) { p.input_topics = {"a", "a"}; }},
       {"~labels", [](wp::MonitorParams& p) { p.labels.erase("default"); }},
       {"labels/person/margin", [](wp::MonitorParams& p) { p.labels["person"].margin = -1; }},
@@ -57,6 +58,14 @@ TEST(MonitorParams, EachBadValueIsNamed) {
        [](wp::MonitorParams& p) {
          wp::RobotBodySpec b;
          b.name = "g";
+         b.shape = wp::Shape::box({0.1, 0.1, 0.1});
+         p.robot_bodies.push_back(b);
+       }},
+      {"~robot_bodies[0]/frame = '/tool0'",
+       [](wp::MonitorParams& p) {
+         wp::RobotBodySpec b;
+         b.name = "g";
+         b.frame = "/tool0";
          b.shape = wp::Shape::box({0.1, 0.1, 0.1});
          p.robot_bodies.push_back(b);
        }},

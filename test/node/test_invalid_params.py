@@ -46,6 +46,11 @@ CASES = [
     ("source_timeout_zero", ["_source_timeout:=0.0"], {}, ["source_timeout"]),
     ("max_future_negative", ["_max_future:=-1.0"], {}, ["max_future"]),
     ("max_tracks_zero", ["_max_tracks:=0"], {}, ["max_tracks"]),
+    # tf2 refuses frame ids starting with '/' in every lookup: refused at start, named.
+    ("fixed_frame_leading_slash", ["_fixed_frame:=/map"], {}, ["fixed_frame"]),
+    ("robot_body_frame_leading_slash", [],
+     {"robot_bodies": [{"name": "g", "frame": "/tool0", "size": [0.1, 0.1, 0.1]}]},
+     ["robot_bodies[0]/frame"]),
 ]
 
 

@@ -22,8 +22,10 @@ class RobotBodies {
   const RobotBodySpec& spec(int i) const { return at(i).spec; }
 
   /// Body i is at `motion` now. Returns false (and marks it unknown with the reason) when the
-  /// core refuses the motion.
-  bool pose(int i, const BodyMotion& motion);
+  /// core refuses the motion. A non-empty `stale_reason` poses it but keeps it stale: its pose
+  /// is known, its motion is not (e.g. its velocity before enough history has arrived), so its
+  /// pairs are stale and the status DEGRADED rather than the body read as standing still.
+  bool pose(int i, const BodyMotion& motion, const std::string& stale_reason = std::string());
   /// Body i cannot be posed this cycle: kept at its last pose without velocity, stale.
   void markUnknown(int i, const std::string& why);
   /// Removes every body from the world (after the clock went back); they are added again

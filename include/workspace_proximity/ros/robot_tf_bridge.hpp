@@ -2,7 +2,9 @@
 /// Robot bodies posed from tf every cycle: the newest transform of each body's frame into the
 /// fixed frame, extrapolated to the cycle instant with a velocity from finite differences over
 /// ~velocity_window of tf history. A body tf cannot pose (missing, older than ~tf_timeout,
-/// stamped ahead of the clock) is marked unknown in the monitor. Needs no master.
+/// stamped ahead of the clock) is marked unknown in the monitor; a body whose history is still
+/// shorter than the window (at start-up and after every reset) is posed but stale, since its
+/// velocity is not known yet. Needs no master.
 
 #include <cstdint>
 #include <string>
@@ -25,8 +27,9 @@ class RobotTfBridge {
   std::uint64_t tfFailures() const { return tf_failures_; }
 
  private:
-  // Motion of robot body i at `now`; false with the reason when tf cannot give it.
-  bool motionOf(int i, Stamp now, BodyMotion* motion, std::string* why);
+  // Motion of robot body i at `now`; false with the reason when tf cannot give it. A body
+  // whose velocity is not known yet is given a motion without velocity and a `stale` reason.
+  bool motionOf(int i, Stamp now, BodyMotion* motion, std::string* why, std::string* stale);
 
   Monitor* monitor_;
   tf2::BufferCore* tf_;
