@@ -44,6 +44,20 @@ void Monitor::ingest(int source, Stamp stamp, const Eigen::Isometry3d& fixed_fro
   tracks_.ingest(array, boxes);
 }
 
+void Monitor::setParams(const MonitorParams& params) {
+  const MonitorParams structure = params_;
+  params_ = params;
+  params_.fixed_frame = structure.fixed_frame;
+  params_.input_topics = structure.input_topics;
+  params_.use_robot_description = structure.use_robot_description;
+  params_.robot_description_param = structure.robot_description_param;
+  params_.robot_bodies = structure.robot_bodies;
+  labels_ = LabelTable(params_);
+  tracks_.refreshSettings(params_.max_tracks);
+  robot_.setMargin(params_.robot_margin);
+  world_.setRules(makePairRules(params_));
+}
+
 void Monitor::drop(Drop reason, std::string_view source, std::string detail) {
   drops_.add(reason);
   if (sink_ != nullptr) sink_->onRejection(Rejection{reason, source, std::string_view(), std::move(detail)});

@@ -56,6 +56,14 @@ void RobotBodies::clear() {
   }
 }
 
+void RobotBodies::setMargin(double margin) {
+  if (margin == margin_) return;
+  margin_ = margin;
+  for (const Body& b : bodies_) {
+    if (b.present) world_->setShape(b.handle, b.spec.shape, margin_);
+  }
+}
+
 int RobotBodies::unknownCount() const {
   int n = 0;
   for (const Body& b : bodies_) n += (b.stale || !b.present) ? 1 : 0;

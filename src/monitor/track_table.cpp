@@ -194,6 +194,16 @@ void TrackTable::clear() {
   index_.clear();
 }
 
+void TrackTable::refreshSettings(int max_tracks) {
+  max_tracks_ = max_tracks;
+  for (Track& t : tracks_) {
+    t.settings = labels_->indexOf(t.label);
+    const double margin = labels_->settings(t.settings).margin;
+    const BodyDesc& desc = world_->desc(t.handle);
+    if (margin != desc.margin) world_->setShape(t.handle, desc.shape, margin);
+  }
+}
+
 void TrackTable::setTrackOfSlot(std::int32_t slot, int track) {
   const auto s = static_cast<std::size_t>(slot);
   if (s >= track_of_slot_.size()) track_of_slot_.resize(s + 1, -1);  // grows with the world

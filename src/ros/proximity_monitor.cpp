@@ -5,6 +5,7 @@
 
 #include "workspace_proximity/ros/conversions.hpp"
 #include "workspace_proximity/ros/diagnostics_bridge.hpp"
+#include "workspace_proximity/ros/reconfigure_bridge.hpp"
 #include "workspace_proximity/ros/robot_description.hpp"
 
 namespace workspace_proximity {
@@ -34,9 +35,8 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
                                                 &rejection_log_);
   monitor_ = &pipeline_->monitor();
   contacts_ = std::make_unique<ContactPublisher>(nh_, params_.fixed_frame);
-  if (params_.publish_markers) {
-    markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("markers", 10);
-  }
+  // Advertised even when ~publish_markers is false, so live tuning can turn markers on.
+  markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("markers", 10);
   for (std::size_t i = 0; i < topics.size(); ++i) {
     // Queue of 1: only the newest array of each source is worth predicting from.
     subscribers_.push_back(nh_.subscribe<TrackedBoxArray>(
@@ -58,6 +58,12 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   marker_timer_ = nh_.createTimer(
       ros::Duration(0.5 / params_.rate), [this](const ros::TimerEvent&) { publishMarkers(); },
       true, false);
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<ProximityMonitorConfig>>(private_nh);
+  // The server starts from the parameter server's flat names; start it from the values in
+  // force instead (labels come from ~labels), then listen.
+  reconfigure_->updateConfig(toConfig(params_));
+  reconfigure_->setCallback(
+      [this](ProximityMonitorConfig& config, std::uint32_t level) { reconfigure(config, level); });
   ROS_INFO("proximity_monitor: %d robot bodies, %zu input topics, fixed frame '%s', %.1f Hz, "
            "horizon %.2f s",
            monitor_->robot().size(), topics.size(), params_.fixed_frame.c_str(), params_.rate,
@@ -100,6 +106,27 @@ void ProximityMonitor::runCycle(const ros::Time& now) {
   monitor_->noteCycleTime(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   diagnostics_.update();
+}
+
+void ProximityMonitor::reconfigure(ProximityMonitorConfig& config, std::uint32_t /*level*/) {
+  MonitorParams next;
+  std::vector<std::string> errors;
+  if (!checkConfig(params_, config, &next, &errors)) {
+    for (const std::string& e : errors) {
+      ROS_ERROR("proximity_monitor: reconfigure refused: %s", e.c_str());
+    }
+    config = toConfig(params_);  // published back: the values in force
+    return;
+  }
+  const bool rate_changed = next.rate != params_.rate;
+  params_ = next;
+  monitor_->setParams(params_);
+  markers_.setLifetime(params_.marker_lifetime);
+  if (rate_changed) {
+    timer_.setPeriod(ros::Duration(1.0 / params_.rate));
+    marker_timer_.setPeriod(ros::Duration(0.5 / params_.rate));
+  }
+  config = toConfig(params_);
 }
 
 void ProximityMonitor::scheduleMarkers(const ros::Time& now) {

@@ -208,6 +208,42 @@ TEST(MonitorCycle, TheRobotCentreSteersTheCap) {
   EXPECT_EQ(monitor.tracks().track(0).key, "near");
 }
 
+TEST(MonitorCycle, NewParametersTakeEffectAtTheNextCycle) {
+  Fixture f;
+  f.posePost();
+  f.person(5.0, -2.0, kT0, kT0);  // gap 4 m at 2 m/s: contact in 2.0 s
+  const wp::CycleReport& r0 = f.cycle(kT0);
+  ASSERT_EQ(r0.eventCount(), 1u);
+  EXPECT_NEAR(r0.event(0).time_to_contact, 2.0, 1e-6);
+  EXPECT_EQ(r0.levels[0], wp::Level::kWarning);  // person warning_time 2.5 s
+  // Tighter person thresholds, a 0.5 m person margin and a 1.5 s horizon.
+  wp::MonitorParams p = params();
+  p.labels["person"].warning_time = 1.0;
+  p.labels["person"].critical_time = 0.5;
+  p.labels["person"].margin = 0.5;
+  p.horizon = 1.5;
+  ASSERT_TRUE(wp::validate(p).empty());
+  f.monitor.setParams(p);
+  const wp::BodyHandle person = f.monitor.tracks().track(0).handle;
+  EXPECT_EQ(f.monitor.world().desc(person).margin, 0.5);
+  // The margin closes the gap by 0.5 m: contact at 1.75 s, beyond the 1.5 s horizon -> END.
+  const wp::CycleReport& r1 = f.cycle(kT0);
+  ASSERT_EQ(r1.eventCount(), 1u);
+  EXPECT_EQ(r1.event(0).state, wp::ContactState::kEnd);
+  // Back to a 5 s horizon: BEGIN again, 1.75 s, NOTICE under the new thresholds.
+  p.horizon = 5.0;
+  f.monitor.setParams(p);
+  const wp::CycleReport& r2 = f.cycle(kT0);
+  ASSERT_EQ(r2.eventCount(), 1u);
+  EXPECT_NEAR(r2.event(0).time_to_contact, 1.75, 1e-6);
+  EXPECT_EQ(r2.levels[0], wp::Level::kNotice);
+  // The robot margin applies to robot bodies at once.
+  p.robot_margin = 0.25;
+  f.monitor.setParams(p);
+  EXPECT_EQ(f.monitor.world().desc(f.monitor.robot().handle(0)).margin, 0.25);
+  EXPECT_NEAR(f.cycle(kT0).event(0).time_to_contact, 1.625, 1e-6);
+}
+
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

@@ -8,6 +8,7 @@
 
 #include "workspace_proximity/ros/contact_publisher.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
+#include "workspace_proximity/ros/reconfigure_bridge.hpp"
 
 namespace wp = workspace_proximity;
 
@@ -120,6 +121,52 @@ TEST(Conversions, ContactsMessageCarriesTheReport) {
   wp::fillContacts(report, world, "map", &msg);
   EXPECT_TRUE(msg.events.empty());
   EXPECT_EQ(msg.status, wp::ContactEventArray::DEGRADED);
+}
+
+TEST(Reconfigure, ConfigAndParametersRoundTrip) {
+  wp::MonitorParams p;
+  p.horizon = 3.5;
+  p.rate = 20.0;
+  p.labels["default"] = wp::LabelSettings{0.15, 1.2, 0.3, 0.6, 0.1};
+  p.labels["forklift"] = wp::LabelSettings{0.3, 2.0, 1.0, 1.0, 0.5};
+  p.robot_thresholds.warning_time = 0.8;
+  p.marker_rate = 5.0;
+  const wp::ProximityMonitorConfig c = wp::toConfig(p);
+  EXPECT_EQ(c.horizon, 3.5);
+  EXPECT_EQ(c.default_margin, 0.15);
+  EXPECT_EQ(c.person_margin, 0.15);  // person not configured: shows the default's values
+  EXPECT_EQ(c.robot_warning_time, 0.8);
+  const wp::MonitorParams back = wp::applyConfig(p, c);
+  EXPECT_EQ(back.labels.count("person"), 0u);  // not created by a round trip
+  EXPECT_EQ(back.labels.at("forklift").warning_time, 2.0);  // labels not in the config stay
+  EXPECT_EQ(back.horizon, 3.5);
+  EXPECT_EQ(back.rate, 20.0);
+  EXPECT_EQ(back.marker_rate, 5.0);
+  EXPECT_EQ(back.robot_thresholds.warning_time, 0.8);
+
+  wp::ProximityMonitorConfig person = c;
+  person.person_warning_time = 3.0;
+  EXPECT_EQ(wp::applyConfig(p, person).label("person").warning_time, 3.0);
+}
+
+TEST(Reconfigure, InvalidChangesAreRefusedWithTheReason) {
+  const wp::MonitorParams p;
+  wp::ProximityMonitorConfig c = wp::toConfig(p);
+  c.person_critical_time = c.person_warning_time + 1.0;
+  wp::MonitorParams next;
+  next.horizon = 42.0;
+  std::vector<std::string> errors;
+  EXPECT_FALSE(wp::checkConfig(p, c, &next, &errors));
+  ASSERT_FALSE(errors.empty());
+  EXPECT_NE(errors[0].find("labels/person/critical_time"), std::string::npos) << errors[0];
+  EXPECT_EQ(next.horizon, 42.0);  // untouched
+  c = wp::toConfig(p);
+  c.stale_after = p.track_timeout + 1.0;
+  EXPECT_FALSE(wp::checkConfig(p, c, &next, &errors));
+  c = wp::toConfig(p);
+  c.horizon = 7.0;
+  EXPECT_TRUE(wp::checkConfig(p, c, &next, &errors));
+  EXPECT_EQ(next.horizon, 7.0);
 }
 
 int main(int argc, char** argv) {

@@ -48,6 +48,12 @@ class Monitor {
   /// modelled): every cycle's status is DEGRADED with this line.
   void addPermanentIssue(const std::string& line) { permanent_issues_.push_back(line); }
 
+  /// New parameters from now on (live tuning): horizon, timeouts, label margins and thresholds,
+  /// the robot margin, pair rules and the track cap take effect at the next cycle; a changed
+  /// margin re-shapes the bodies it applies to. The structure (fixed frame, input topics, robot
+  /// bodies) stays as built. `params` must have passed validate().
+  void setParams(const MonitorParams& params);
+
   RobotBodies& robot() { return robot_; }
   const RobotBodies& robot() const { return robot_; }
 

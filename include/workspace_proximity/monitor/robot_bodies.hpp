@@ -31,6 +31,8 @@ class RobotBodies {
   /// Removes every body from the world (after the clock went back); they are added again
   /// when next posed.
   void clear();
+  /// A new margin (m) for every body, now and when added later.
+  void setMargin(double margin);
 
   /// In the world (posed at least once since the last clear()).
   bool present(int i) const { return at(i).present; }

@@ -54,6 +54,9 @@ class TrackTable {
   void advance(Stamp now);
   /// Removes every track (their pairs END at the next predict).
   void clear();
+  /// The label table or the cap changed (live tuning): every track looks its settings up
+  /// again and takes its label's margin now. A lower cap applies to arrays from now on.
+  void refreshSettings(int max_tracks);
 
   int size() const { return static_cast<int>(tracks_.size()); }
   const Track& track(int i) const { return tracks_[static_cast<std::size_t>(i)]; }

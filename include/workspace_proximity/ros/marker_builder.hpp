@@ -24,6 +24,8 @@ namespace workspace_proximity {
 class MarkerBuilder {
  public:
   MarkerBuilder(const std::string& frame, double lifetime);
+  /// s, from the next build on.
+  void setLifetime(double lifetime) { lifetime_ = ros::Duration(lifetime); }
 
   /// Markers of `report` (bodies named and posed from `world`), stamped with the report's
   /// instant.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
 #include <ros/ros.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
@@ -18,6 +19,7 @@
 #include "workspace_proximity/ros/marker_builder.hpp"
 #include "workspace_proximity/ros/monitor_pipeline.hpp"
 #include "workspace_proximity/ros/rejection_log.hpp"
+#include <workspace_proximity/ProximityMonitorConfig.h>
 
 namespace workspace_proximity {
 
@@ -39,6 +41,9 @@ class ProximityMonitor {
   void runCycle(const ros::Time& now);
   void scheduleMarkers(const ros::Time& now);  // arms marker_timer_ when markers are due
   void publishMarkers();                        // marker_timer_: half a period after a cycle
+  // dynamic_reconfigure: a checked change applies from the next cycle; an invalid one is
+  // refused (the config is set back to the values in force) with the reasons logged.
+  void reconfigure(ProximityMonitorConfig& config, std::uint32_t level);
 
   ros::NodeHandle nh_;
   MonitorParams params_;
@@ -56,6 +61,7 @@ class ProximityMonitor {
   ros::Timer marker_timer_;
   ros::Time last_markers_;  // stamp of the last MarkerArray
   diagnostic_updater::Updater diagnostics_;
+  std::unique_ptr<dynamic_reconfigure::Server<ProximityMonitorConfig>> reconfigure_;
 };
 
 }  // namespace workspace_proximity
