@@ -1,137 +1,58 @@
-// load_generator: publishes N moving tracked boxes at a fixed rate and measures how the
-// proximity monitor keeps up. Used by scripts/soak (reliability) and scripts/bench-node
-// (latency). Prints one summary line at the end (and every ~report seconds):
-//   latency from an array's publication to the first contacts array that used it, the part
-//   of it spent after the cycle started (the node's own work plus transport), cycles seen.
-//
-// Private parameters: ~count (boxes, 1000), ~rate (Hz, 30), ~duration (s, 60), ~report (s,
-// 10), ~cell (side of the square cell, m, 20), ~seed, ~subscribe_markers (false: like RViz,
-// also receive the monitor's markers, which it only builds when someone listens).
+#include "workspace_proximity/tools/load_generator.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 #include <cstdio>
 #include <random>
-#include <vector>
 
-#include <ros/ros.h>
-#include <workspace_proximity/ContactEventArray.h>
 #include <visualization_msgs/MarkerArray.h>
-#include <workspace_proximity/TrackedBoxArray.h>
 
+namespace workspace_proximity {
 namespace {
 
-struct Walker {
-  double x, y, vx, vy;
-};
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
+}
 
-struct Stats {
-  std::vector<double> total_ms;   // publication -> contacts received
-  std::vector<double> work_ms;    // cycle start (header.stamp) -> contacts received
-  std::size_t arrays = 0;    // TrackedBoxArrays published
-  std::size_t cycles = 0;    // ContactEventArrays received
-  std::size_t events = 0;
-  std::size_t degraded = 0;
-
-  static double percentile(std::vector<double> v, double p) {
-    if (v.empty()) return NAN;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
-  }
-  void print(const char* tag) const {
-    std::printf(
-        "%s arrays=%zu cycles=%zu events=%zu degraded=%zu total_ms median=%.3f p99=%.3f max=%.3f "
-        "work_ms median=%.3f p99=%.3f max=%.3f\n",
-        tag, arrays, cycles, events, degraded, percentile(total_ms, 0.5), percentile(total_ms, 0.99),
-        total_ms.empty() ? NAN : *std::max_element(total_ms.begin(), total_ms.end()),
-        percentile(work_ms, 0.5), percentile(work_ms, 0.99),
-        work_ms.empty() ? NAN : *std::max_element(work_ms.begin(), work_ms.end()));
-    std::fflush(stdout);
-  }
-};
+double maxOf(const std::vector<double>& v) {
+  return v.empty() ? NAN : *std::max_element(v.begin(), v.end());
+}
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "load_generator");
-  ros::NodeHandle nh, pnh("~");
-  int count = 1000;
-  double rate = 30.0, duration = 60.0, report = 10.0, cell = 20.0;
-  int seed = 1;
-  bool subscribe_markers = false;
-  pnh.param("subscribe_markers", subscribe_markers, subscribe_markers);
-  pnh.param("count", count, count);
-  pnh.param("rate", rate, rate);
-  pnh.param("duration", duration, duration);
-  pnh.param("report", report, report);
-  pnh.param("cell", cell, cell);
-  pnh.param("seed", seed, seed);
+void LoadGenerator::Stats::print(const char* tag) const {
+  std::printf(
+      "%s arrays=%zu cycles=%zu events=%zu degraded=%zu total_ms median=%.3f p99=%.3f max=%.3f "
+      "work_ms median=%.3f p99=%.3f max=%.3f\n",
+      tag, arrays, cycles, events, degraded, percentile(total_ms, 0.5), percentile(total_ms, 0.99),
+      maxOf(total_ms), percentile(work_ms, 0.5), percentile(work_ms, 0.99), maxOf(work_ms));
+  std::fflush(stdout);
+}
 
-  std::mt19937 rng(static_cast<unsigned>(seed));
-  std::uniform_real_distribution<double> pos(-cell / 2, cell / 2), dir(0, 2 * M_PI), speed(0.3, 1.5);
-  std::vector<Walker> walkers(static_cast<std::size_t>(count));
-  for (Walker& w : walkers) {
+LoadGenerator::LoadGenerator(ros::NodeHandle nh, const ros::NodeHandle& pnh, bool shared)
+    : nh_(nh), shared_(shared) {
+  pnh.param("subscribe_markers", subscribe_markers_, subscribe_markers_);
+  pnh.param("count", count_, count_);
+  pnh.param("rate", rate_, rate_);
+  pnh.param("duration", duration_, duration_);
+  pnh.param("report", report_, report_);
+  pnh.param("cell", cell_, cell_);
+  pnh.param("seed", seed_, seed_);
+
+  std::mt19937 rng(static_cast<unsigned>(seed_));
+  std::uniform_real_distribution<double> pos(-cell_ / 2, cell_ / 2), dir(0, 2 * M_PI),
+      speed(0.3, 1.5);
+  walkers_.resize(static_cast<std::size_t>(count_));
+  for (Walker& w : walkers_) {
     const double a = dir(rng), s = speed(rng);
     w = Walker{pos(rng), pos(rng), s * std::cos(a), s * std::sin(a)};
   }
-
-  // Publication times of the arrays not yet seen in a contacts array, oldest first.
-  std::vector<ros::WallTime> published;
-  Stats stats, window;
-  ros::Time last_seen_stamp;
-  std::mutex mutex;  // the spinner thread receives while the main thread publishes
-  auto on_contacts = [&](const workspace_proximity::ContactEventArray::ConstPtr& msg) {
-    const ros::WallTime now = ros::WallTime::now();
-    std::lock_guard<std::mutex> lock(mutex);
-    for (Stats* s : {&stats, &window}) {
-      ++s->cycles;
-      s->events += msg->events.size();
-      s->degraded += msg->status != workspace_proximity::ContactEventArray::OK;
-    }
-    const double work = (ros::Time::now() - msg->header.stamp).toSec() * 1e3;
-    // Every array published before this cycle started has been used by it.
-    const ros::WallTime cycle_start(msg->header.stamp.toSec());
-    std::size_t used = 0;
-    while (used < published.size() && published[used] <= cycle_start) ++used;
-    if (used > 0) {
-      // The newest of them is the one the cycle used (older ones were superseded).
-      const double total = (now - published[used - 1]).toSec() * 1e3;
-      for (Stats* s : {&stats, &window}) {
-        s->total_ms.push_back(total);
-        s->work_ms.push_back(work);
-      }
-      published.erase(published.begin(), published.begin() + static_cast<long>(used));
-    }
-  };
-  ros::Subscriber sub = nh.subscribe<workspace_proximity::ContactEventArray>(
-      "contacts", 100, on_contacts, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
-  ros::Publisher pub = nh.advertise<workspace_proximity::TrackedBoxArray>("tracked_objects", 1);
-  std::size_t marker_arrays = 0;
-  ros::Subscriber markers_sub;
-  if (subscribe_markers) {
-    markers_sub = nh.subscribe<visualization_msgs::MarkerArray>(
-        "markers", 10, [&](const visualization_msgs::MarkerArray::ConstPtr&) {
-          std::lock_guard<std::mutex> lock(mutex);
-          ++marker_arrays;
-        });
-  }
-
-  // Contacts are received on their own thread, so receipt times are not held back by the
-  // publishing loop.
-  ros::AsyncSpinner spinner(subscribe_markers ? 2 : 1);
-  spinner.start();
-  // Wait for the monitor to connect, at most 10 s.
-  const ros::WallTime wait_until = ros::WallTime::now() + ros::WallDuration(10.0);
-  while (ros::ok() && pub.getNumSubscribers() == 0 && ros::WallTime::now() < wait_until) {
-    ros::WallDuration(0.05).sleep();
-  }
-
-  workspace_proximity::TrackedBoxArray array;
-  array.header.frame_id = "world";
-  array.boxes.resize(walkers.size());
-  for (std::size_t i = 0; i < walkers.size(); ++i) {
-    auto& b = array.boxes[i];
+  array_.header.frame_id = "world";
+  array_.boxes.resize(walkers_.size());
+  for (std::size_t i = 0; i < walkers_.size(); ++i) {
+    auto& b = array_.boxes[i];
     b.id = "walker_" + std::to_string(i);
     b.label = (i % 10 == 0) ? "forklift" : "person";
     b.dimensions.x = (i % 10 == 0) ? 2.4 : 0.5;
@@ -140,43 +61,99 @@ int main(int argc, char** argv) {
     b.pose.orientation.w = 1.0;
   }
 
-  ros::Rate loop(rate);
+  contacts_sub_ = nh_.subscribe<ContactEventArray>(
+      "contacts", 100, [this](const ContactEventArray::ConstPtr& msg) { onContacts(msg); },
+      ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+  pub_ = nh_.advertise<TrackedBoxArray>("tracked_objects", 1);
+  if (subscribe_markers_) {
+    markers_sub_ = nh_.subscribe<visualization_msgs::MarkerArray>(
+        "markers", 10, [this](const visualization_msgs::MarkerArray::ConstPtr&) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          ++marker_arrays_;
+        });
+  }
+}
+
+void LoadGenerator::onContacts(const ContactEventArray::ConstPtr& msg) {
+  const ros::WallTime now = ros::WallTime::now();
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (Stats* s : {&stats_, &window_}) {
+    ++s->cycles;
+    s->events += msg->events.size();
+    s->degraded += msg->status != ContactEventArray::OK;
+  }
+  const double work = (ros::Time::now() - msg->header.stamp).toSec() * 1e3;
+  // Every array published before this cycle started has been used by it.
+  const ros::WallTime cycle_start(msg->header.stamp.toSec());
+  std::size_t used = 0;
+  while (used < published_.size() && published_[used] <= cycle_start) ++used;
+  if (used > 0) {
+    // The newest of them is the one the cycle used (older ones were superseded).
+    const double total = (now - published_[used - 1]).toSec() * 1e3;
+    for (Stats* s : {&stats_, &window_}) {
+      s->total_ms.push_back(total);
+      s->work_ms.push_back(work);
+    }
+    published_.erase(published_.begin(), published_.begin() + static_cast<long>(used));
+  }
+}
+
+void LoadGenerator::step(double dt) {
+  for (std::size_t i = 0; i < walkers_.size(); ++i) {
+    Walker& w = walkers_[i];
+    w.x += w.vx * dt;
+    w.y += w.vy * dt;
+    if (std::abs(w.x) > cell_ / 2) w.vx = -w.vx;
+    if (std::abs(w.y) > cell_ / 2) w.vy = -w.vy;
+    auto& b = array_.boxes[i];
+    b.pose.position.x = w.x;
+    b.pose.position.y = w.y;
+    b.pose.position.z = 0.5 * b.dimensions.z;
+    b.twist.linear.x = w.vx;
+    b.twist.linear.y = w.vy;
+  }
+}
+
+void LoadGenerator::run() {
+  // Wait for the monitor to connect, at most 10 s.
+  const ros::WallTime wait_until = ros::WallTime::now() + ros::WallDuration(10.0);
+  while (ros::ok() && pub_.getNumSubscribers() == 0 && ros::WallTime::now() < wait_until) {
+    ros::WallDuration(0.05).sleep();
+  }
+  ros::Rate loop(rate_);
   const ros::WallTime start = ros::WallTime::now();
-  ros::WallTime next_report = start + ros::WallDuration(report);
-  const double dt = 1.0 / rate;
-  while (ros::ok() && (ros::WallTime::now() - start).toSec() < duration) {
-    for (std::size_t i = 0; i < walkers.size(); ++i) {
-      Walker& w = walkers[i];
-      w.x += w.vx * dt;
-      w.y += w.vy * dt;
-      if (std::abs(w.x) > cell / 2) w.vx = -w.vx;
-      if (std::abs(w.y) > cell / 2) w.vy = -w.vy;
-      auto& b = array.boxes[i];
-      b.pose.position.x = w.x;
-      b.pose.position.y = w.y;
-      b.pose.position.z = 0.5 * b.dimensions.z;
-      b.twist.linear.x = w.vx;
-      b.twist.linear.y = w.vy;
-    }
-    array.header.stamp = ros::Time::now();
+  ros::WallTime next_report = start + ros::WallDuration(report_);
+  const double dt = 1.0 / rate_;
+  while (ros::ok() && (ros::WallTime::now() - start).toSec() < duration_) {
+    step(dt);
+    // A shared message must not change after it is published: a new one every time.
+    TrackedBoxArray::Ptr shared = shared_ ? TrackedBoxArray::Ptr(new TrackedBoxArray(array_))
+                                          : TrackedBoxArray::Ptr();
+    TrackedBoxArray& out = shared_ ? *shared : array_;
+    out.header.stamp = ros::Time::now();
     {
-      std::lock_guard<std::mutex> lock(mutex);
-      published.push_back(ros::WallTime::now());
-      ++stats.arrays;
-      ++window.arrays;
+      std::lock_guard<std::mutex> lock(mutex_);
+      published_.push_back(ros::WallTime::now());
+      ++stats_.arrays;
+      ++window_.arrays;
     }
-    pub.publish(array);
+    if (shared_) {
+      pub_.publish(TrackedBoxArray::ConstPtr(shared));
+    } else {
+      pub_.publish(array_);
+    }
     if (ros::WallTime::now() >= next_report) {
-      std::lock_guard<std::mutex> lock(mutex);
-      window.print("window");
-      window = Stats();
-      next_report += ros::WallDuration(report);
+      std::lock_guard<std::mutex> lock(mutex_);
+      window_.print("window");
+      window_ = Stats();
+      next_report += ros::WallDuration(report_);
     }
     loop.sleep();
   }
   ros::WallDuration(0.3).sleep();
-  std::lock_guard<std::mutex> lock(mutex);
-  if (subscribe_markers) std::printf("markers arrays=%zu\n", marker_arrays);
-  stats.print("summary");
-  return 0;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (subscribe_markers_) std::printf("markers arrays=%zu\n", marker_arrays_);
+  stats_.print("summary");
 }
+
+}  // namespace workspace_proximity
