@@ -19,6 +19,9 @@ int main(int argc, char** argv) {
     ROS_FATAL("proximity_monitor: invalid parameter %s", e.what());
     return 1;
   }
+  for (const std::string& w : workspace_proximity::unknownParams(pnh)) {
+    ROS_WARN("proximity_monitor: %s", w.c_str());
+  }
   const std::vector<std::string> errors = workspace_proximity::validate(params);
   if (!errors.empty()) {
     for (const std::string& e : errors) ROS_FATAL("proximity_monitor: invalid parameter %s", e.c_str());

@@ -27,6 +27,7 @@ class ProximityMonitorNodelet : public nodelet::Nodelet {
       NODELET_FATAL("proximity_monitor: invalid parameter %s", e.what());
       throw;
     }
+    for (const std::string& w : unknownParams(pnh)) NODELET_WARN("proximity_monitor: %s", w.c_str());
     const std::vector<std::string> errors = validate(params);
     if (!errors.empty()) {
       for (const std::string& e : errors) NODELET_FATAL("proximity_monitor: invalid parameter %s", e.c_str());

@@ -1,8 +1,10 @@
 #include "workspace_proximity/ros/ros_params.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <XmlRpcValue.h>
+#include <workspace_proximity/ProximityMonitorConfig.h>
 
 namespace workspace_proximity {
 namespace {
@@ -116,7 +118,84 @@ RobotBodySpec readRobotBody(const XmlRpcValue& v, const std::string& name) {
   return b;
 }
 
+// Every key the node reads at the top of its namespace.
+const char* const kNodeKeys[] = {
+    "fixed_frame", "rate", "horizon", "track_timeout", "input_topics", "stale_after",
+    "source_timeout", "max_future", "max_tracks", "use_robot_description",
+    "robot_description_param", "robot_margin", "velocity_window", "tf_timeout", "ignore_pairs",
+    "check_pairs", "publish_markers", "marker_lifetime", "marker_rate", "robot_bodies", "labels",
+    "robot_thresholds",
+    // Read by libraries the node uses: diagnostic_updater's period.
+    "diagnostic_period"};
+const char* const kRobotBodyKeys[] = {"name", "frame", "size", "offset"};
+const char* const kOffsetKeys[] = {"xyz", "rpy"};
+
+// Levenshtein distance, for "did you mean" (short strings, off the hot path).
+std::size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// Appends "~<where><key>: unknown ..." for every key of `dict` not in `known`.
+void reportUnknown(const XmlRpcValue& dict, const std::string& where,
+                   const std::vector<std::string>& known, std::vector<std::string>* out) {
+  if (dict.getType() != XmlRpcValue::TypeStruct) return;
+  for (auto it = dict.begin(); it != dict.end(); ++it) {
+    if (std::find(known.begin(), known.end(), it->first) != known.end()) continue;
+    std::string line = "~" + where + it->first + ": unknown parameter, not used";
+    std::size_t best = 3;  // suggest only close matches
+    std::string suggestion;
+    for (const std::string& k : known) {
+      const std::size_t d = editDistance(it->first, k);
+      if (d < best) {
+        best = d;
+        suggestion = k;
+      }
+    }
+    if (!suggestion.empty()) line += " (did you mean ~" + where + suggestion + "?)";
+    out->push_back(line);
+  }
+}
+
 }  // namespace
+
+std::vector<std::string> unknownParams(const XmlRpcValue& root) {
+  std::vector<std::string> out;
+  std::vector<std::string> known(std::begin(kNodeKeys), std::end(kNodeKeys));
+  // dynamic_reconfigure keeps its values beside the node's, under their own flat names.
+  for (const auto& d : ProximityMonitorConfig::__getParamDescriptions__()) known.push_back(d->name);
+  reportUnknown(root, "", known, &out);
+  if (const XmlRpcValue* bodies = member(root, "robot_bodies")) {
+    if (bodies->getType() == XmlRpcValue::TypeArray) {
+      const std::vector<std::string> body_keys(std::begin(kRobotBodyKeys), std::end(kRobotBodyKeys));
+      const std::vector<std::string> offset_keys(std::begin(kOffsetKeys), std::end(kOffsetKeys));
+      for (int i = 0; i < bodies->size(); ++i) {
+        const std::string where = "robot_bodies[" + std::to_string(i) + "]/";
+        reportUnknown((*bodies)[i], where, body_keys, &out);
+        if ((*bodies)[i].getType() == XmlRpcValue::TypeStruct && (*bodies)[i].hasMember("offset")) {
+          reportUnknown((*bodies)[i]["offset"], where + "offset/", offset_keys, &out);
+        }
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<std::string> unknownParams(const ros::NodeHandle& nh) {
+  XmlRpcValue root;
+  if (!nh.getParam(nh.getNamespace(), root)) return {};
+  return unknownParams(root);
+}
 
 MonitorParams readParams(const XmlRpcValue& root) {
   MonitorParams p;

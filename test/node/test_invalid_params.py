@@ -81,6 +81,23 @@ class InvalidParamsTest(unittest.TestCase):
         self.assertTrue(running, "the node exited with valid parameters (status %s): %s" % (
             proc.returncode, err.decode(errors="replace")[-2000:]))
 
+    def test_unknown_keys_are_named_and_the_node_keeps_running(self):
+        proc = start(self.binary, "misspelled", ["_horizen:=3.0"], {"trak_timeout": 1.0})
+        time.sleep(3.0)
+        running = proc.poll() is None
+        if running:
+            proc.send_signal(signal.SIGINT)
+        try:
+            out, err = proc.communicate(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            out, err = proc.communicate()
+        text = out.decode(errors="replace") + err.decode(errors="replace")
+        self.assertTrue(running, "an unknown key stopped the node: " + text[-2000:])
+        self.assertIn("~horizen: unknown parameter, not used (did you mean ~horizon?)", text)
+        self.assertIn("~trak_timeout: unknown parameter, not used (did you mean ~track_timeout?)",
+                      text)
+
     def test_invalid_parameters_exit(self):
         procs = [(case, start(self.binary, "bad_" + case[0], case[1], case[2]))
                  for case in CASES]

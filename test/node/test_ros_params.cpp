@@ -287,6 +287,39 @@ TEST(RosParams, TheNamespaceMustBeADictionary) {
   EXPECT_NE(errorOf(list({XmlRpcValue(1)})).find("must be a dictionary"), std::string::npos);
 }
 
+TEST(RosParams, UnknownKeysAreNamedWithTheClosestKnownOne) {
+  XmlRpcValue root = dict();
+  root["horizon"] = 2.0;
+  root["horizen"] = 3.0;           // misspelled
+  root["trak_timeout"] = 1.0;      // misspelled
+  root["colour"] = str("red");     // nothing like it
+  root["default_margin"] = 0.1;    // dynamic_reconfigure's own key: known
+  root["diagnostic_period"] = 1.0; // diagnostic_updater's: known
+  root["labels"] = dict();
+  root["labels"]["anything"] = dict();  // label names are free
+  XmlRpcValue body = dict();
+  body["name"] = str("g");
+  body["frame"] = str("tool0");
+  body["size"] = list({0.1, 0.1, 0.1});
+  body["ofset"] = dict();
+  root["robot_bodies"] = list({body});
+  const std::vector<std::string> lines = wp::unknownParams(root);
+  ASSERT_EQ(lines.size(), 4u) << ::testing::PrintToString(lines);
+  auto has = [&](const std::string& text) {
+    for (const std::string& l : lines) {
+      if (l.find(text) != std::string::npos) return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(has("~horizen: unknown parameter, not used (did you mean ~horizon?)"));
+  EXPECT_TRUE(has("~trak_timeout: unknown parameter, not used (did you mean ~track_timeout?)"));
+  EXPECT_TRUE(has("~colour: unknown parameter, not used"));
+  EXPECT_FALSE(has("~colour: unknown parameter, not used (did you mean"));
+  EXPECT_TRUE(has("~robot_bodies[0]/ofset: unknown parameter, not used (did you mean "
+                  "~robot_bodies[0]/offset?)"));
+  EXPECT_TRUE(wp::unknownParams(XmlRpcValue()).empty());
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

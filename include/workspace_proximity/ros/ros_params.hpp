@@ -2,6 +2,9 @@
 /// Reading MonitorParams from the ROS parameter server, or from the same tree loaded
 /// elsewhere (the offline replay loads it from YAML files).
 
+#include <string>
+#include <vector>
+
 #include <XmlRpcValue.h>
 #include <ros/node_handle.h>
 
@@ -17,5 +20,12 @@ MonitorParams readParams(const XmlRpc::XmlRpcValue& root);
 
 /// The same from the private handle: its whole namespace fetched in one call.
 MonitorParams readParams(const ros::NodeHandle& private_nh);
+
+/// One line per key under `root` (and under each ~robot_bodies entry) that the node does not
+/// read, e.g. "~horizen: unknown parameter, not used (did you mean ~horizon?)": a misspelled
+/// key would otherwise be ignored silently. Label names under ~labels are free; their settings
+/// are checked by readParams.
+std::vector<std::string> unknownParams(const XmlRpc::XmlRpcValue& root);
+std::vector<std::string> unknownParams(const ros::NodeHandle& private_nh);
 
 }  // namespace workspace_proximity
