@@ -72,9 +72,24 @@ void setShape(const Shape& s, Marker* m) {
 }
 
 // Namespaces of the per-body markers, as bits of MarkerBuilder's per-slot masks.
-constexpr std::uint8_t kBodies = 1, kSwept = 2, kVelocity = 4;
+constexpr std::uint8_t kBodies = 1, kSwept = 2, kVelocity = 4, kIds = 8;
 constexpr std::pair<std::uint8_t, const char*> kBodyNamespaces[] = {
-    {kBodies, "bodies"}, {kSwept, "swept"}, {kVelocity, "velocity"}};
+    {kBodies, "bodies"}, {kSwept, "swept"}, {kVelocity, "velocity"}, {kIds, "ids"}};
+
+const char* levelName(Level level) {
+  switch (level) {
+    case Level::kWarning: return "WARNING";
+    case Level::kCritical: return "CRITICAL";
+    default: return "NOTICE";
+  }
+}
+
+// Labels of pairs that share a body start at the same place; spread them along the pair's line
+// and in height by the pair id (golden-ratio steps, so neighbouring ids land far apart).
+double spread(std::int32_t pair) {
+  const double f = static_cast<double>(pair) * 0.6180339887498949;
+  return f - std::floor(f);
+}
 
 // Grows a per-index flag array to hold `index` (with the world's slots or the pair pool only).
 void fit(std::vector<std::uint8_t>* flags, std::size_t index) {
@@ -121,8 +136,9 @@ void MarkerBuilder::build(const CycleReport& report, const ProximityWorld& world
   }
   for (std::size_t i = 0; i < report.eventCount(); ++i) {
     const PairEvent& e = report.event(i);
-    if (e.state != ContactState::kEnd && e.pair >= 0) addPair(e, report.levels[i], out);
+    if (e.state != ContactState::kEnd && e.pair >= 0) addPair(e, report.levels[i], world, out);
   }
+  addStatus(report, world, out);
   deleteVanished(out);
   out->markers.resize(used_);
 }
@@ -151,6 +167,16 @@ void MarkerBuilder::addBody(const ReportedBody& b, int level, const ProximityWor
   w.color = levelColour(level, b.robot, 0.12f);
   showing_[slot] |= kSwept;
 
+  const BodyDesc& desc = world.desc(b.handle);
+  Marker& id = add("ids", b.handle.index, Marker::ADD, out);
+  id.type = Marker::TEXT_VIEW_FACING;
+  id.pose.position = point(pose.translation());
+  id.pose.position.z = swept.upper.z() + 0.1;
+  id.text = desc.id;
+  id.scale.z = 0.12;
+  id.color = colour(0.85f, 0.85f, 0.85f, 0.9f);
+  showing_[slot] |= kIds;
+
   if (motion.linear_velocity.norm() > 1e-3) {
     Marker& v = add("velocity", b.handle.index, Marker::ADD, out);
     v.type = Marker::ARROW;
@@ -164,7 +190,8 @@ void MarkerBuilder::addBody(const ReportedBody& b, int level, const ProximityWor
   }
 }
 
-void MarkerBuilder::addPair(const PairEvent& e, Level level, visualization_msgs::MarkerArray* out) {
+void MarkerBuilder::addPair(const PairEvent& e, Level level, const ProximityWorld& world,
+                            visualization_msgs::MarkerArray* out) {
   fit(&pair_showing_, static_cast<std::size_t>(e.pair));
   pair_showing_[static_cast<std::size_t>(e.pair)] = 1;
   const int l = static_cast<int>(level);
@@ -176,15 +203,67 @@ void MarkerBuilder::addPair(const PairEvent& e, Level level, visualization_msgs:
   line.scale.x = 0.02;
   line.color = levelColour(l, false, 1.0f);
 
+  // "person_3 - tool 0.42 s", in white (readable on every level colour), placed along the
+  // pair's line and raised by the pair's own amount so that labels sharing a body do not stack.
   Marker& text = add("ttc_text", e.pair, Marker::ADD, out);
   text.type = Marker::TEXT_VIEW_FACING;
-  text.pose.position = point(0.5 * (e.point_a + e.point_b));
-  text.pose.position.z += 0.15;
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.2f s", e.time_to_contact);
-  text.text = buffer;
-  text.scale.z = 0.18;  // text height, m
-  text.color = levelColour(l, false, 1.0f);
+  const double along = 0.3 + 0.4 * spread(e.pair);
+  text.pose.position = point(e.point_a + along * (e.point_b - e.point_a));
+  text.pose.position.z += 0.15 + 0.25 * spread(e.pair + 7);
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, " %.2f s", e.time_to_contact);
+  text.text.assign(world.desc(e.body_a).id).append(" - ").append(world.desc(e.body_b).id).append(buffer);
+  text.scale.z = 0.16;  // text height, m
+  text.color = colour(1.0f, 1.0f, 1.0f, 1.0f);
+}
+
+void MarkerBuilder::addStatus(const CycleReport& report, const ProximityWorld& world,
+                              visualization_msgs::MarkerArray* out) {
+  // One line above the scene: OK / DEGRADED (why), and the earliest contact.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double top = 0.0;
+  int n = 0;
+  for (const ReportedBody& b : report.bodies) {
+    if (!world.contains(b.handle)) continue;
+    const Aabb swept = world.sweptBounds(b.handle);
+    centre += 0.5 * (swept.lower + swept.upper);
+    top = n == 0 ? swept.upper.z() : std::max(top, swept.upper.z());
+    ++n;
+  }
+  if (n > 0) centre /= n;
+  std::string& line = status_text_;
+  if (report.degraded) {
+    line = "DEGRADED: " + (report.status_lines.empty() ? std::string("?") : report.status_lines.front());
+    if (report.status_lines.size() > 1) {
+      line += " (+" + std::to_string(report.status_lines.size() - 1) + " more)";
+    }
+  } else {
+    line = "OK";
+  }
+  const PairEvent* earliest = nullptr;
+  Level level = Level::kNotice;
+  for (std::size_t i = 0; i < report.eventCount(); ++i) {
+    if (report.event(i).state == ContactState::kEnd) continue;
+    earliest = &report.event(i);  // events are sorted earliest first
+    level = report.levels[i];
+    break;
+  }
+  if (earliest != nullptr) {
+    char buffer[48];
+    std::snprintf(buffer, sizeof buffer, " in %.2f s (%s)", earliest->time_to_contact, levelName(level));
+    line += " | earliest: " + world.desc(earliest->body_a).id + " - " +
+            world.desc(earliest->body_b).id + buffer;
+  } else {
+    line += " | no contact predicted";
+  }
+  Marker& m = add("status", 0, Marker::ADD, out);
+  m.type = Marker::TEXT_VIEW_FACING;
+  m.pose.position = point(Eigen::Vector3d(centre.x(), centre.y(), top + 1.0));
+  m.text = line;
+  m.scale.z = 0.3;
+  m.color = report.degraded ? colour(1.0f, 0.5f, 0.0f, 1.0f)
+                            : (earliest != nullptr ? levelColour(static_cast<int>(level), false, 1.0f)
+                                                   : colour(0.2f, 0.9f, 0.3f, 1.0f));
 }
 
 void MarkerBuilder::deleteVanished(visualization_msgs::MarkerArray* out) {

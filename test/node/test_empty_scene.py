@@ -54,7 +54,7 @@ class EmptySceneTest(unittest.TestCase):
         for arr in col.marker_msgs():
             for mk in arr.markers:
                 if mk.action == Marker.ADD:
-                    self.assertNotIn(mk.ns, ("nearest", "ttc_text", "bodies"),
+                    self.assertNotIn(mk.ns, ("nearest", "ttc_text", "bodies", "ids"),
                                      "marker in an empty scene: %s/%d" % (mk.ns, mk.id))
 
 

@@ -5,12 +5,16 @@ Bodies: robot body "column" (0.4 x 0.4 x 2 m, centre (0, 0, 1) via a static tf w
 base_link and its offset), "walker" (0.5 m cube approaching the column along +x at 0.5 m/s,
 gap 2 m: one active event for the whole run, time to contact 4 -> 2 s, horizon 5 s) and
 "crate" (1 m cube at rest at (5, 5, 0.5), no event). Over 2 s of MarkerArrays:
-- only the namespaces bodies, swept, nearest, ttc_text, velocity; frame_id = fixed frame;
+- only the namespaces bodies, swept, nearest, ttc_text, velocity, ids, status; frame_id =
+  fixed frame;
 - every added marker has lifetime = ~marker_lifetime (0.7 s, > 0);
 - "bodies": one marker per body (3) in every array, each body keeping its marker id, placed at
   the body's centre (CUBE markers: scaled to the body's size);
 - "nearest" and "ttc_text": exactly one added marker each per array (one active event); the
-  nearest line joins the event's nearest points; the text is not empty.
+  nearest line joins the event's nearest points; the text names the pair and its time to
+  contact ("column - walker 3.21 s");
+- "ids": one text per body, its id, above the body; "status": one text, "OK | earliest: column -
+  walker in ... s (...)" while the scene is fresh.
 """
 import os
 import sys
@@ -92,7 +96,18 @@ class MarkersTest(unittest.TestCase):
             self.assertEqual(len(near), 1, "nearest markers: %d" % len(near))
             self.assertEqual(len(text), 1, "ttc_text markers: %d" % len(text))
             self.assertEqual(text[0].type, Marker.TEXT_VIEW_FACING)
-            self.assertTrue(text[0].text.strip(), "empty ttc text")
+            self.assertRegex(text[0].text, r"^column - walker [0-9]+\.[0-9]{2} s$",
+                             "ttc text does not name the pair")
+            label = dict((m.text, m) for m in per_ns.get("ids", []))
+            self.assertEqual(set(label), {"column", "walker", "crate"}, "ids labels")
+            for body in bodies:
+                centre, _ = body.state(stamp)
+                self.assertGreater(label[body.id].pose.position.z, centre[2] + body.half[2],
+                                   "%s's id label not above it" % body.id)
+            status = per_ns.get("status", [])
+            self.assertEqual(len(status), 1, "status markers: %d" % len(status))
+            self.assertRegex(status[0].text,
+                             r"^OK \| earliest: column - walker in [0-9.]+ s \((NOTICE|WARNING|CRITICAL)\)$")
             line = near[0]
             if len(line.points) >= 2:
                 ends = sorted([pt(line.points[0]), pt(line.points[-1])])

@@ -14,9 +14,11 @@
 
 namespace workspace_proximity {
 
-/// Builds one MarkerArray from a report. Namespaces: "bodies", "swept", "velocity" (one marker
-/// per body, id = its world slot, stable for the body's life), "nearest" and "ttc_text" (one
-/// per predicted pair, id = the pair's id, stable for the pair's life). Markers shown by the
+/// Builds one MarkerArray from a report. Namespaces: "bodies", "swept", "velocity", "ids" (one
+/// marker per body, id = its world slot, stable for the body's life; "ids" is the body's id as
+/// a small label), "nearest" and "ttc_text" (one per predicted pair, id = the pair's id, stable
+/// for the pair's life; the text names the pair: "person_3 - tool 0.42 s"), "status" (one line
+/// above the scene: OK or DEGRADED with the first reason, and the earliest contact). Markers shown by the
 /// last build but not by this one are sent with action DELETE; every marker has `lifetime`,
 /// so everything vanishes if the node stops. Bookkeeping is in flat arrays indexed by slot
 /// and pair id; the output array is rewritten in place, so steady builds allocate (almost)
@@ -38,7 +40,10 @@ class MarkerBuilder {
                                   visualization_msgs::MarkerArray* out);
   void addBody(const ReportedBody& body, int level, const ProximityWorld& world,
                visualization_msgs::MarkerArray* out);
-  void addPair(const PairEvent& event, Level level, visualization_msgs::MarkerArray* out);
+  void addPair(const PairEvent& event, Level level, const ProximityWorld& world,
+               visualization_msgs::MarkerArray* out);
+  void addStatus(const CycleReport& report, const ProximityWorld& world,
+                 visualization_msgs::MarkerArray* out);
   void deleteVanished(visualization_msgs::MarkerArray* out);
 
   std::string frame_;
@@ -49,6 +54,7 @@ class MarkerBuilder {
   std::vector<std::uint8_t> showing_; // the same, this build
   std::vector<std::uint8_t> pair_shown_;    // per pair id: shown last build
   std::vector<std::uint8_t> pair_showing_;  // the same, this build
+  std::string status_text_;                 // reused
 };
 
 }  // namespace workspace_proximity
