@@ -195,6 +195,8 @@ def main():
     color = rospy.get_param('~color', 'auto')
     if color == 'auto':
         color = sys.stdout.isatty()
+    elif isinstance(color, str):
+        color = color.lower() in ('true', '1', 'yes')
     printer = Printer(bool(color))
     printer.stale_after = float(rospy.get_param('~stale_after', 1.0))
     rospy.Subscriber('contacts', ContactEventArray, printer.on_contacts, queue_size=50)

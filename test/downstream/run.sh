@@ -2,8 +2,9 @@
 # Downstream-package test (ctest test downstream_package): installs workspace_proximity into an
 # install space and builds test/downstream/ (a user's package) against it with catkin, then
 # runs its two programs. Usage: test/downstream/run.sh SOURCE_DIR BUILD_DIR INSTALL_PREFIX
-# When INSTALL_PREFIX lies inside BUILD_DIR (scripts/build configures it so), the existing build
-# is installed there; otherwise (a user's prefix such as /usr/local, never written by a test)
+# When INSTALL_PREFIX lies inside BUILD_DIR (scripts/build configures BUILD_DIR/.install: a dot
+# folder, which roslaunch's file search skips, so the installed launch files never shadow the
+# source's), the existing build is installed there; otherwise (a user's prefix such as /usr/local, never written by a test)
 # the package is configured and built afresh into a temporary install space.
 set -euo pipefail
 export PATH="/usr/bin:/bin:${PATH}"
