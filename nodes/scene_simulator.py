@@ -2,8 +2,11 @@
 """Simulated robot cell for the workspace_proximity demo.
 
 Publishes, at ~rate Hz:
-  * tf: world -> <URDF root> and one transform per URDF joint, with the revolute joints of the
-    arm (config/demo_arm.urdf) moving smoothly so that the arm sweeps around the cell;
+  * the arm (config/demo_arm.urdf), its revolute joints moving smoothly so that the arm sweeps
+    around the cell, as a real robot driver does: sensor_msgs/JointState on joint_states
+    (positions and their exact velocities; robot_state_publisher turns them into tf) and the
+    static transform world -> <URDF root>; or, with ~robot_output: tf, every joint's transform
+    on tf directly;
   * tracked_objects (workspace_proximity/TrackedBoxArray): three people walking through the
     cell on looping paths that come near the arm, and a forklift crossing it, each with the
     exact velocity of its path.
@@ -14,7 +17,8 @@ Parameters (private):
   ~robot_description_param ("robot_description")  URDF to animate
   ~seed (0)               0: the deterministic scene; otherwise random phases for paths and joints
   ~objects (true)         publish tracked_objects
-  ~robot (true)           publish the arm's tf
+  ~robot (true)           publish the arm
+  ~robot_output ("joint_states")  joint_states (+ robot_state_publisher) or tf
 """
 
 import math
@@ -25,6 +29,7 @@ import xml.etree.ElementTree as ET
 import rospy
 import tf2_ros
 from geometry_msgs.msg import TransformStamped
+from sensor_msgs.msg import JointState
 
 from workspace_proximity.msg import TrackedBox, TrackedBoxArray
 
@@ -142,6 +147,25 @@ class ArmAnimator(object):
         q = offset + amp * math.sin(2.0 * math.pi * t / period + phase)
         return min(max(q, joint.lower), joint.upper)
 
+    def velocity(self, joint, t):
+        """Exact derivative of position() (0 while held at a limit)."""
+        offset, amp, period, phase = self.motion[joint.name]
+        q = offset + amp * math.sin(2.0 * math.pi * t / period + phase)
+        if q <= joint.lower or q >= joint.upper:
+            return 0.0
+        w = 2.0 * math.pi / period
+        return amp * w * math.cos(w * t + phase)
+
+    def joint_state(self, stamp, t):
+        msg = JointState()
+        msg.header.stamp = stamp
+        for j in self.joints:
+            if j.name in self.motion:
+                msg.name.append(j.name)
+                msg.position.append(self.position(j, t))
+                msg.velocity.append(self.velocity(j, t))
+        return msg
+
     def transforms(self, t):
         """Yields (parent, child, translation, rotation) for every joint at time t."""
         for j in self.joints:
@@ -252,6 +276,10 @@ def main():
     rng = random.Random(seed) if seed != 0 else None
     publish_robot = bool(rospy.get_param('~robot', True))
     publish_objects = bool(rospy.get_param('~objects', True))
+    robot_output = rospy.get_param('~robot_output', 'joint_states')
+    if robot_output not in ('joint_states', 'tf'):
+        rospy.logfatal("~robot_output must be 'joint_states' or 'tf', got %r", robot_output)
+        return 1
 
     arm = None
     if publish_robot:
@@ -276,6 +304,14 @@ def main():
     objects = make_objects(rng) if publish_objects else []
     broadcaster = tf2_ros.TransformBroadcaster()
     pub = rospy.Publisher('tracked_objects', TrackedBoxArray, queue_size=10)
+    joints_pub = None
+    if arm is not None and robot_output == 'joint_states':
+        joints_pub = rospy.Publisher('joint_states', JointState, queue_size=10)
+        # The arm stands still in the cell: its base is a static transform, the rest comes from
+        # robot_state_publisher.
+        static_broadcaster = tf2_ros.StaticTransformBroadcaster()
+        static_broadcaster.sendTransform(
+            make_tf(rospy.Time.now(), frame, arm.root, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)))
     rospy.loginfo('scene_simulator: %d Hz, frame %s, %s, %d tracked objects%s', rate_hz, frame,
                   ('arm rooted at %s with %d joints' % (arm.root, len(arm.joints))) if arm else 'no arm',
                   len(objects), (', seed %d' % seed) if seed else '')
@@ -286,7 +322,9 @@ def main():
         now = rospy.Time.now()
         t = (now - start).to_sec()
 
-        if arm is not None:
+        if joints_pub is not None:
+            joints_pub.publish(arm.joint_state(now, t))
+        elif arm is not None:
             tfs = [make_tf(now, frame, arm.root, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))]
             for parent, child, trans, rot in arm.transforms(t):
                 tfs.append(make_tf(now, parent, child, trans, rot))

@@ -58,7 +58,8 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   marker_timer_ = nh_.createTimer(
       ros::Duration(0.5 / params_.rate), [this](const ros::TimerEvent&) { publishMarkers(); },
       true, false);
-  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<ProximityMonitorConfig>>(private_nh);
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<ProximityMonitorConfig>>(
+      reconfigure_mutex_, private_nh);
   // The server starts from the parameter server's flat names; start it from the values in
   // force instead (labels come from ~labels), then listen.
   reconfigure_->updateConfig(toConfig(params_));

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <boost/thread/recursive_mutex.hpp>
 #include <dynamic_reconfigure/server.h>
 #include <ros/ros.h>
 #include <tf2_ros/buffer.h>
@@ -61,6 +62,7 @@ class ProximityMonitor {
   ros::Timer marker_timer_;
   ros::Time last_markers_;  // stamp of the last MarkerArray
   diagnostic_updater::Updater diagnostics_;
+  boost::recursive_mutex reconfigure_mutex_;  // the server's (updateConfig is called on it)
   std::unique_ptr<dynamic_reconfigure::Server<ProximityMonitorConfig>> reconfigure_;
 };
 
