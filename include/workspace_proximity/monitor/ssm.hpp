@@ -1,0 +1,75 @@
+#pragma once
+/// Speed and separation monitoring after ISO/TS 15066: the protective separation distance, the
+/// robot speed it allows, and the speed scale a controller applies, with hysteresis. ROS-free.
+///
+/// For a robot body and a tracked object at distance d (bare shapes, 0 when they overlap), the
+/// object approaching at v_h (its velocity along the direction from its nearest point to the
+/// robot's, at least 0 and at least its label's minimum), and the robot moving at v_r:
+///   S_p(v_r) = v_h (T_r + T_s) + v_r T_r + v_r T_s / 2 + C + Z_d + Z_r
+/// with T_r the reaction time, T_s the stopping time, C the intrusion distance, Z_d and Z_r the
+/// sensor's and the robot's position uncertainties. The largest v_r >= 0 with S_p(v_r) <= d is
+///   v_allowed = (d - v_h (T_r + T_s) - C - Z_d - Z_r) / (T_r + T_s / 2), at least 0,
+/// and the pair's scale is min(1, v_allowed / v_max). The cycle's scale is the smallest over all
+/// monitored pairs (1 with none). A pair at or beyond S_p(v_max) allows full speed.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "workspace_proximity/monitor/stamp.hpp"
+
+namespace workspace_proximity {
+
+/// The rule's constants (the ~ssm/ parameters). Times in s, distances in m, speeds in m/s.
+struct SsmParams {
+  bool enabled = true;
+  std::vector<std::string> labels;   ///< object labels monitored; empty: every object label
+  double reaction_time = 0.1;        ///< T_r
+  double stopping_time = 0.3;        ///< T_s
+  double intrusion_distance = 0.1;   ///< C
+  double sensor_uncertainty = 0.1;   ///< Z_d
+  double robot_uncertainty = 0.02;   ///< Z_r
+  double robot_max_speed = 1.0;      ///< v_max: the speed scale 1 means
+  double max_increase_rate = 0.5;    ///< 1/s: the output rises at most this much per second
+  double hold_time = 0.5;            ///< s the raw scale must stay above the output before it rises
+  double degraded_scale = 0.0;       ///< the scale at most while the prediction is DEGRADED
+  // Outputs wired by the ROS bridge (names only here).
+  std::vector<std::string> stop_trajectory_topics;  ///< empty JointTrajectory on each at a stop
+  std::vector<std::string> stop_event_topics;       ///< "stop" (std_msgs/String) on each at a stop
+  std::string cmd_vel_in;   ///< Twist commands to scale ("" = no filter)
+  std::string cmd_vel_out;  ///< the scaled commands
+};
+
+/// S_p(v_r), m.
+double protectiveSeparation(const SsmParams& p, double approach_speed, double robot_speed);
+/// The largest robot speed (m/s, >= 0) whose protective separation fits in `distance`.
+double allowedRobotSpeed(const SsmParams& p, double distance, double approach_speed);
+/// min(1, allowedRobotSpeed / robot_max_speed), in [0, 1].
+double pairScale(const SsmParams& p, double distance, double approach_speed);
+
+/// The scale a controller gets: drops at once, rises at most `max_increase_rate` per second and
+/// only after the raw scale has stayed above the output for `hold_time`. Starts at 0 (nothing
+/// is known before the first cycle).
+class SpeedScaleFilter {
+ public:
+  explicit SpeedScaleFilter(const SsmParams& p) : rate_(p.max_increase_rate), hold_(p.hold_time) {}
+  void setParams(const SsmParams& p) {
+    rate_ = p.max_increase_rate;
+    hold_ = p.hold_time;
+  }
+  /// The output at `now` for the raw scale `raw` (in [0, 1]).
+  double update(Stamp now, double raw);
+  double output() const { return output_; }
+  /// Forgets the history (after the clock went back): the output drops to 0.
+  void reset() { *this = SpeedScaleFilter(rate_, hold_); }
+
+ private:
+  SpeedScaleFilter(double rate, double hold) : rate_(rate), hold_(hold) {}
+  double rate_;
+  double hold_;
+  double output_ = 0.0;
+  Stamp last_ = 0;          // previous update
+  Stamp above_since_ = -1;  // since when raw > output without a break, -1: not above
+};
+
+}  // namespace workspace_proximity
