@@ -7,28 +7,12 @@
 #include <cstring>
 #include <unordered_set>
 
-#include <ros/package.h>
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "workspace_proximity/ros/robot_model.hpp"
 
 namespace workspace_proximity {
 namespace {
-
-// "package://pkg/path" and "file:///path" to a local path; empty when unresolvable.
-std::string resolveMesh(const std::string& url) {
-  const std::string package_prefix = "package://";
-  const std::string file_prefix = "file://";
-  if (url.compare(0, package_prefix.size(), package_prefix) == 0) {
-    const std::string rest = url.substr(package_prefix.size());
-    const auto slash = rest.find('/');
-    if (slash == std::string::npos) return std::string();
-    const std::string root = ros::package::getPath(rest.substr(0, slash));
-    return root.empty() ? std::string() : root + rest.substr(slash);
-  }
-  if (url.compare(0, file_prefix.size(), file_prefix) == 0) return url.substr(file_prefix.size());
-  return url;
-}
 
 // Grow at once (never smaller than the truth); shrink only when clearly smaller, so a
 // tracker's jittering dimensions do not rebuild the geometry every message.
@@ -131,10 +115,11 @@ void ProximityMonitor::loadRobot() {
   if (params_.use_robot_description) {
     std::string urdf;
     if (nh_.getParam(params_.robot_description_param, urdf)) {
-      std::vector<std::string> warnings;
-      const std::vector<RobotBodySpec> from_urdf = bodiesFromUrdf(urdf, resolveMesh, &warnings);
-      for (const std::string& w : warnings) ROS_WARN("proximity_monitor: URDF %s", w.c_str());
-      specs.insert(specs.end(), from_urdf.begin(), from_urdf.end());
+      const UrdfBodies from_urdf = bodiesFromUrdf(urdf);
+      for (const UnmodelledElement& e : from_urdf.unmodelled) {
+        ROS_WARN("proximity_monitor: URDF link '%s': %s; skipped", e.link.c_str(), e.reason.c_str());
+      }
+      specs.insert(specs.end(), from_urdf.bodies.begin(), from_urdf.bodies.end());
     } else {
       ROS_INFO("proximity_monitor: no '%s' parameter; robot bodies from ~robot_bodies only",
                params_.robot_description_param.c_str());

@@ -1,16 +1,373 @@
 #include "workspace_proximity/ros/robot_model.hpp"
 
-#include <cstdint>
-#include <cstring>
-#include <fstream>
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <exception>
 #include <limits>
-#include <sstream>
+#include <memory>
 #include <stdexcept>
+#include <utility>
 
+#include <Eigen/Eigenvalues>
+#include <assimp/Importer.hpp>
+#include <assimp/MemoryIOWrapper.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <geometric_shapes/bodies.h>
+#include <geometric_shapes/mesh_operations.h>
+#include <geometric_shapes/shapes.h>
+#include <resource_retriever/retriever.h>
+#include <tinyxml2.h>
 #include <urdf/model.h>
 
 namespace workspace_proximity {
 namespace {
+
+// ---------------------------------------------------------------------------
+// Oriented bounding box.
+
+// How many face directions of the hull become candidate box axes, and how many directions
+// are told apart at most while grouping the hull's triangles by normal.
+constexpr std::size_t kFaceCandidates = 64;
+constexpr std::size_t kMaxFaceDirections = 64;
+// Two unit normals closer than this (|dot| above) count as one face direction (0.08 deg).
+constexpr double kSameDirection = 1.0 - 1e-6;
+constexpr int kMaxRefinePasses = 16;
+// More points than this are searched through their extreme points along kSupportDirections
+// directions spread over the sphere (both ways), which keeps the search to tens of
+// milliseconds; the candidates are then judged, and the extents taken, on every point.
+constexpr Eigen::Index kMaxSearchPoints = 1024;
+constexpr int kSupportDirections = 512;
+
+using Vec2 = Eigen::Vector2d;
+
+double cross2(const Vec2& o, const Vec2& a, const Vec2& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+// Convex hull of `pts` (Andrew's monotone chain), counter-clockwise, without collinear or
+// repeated points. `pts` is sorted in place; `hull` is reused storage.
+void hull2d(std::vector<Vec2>* pts, std::vector<Vec2>* hull) {
+  std::sort(pts->begin(), pts->end(), [](const Vec2& a, const Vec2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  hull->clear();
+  const std::size_t n = pts->size();
+  if (n == 0) return;
+  hull->resize(2 * n);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < n; ++i) {  // lower chain
+    while (k >= 2 && cross2((*hull)[k - 2], (*hull)[k - 1], (*pts)[i]) <= 0.0) --k;
+    (*hull)[k++] = (*pts)[i];
+  }
+  for (std::size_t i = n - 1, lower = k + 1; i-- > 0;) {  // upper chain
+    while (k >= lower && cross2((*hull)[k - 2], (*hull)[k - 1], (*pts)[i]) <= 0.0) --k;
+    (*hull)[k++] = (*pts)[i];
+  }
+  hull->resize(k > 1 ? k - 1 : k);  // the last point repeats the first
+}
+
+// Unit direction (in the plane) of one side of the minimum-area rectangle around a convex
+// polygon given counter-clockwise. Such a rectangle has a side flush with an edge of the
+// polygon, so every edge is tried; rotating calipers keep the three other supporting
+// vertices moving forward, which makes it linear in the number of vertices.
+Vec2 minAreaRectangleSide(const std::vector<Vec2>& h) {
+  const std::size_t n = h.size();
+  if (n < 2) return Vec2(1.0, 0.0);
+  if (n == 2) return (h[1] - h[0]).normalized();
+  auto next = [n](std::size_t i) { return i + 1 == n ? 0 : i + 1; };
+  double best_area = std::numeric_limits<double>::infinity();
+  Vec2 best(1.0, 0.0);
+  std::size_t far_e = 0, far_n = 0, near_e = 0;  // argmax along the edge, along its normal, argmin
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 e = (h[next(i)] - h[i]).normalized();
+    const Vec2 nrm(-e.y(), e.x());  // points into the polygon
+    if (i == 0) {
+      for (std::size_t j = 1; j < n; ++j) {
+        if (h[j].dot(e) > h[far_e].dot(e)) far_e = j;
+        if (h[j].dot(nrm) > h[far_n].dot(nrm)) far_n = j;
+        if (h[j].dot(e) < h[near_e].dot(e)) near_e = j;
+      }
+    }
+    for (std::size_t s = 0; s < n && h[next(far_e)].dot(e) >= h[far_e].dot(e); ++s) far_e = next(far_e);
+    for (std::size_t s = 0; s < n && h[next(far_n)].dot(nrm) >= h[far_n].dot(nrm); ++s) far_n = next(far_n);
+    for (std::size_t s = 0; s < n && h[next(near_e)].dot(e) <= h[near_e].dot(e); ++s) near_e = next(near_e);
+    const double width = h[far_e].dot(e) - h[near_e].dot(e);
+    const double height = h[far_n].dot(nrm) - h[i].dot(nrm);
+    if (width * height < best_area) {
+      best_area = width * height;
+      best = e;
+    }
+  }
+  return best;
+}
+
+// Scratch storage of one orientedBoundingBox() call.
+struct Scratch {
+  std::vector<Vec2> projected;
+  std::vector<Vec2> hull;
+};
+
+// Lowest and highest coordinates of `pts` along the axes `r` (columns).
+void extentsIn(const Eigen::Matrix3d& r, const Eigen::Matrix3Xd& pts, Eigen::Vector3d* lo,
+               Eigen::Vector3d* hi) {
+  *lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  *hi = -*lo;
+  for (Eigen::Index i = 0; i < pts.cols(); ++i) {
+    const Eigen::Vector3d q = r.transpose() * pts.col(i);
+    *lo = lo->cwiseMin(q);
+    *hi = hi->cwiseMax(q);
+  }
+}
+
+// The volume of the box of `pts` along the axes `r`, used to compare frames: each extent
+// counts at least `floor`, so that flat or thin point sets are compared by their area (or
+// length) instead of all tying at zero.
+double scoreIn(const Eigen::Matrix3d& r, const Eigen::Matrix3Xd& pts, double floor) {
+  Eigen::Vector3d lo, hi;
+  extentsIn(r, pts, &lo, &hi);
+  return (hi - lo).cwiseMax(floor).prod();
+}
+
+// `r` turned about its axis k so that its two other axes frame the minimum-area rectangle
+// around the points' projection on their plane.
+Eigen::Matrix3d turnAbout(const Eigen::Matrix3d& r, int k, const Eigen::Matrix3Xd& pts,
+                          Scratch* s) {
+  const Eigen::Vector3d u = r.col((k + 1) % 3), v = r.col((k + 2) % 3);
+  s->projected.resize(static_cast<std::size_t>(pts.cols()));
+  for (Eigen::Index i = 0; i < pts.cols(); ++i) {
+    s->projected[static_cast<std::size_t>(i)] = Vec2(u.dot(pts.col(i)), v.dot(pts.col(i)));
+  }
+  hull2d(&s->projected, &s->hull);
+  const Vec2 side = minAreaRectangleSide(s->hull);
+  Eigen::Matrix3d turned = r;
+  turned.col((k + 1) % 3) = (side.x() * u + side.y() * v).normalized();
+  turned.col((k + 2) % 3) = r.col(k).cross(turned.col((k + 1) % 3)).normalized();
+  return turned;
+}
+
+// Turns `r` one axis at a time until the score stops shrinking; each turn can only shrink
+// it (the extent along the fixed axis stays, the area across it is the smallest possible).
+Eigen::Matrix3d refine(Eigen::Matrix3d r, const Eigen::Matrix3Xd& pts, double floor, Scratch* s,
+                       double* score) {
+  *score = scoreIn(r, pts, floor);
+  for (int pass = 0; pass < kMaxRefinePasses; ++pass) {
+    const double before = *score;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Matrix3d turned = turnAbout(r, k, pts, s);
+      const double sc = scoreIn(turned, pts, floor);
+      if (sc < *score) {
+        *score = sc;
+        r = turned;
+      }
+    }
+    if (!(*score < before * (1.0 - 1e-12))) break;
+  }
+  return r;
+}
+
+// A right-handed rotation whose third column is `axis` (unit).
+Eigen::Matrix3d frameAround(const Eigen::Vector3d& axis) {
+  Eigen::Index smallest;
+  axis.cwiseAbs().minCoeff(&smallest);
+  Eigen::Vector3d u = Eigen::Vector3d::Unit(smallest).cross(axis).normalized();
+  Eigen::Matrix3d r;
+  r.col(0) = u;
+  r.col(1) = axis.cross(u);
+  r.col(2) = axis;
+  return r;
+}
+
+// Eigenvectors of a covariance as a right-handed rotation.
+Eigen::Matrix3d principalAxes(const Eigen::Matrix3d& covariance) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  Eigen::Matrix3d r = solver.eigenvectors();
+  if (r.determinant() < 0.0) r.col(2) = -r.col(2);
+  return r;
+}
+
+Eigen::Matrix3d vertexCovariance(const Eigen::Matrix3Xd& pts) {
+  const Eigen::Vector3d mean = pts.rowwise().mean();
+  const Eigen::Matrix3Xd centred = pts.colwise() - mean;
+  return centred * centred.transpose() / static_cast<double>(pts.cols());
+}
+
+// Covariance of the surface of a triangle mesh (area-weighted, every point of every
+// triangle, not just its corners). For one triangle with corners a, b, c and area A the
+// integral of x x^T over it is A/12 (a a^T + b b^T + c c^T + s s^T) with s = a + b + c.
+bool surfaceCovariance(const std::vector<Eigen::Vector3d>& vertices,
+                       const std::vector<unsigned int>& triangles, Eigen::Matrix3d* covariance) {
+  double area = 0.0;
+  Eigen::Vector3d first = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const Eigen::Vector3d& a = vertices[triangles[t]];
+    const Eigen::Vector3d& b = vertices[triangles[t + 1]];
+    const Eigen::Vector3d& c = vertices[triangles[t + 2]];
+    const double at = 0.5 * (b - a).cross(c - a).norm();
+    const Eigen::Vector3d sum = a + b + c;
+    area += at;
+    first += at * sum / 3.0;
+    second += at / 12.0 *
+              (a * a.transpose() + b * b.transpose() + c * c.transpose() + sum * sum.transpose());
+  }
+  if (!(area > 0.0)) return false;
+  const Eigen::Vector3d mean = first / area;
+  *covariance = second / area - mean * mean.transpose();
+  return covariance->allFinite();
+}
+
+// The directions of the hull's largest faces: triangles grouped by normal (either sign),
+// largest total area first.
+std::vector<Eigen::Vector3d> largestFaceDirections(const std::vector<Eigen::Vector3d>& vertices,
+                                                   const std::vector<unsigned int>& triangles) {
+  std::vector<std::pair<double, Eigen::Vector3d>> faces;  // (area, unit normal)
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const Eigen::Vector3d& a = vertices[triangles[t]];
+    const Eigen::Vector3d n = (vertices[triangles[t + 1]] - a).cross(vertices[triangles[t + 2]] - a);
+    const double twice_area = n.norm();
+    if (twice_area > 0.0 && std::isfinite(twice_area)) faces.emplace_back(twice_area, n / twice_area);
+  }
+  // Largest triangles first, so the largest faces found the groups.
+  std::sort(faces.begin(), faces.end(),
+            [](const auto& x, const auto& y) { return x.first > y.first; });
+  std::vector<std::pair<double, Eigen::Vector3d>> groups;
+  for (const auto& f : faces) {
+    bool joined = false;
+    for (auto& g : groups) {
+      if (std::abs(g.second.dot(f.second)) > kSameDirection) {
+        g.first += f.first;
+        joined = true;
+        break;
+      }
+    }
+    if (!joined && groups.size() < kMaxFaceDirections) groups.push_back(f);
+  }
+  std::sort(groups.begin(), groups.end(),
+            [](const auto& x, const auto& y) { return x.first > y.first; });
+  std::vector<Eigen::Vector3d> directions;
+  for (std::size_t i = 0; i < groups.size() && i < kFaceCandidates; ++i) {
+    directions.push_back(groups[i].second);
+  }
+  return directions;
+}
+
+// Convex hull of the points with geometric_shapes (qhull). Returns false, leaving the
+// outputs empty, for inputs qhull cannot take (fewer than 4 points, flat).
+bool convexHull(const Eigen::Matrix3Xd& pts, double diameter, std::vector<Eigen::Vector3d>* vertices,
+                std::vector<unsigned int>* triangles) {
+  vertices->clear();
+  triangles->clear();
+  if (pts.cols() < 4) return false;
+  // qhull complains (on stderr) about flat input; the principal axes tell flat apart first.
+  const Eigen::Matrix3d axes = principalAxes(vertexCovariance(pts));
+  Eigen::Vector3d lo, hi;
+  extentsIn(axes, pts, &lo, &hi);
+  if (!((hi - lo).minCoeff() > 1e-9 * diameter)) return false;
+  shapes::Mesh mesh(static_cast<unsigned int>(pts.cols()), 0);
+  for (Eigen::Index i = 0; i < pts.cols(); ++i) {
+    for (int d = 0; d < 3; ++d) mesh.vertices[3 * i + d] = pts(d, i);
+  }
+  const bodies::ConvexMesh hull(&mesh);
+  const EigenSTL::vector_Vector3d& hv = hull.getVertices();
+  const std::vector<unsigned int>& ht = hull.getTriangles();
+  if (hv.size() < 4 || ht.size() < 12) return false;
+  for (unsigned int t : ht) {
+    if (t >= hv.size()) return false;
+  }
+  vertices->assign(hv.begin(), hv.end());
+  *triangles = ht;
+  return true;
+}
+
+// The points of `pts` that are farthest along, or against, one of kSupportDirections
+// directions (a spherical Fibonacci lattice). Their hull is inside the points' hull and
+// touches every supporting plane within 1 - cos(spacing / 2) of the points' radius
+// (spacing about 0.16 rad, so 0.3 %).
+Eigen::Matrix3Xd supportPoints(const Eigen::Matrix3Xd& pts) {
+  const double golden_angle = M_PI * (3.0 - std::sqrt(5.0));
+  std::vector<Eigen::Index> chosen;
+  chosen.reserve(2 * kSupportDirections);
+  for (int i = 0; i < kSupportDirections; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / kSupportDirections;
+    const double rho = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const Eigen::Vector3d d(rho * std::cos(golden_angle * i), rho * std::sin(golden_angle * i), z);
+    const Eigen::VectorXd along = pts.transpose() * d;
+    Eigen::Index hi, lo;
+    along.maxCoeff(&hi);
+    along.minCoeff(&lo);
+    chosen.push_back(hi);
+    chosen.push_back(lo);
+  }
+  std::sort(chosen.begin(), chosen.end());
+  chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
+  Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(chosen.size()));
+  for (std::size_t i = 0; i < chosen.size(); ++i) out.col(static_cast<Eigen::Index>(i)) = pts.col(chosen[i]);
+  return out;
+}
+
+Eigen::Matrix3Xd toMatrix(const std::vector<Eigen::Vector3d>& v) {
+  Eigen::Matrix3Xd m(3, static_cast<Eigen::Index>(v.size()));
+  for (std::size_t i = 0; i < v.size(); ++i) m.col(static_cast<Eigen::Index>(i)) = v[i];
+  return m;
+}
+
+// ---------------------------------------------------------------------------
+// Mesh loading.
+
+std::string lowerExtension(const std::string& url) {
+  const std::size_t slash = url.find_last_of('/');
+  const std::size_t dot = url.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return std::string();
+  std::string ext = url.substr(dot + 1);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// The length of one unit of a COLLADA document in metres (<COLLADA><asset><unit meter>),
+// 1 when it says nothing usable.
+double colladaUnit(const char* data, std::size_t size) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(data, size) != tinyxml2::XML_SUCCESS) return 1.0;
+  const tinyxml2::XMLElement* root = doc.RootElement();
+  if (!root || std::string(root->Name()) != "COLLADA") return 1.0;
+  const tinyxml2::XMLElement* asset = root->FirstChildElement("asset");
+  const tinyxml2::XMLElement* unit = asset ? asset->FirstChildElement("unit") : nullptr;
+  double meter = 1.0;
+  if (!unit || unit->QueryDoubleAttribute("meter", &meter) != tinyxml2::XML_SUCCESS) return 1.0;
+  return std::isfinite(meter) && meter > 0.0 ? meter : 1.0;
+}
+
+// Why geometric_shapes made no mesh of the data: asked of assimp directly, which
+// geometric_shapes does not pass on.
+std::string assimpCause(const char* data, std::size_t size, const std::string& ext,
+                        const std::string& url) {
+  Assimp::Importer importer;
+  const aiScene* scene =
+      importer.ReadFileFromMemory(data, size, aiProcess_Triangulate | aiProcess_SortByPType, ext.c_str());
+  if (!scene) {
+    // assimp names the in-memory file "$$$___magic___$$$.<ext>"; say which file it was.
+    std::string error = importer.GetErrorString();
+    const std::string magic = std::string(AI_MEMORYIO_MAGIC_FILENAME) + "." + ext;
+    const std::size_t at = error.find(magic);
+    if (at != std::string::npos) error.replace(at, magic.size(), url.substr(url.find_last_of('/') + 1));
+    return "not a mesh assimp can read (" + error + ")";
+  }
+  if (!scene->HasMeshes()) return "holds no mesh";
+  return "holds no triangles";
+}
+
+// ---------------------------------------------------------------------------
+// URDF.
+
+std::string number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
 
 Eigen::Isometry3d toIsometry(const urdf::Pose& p) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -21,19 +378,8 @@ Eigen::Isometry3d toIsometry(const urdf::Pose& p) {
   return t;
 }
 
-bool endsWithNoCase(const std::string& s, const std::string& suffix) {
-  if (s.size() < suffix.size()) return false;
-  for (std::size_t i = 0; i < suffix.size(); ++i) {
-    if (std::tolower(static_cast<unsigned char>(s[s.size() - suffix.size() + i])) != suffix[i]) {
-      return false;
-    }
-  }
-  return true;
-}
-
 // Builds the body for one collision geometry; returns false with a reason when unusable.
-bool makeBody(const urdf::Geometry& geometry, const MeshResolver& resolve, RobotBodySpec* body,
-              std::string* why) {
+bool makeBody(const urdf::Geometry& geometry, RobotBodySpec* body, std::string* why) {
   switch (geometry.type) {
     case urdf::Geometry::BOX: {
       const auto& box = static_cast<const urdf::Box&>(geometry);
@@ -50,31 +396,43 @@ bool makeBody(const urdf::Geometry& geometry, const MeshResolver& resolve, Robot
       break;
     case urdf::Geometry::MESH: {
       const auto& mesh = static_cast<const urdf::Mesh&>(geometry);
-      if (!endsWithNoCase(mesh.filename, ".stl")) {
-        *why = "mesh '" + mesh.filename + "' is not STL (only STL meshes can be bounded)";
+      Eigen::Matrix3Xd vertices;
+      if (!loadMeshVertices(mesh.filename, Eigen::Vector3d(mesh.scale.x, mesh.scale.y, mesh.scale.z),
+                            &vertices, why)) {
         return false;
       }
-      const std::string path = resolve ? resolve(mesh.filename) : std::string();
-      Eigen::Vector3d lo, hi;
-      if (path.empty() || !stlBounds(path, &lo, &hi)) {
-        *why = "mesh '" + mesh.filename + "' cannot be read";
+      const OrientedBox box = orientedBoundingBox(vertices);
+      if (!(box.half_extents.maxCoeff() >= Limits::kMinSize)) {
+        *why = "mesh '" + mesh.filename + "': zero size (after scaling it spans less than " +
+               number(2.0 * Limits::kMinSize) + " m on every axis)";
         return false;
       }
-      const Eigen::Vector3d scale(mesh.scale.x, mesh.scale.y, mesh.scale.z);
-      const Eigen::Vector3d a = lo.cwiseProduct(scale), b = hi.cwiseProduct(scale);
-      // A box around the scaled vertices, centred where they are.
-      body->shape = Shape::box(0.5 * (a - b).cwiseAbs());
-      Eigen::Isometry3d centre = Eigen::Isometry3d::Identity();
-      centre.translation() = 0.5 * (a + b);
-      body->offset = body->offset * centre;
-      break;
+      // A flat or thin mesh (a panel) keeps its place: at least the smallest size a shape may
+      // have, which only adds room around it.
+      body->shape = Shape::box(box.half_extents.cwiseMax(Limits::kMinSize));
+      body->offset = body->offset * box.pose;
+      if (!body->shape.valid()) {
+        *why = "mesh '" + mesh.filename + "': " + number(2.0 * box.half_extents.maxCoeff()) +
+               " m long, more than the largest shape (" + number(2.0 * Limits::kMaxSize) +
+               " m; wrong units or scale?)";
+        return false;
+      }
+      return true;
     }
     default:
-      *why = "unknown geometry type";
+      *why = "unknown geometry type " + std::to_string(static_cast<int>(geometry.type));
       return false;
   }
   if (!body->shape.valid()) {
-    *why = "zero or invalid size";
+    const Shape& s = body->shape;
+    *why = s.type == ShapeType::kBox
+               ? "box " + number(2 * s.half_extents.x()) + " x " + number(2 * s.half_extents.y()) + " x " +
+                     number(2 * s.half_extents.z()) + " m"
+               : s.type == ShapeType::kSphere ? "sphere of radius " + number(s.radius) + " m"
+                                              : "cylinder of radius " + number(s.radius) + " m, length " +
+                                                    number(s.length) + " m";
+    *why += ": zero or invalid size (each half size, radius and length within [" +
+            number(Limits::kMinSize) + ", " + number(Limits::kMaxSize) + "] m)";
     return false;
   }
   return true;
@@ -82,79 +440,157 @@ bool makeBody(const urdf::Geometry& geometry, const MeshResolver& resolve, Robot
 
 }  // namespace
 
-bool stlBounds(const std::string& path, Eigen::Vector3d* lower, Eigen::Vector3d* upper) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d hi = -lo;
-  int vertices = 0;
-  auto add = [&](double x, double y, double z) {
-    const Eigen::Vector3d v(x, y, z);
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-    ++vertices;
-  };
-  // Binary STL: 80-byte header, uint32 count, 50 bytes per triangle. An ASCII file can start
-  // with "solid" too, so the size decides.
-  if (data.size() >= 84) {
-    std::uint32_t n = 0;
-    std::memcpy(&n, data.data() + 80, 4);
-    if (data.size() == 84 + 50ull * n) {
-      for (std::uint32_t t = 0; t < n; ++t) {
-        const char* tri = data.data() + 84 + 50ull * t + 12;  // skip the normal
-        for (int k = 0; k < 3; ++k) {
-          float v[3];
-          std::memcpy(v, tri + 12 * k, 12);
-          add(v[0], v[1], v[2]);
-        }
-      }
-      if (vertices == 0 || !lo.allFinite() || !hi.allFinite()) return false;
-      *lower = lo;
-      *upper = hi;
-      return true;
+OrientedBox orientedBoundingBox(const Eigen::Matrix3Xd& points) {
+  OrientedBox box;
+  if (points.cols() == 0) return box;
+  Scratch scratch;
+  Eigen::Vector3d lo, hi;
+  extentsIn(Eigen::Matrix3d::Identity(), points, &lo, &hi);
+  const double diameter = (hi - lo).norm();
+  // Extents below this count as this much when frames are compared (flat meshes).
+  const double floor = std::max(1e-9 * diameter, std::numeric_limits<double>::min());
+
+  // Only the hull's vertices can touch a box; its faces give candidate axes. A large hull
+  // is searched through its support points (see kMaxSearchPoints).
+  std::vector<Eigen::Vector3d> hull_vertices;
+  std::vector<unsigned int> hull_triangles;
+  Eigen::Matrix3Xd candidates_pts = points.cols() > kMaxSearchPoints ? supportPoints(points) : points;
+  if (convexHull(candidates_pts, diameter, &hull_vertices, &hull_triangles)) {
+    candidates_pts = toMatrix(hull_vertices);
+  }
+
+  std::vector<Eigen::Matrix3d> starts;
+  starts.push_back(Eigen::Matrix3d::Identity());
+  starts.push_back(principalAxes(vertexCovariance(candidates_pts)));
+  Eigen::Matrix3d surface;
+  if (surfaceCovariance(hull_vertices, hull_triangles, &surface)) starts.push_back(principalAxes(surface));
+  for (const Eigen::Vector3d& n : largestFaceDirections(hull_vertices, hull_triangles)) {
+    starts.push_back(frameAround(n));
+  }
+
+  Eigen::Matrix3d best = Eigen::Matrix3d::Identity();
+  double best_score = std::numeric_limits<double>::infinity();
+  for (const Eigen::Matrix3d& start : starts) {
+    if (!start.allFinite()) continue;
+    double score;
+    const Eigen::Matrix3d r = refine(start, candidates_pts, floor, &scratch, &score);
+    // Judged on every point when the search saw only the support points.
+    if (candidates_pts.cols() != points.cols()) score = scoreIn(r, points, floor);
+    if (score < best_score) {
+      best_score = score;
+      best = r;
     }
   }
-  std::istringstream text(data);
-  std::string word;
-  while (text >> word) {
-    if (word != "vertex") continue;
-    double x, y, z;
-    if (!(text >> x >> y >> z)) return false;
-    add(x, y, z);
+
+  // The extents come from every point, not only the hull's (qhull may merge a vertex that
+  // lies within rounding of a face). The points' own frame wins ties, so the result is
+  // never larger than the box of the points.
+  Eigen::Vector3d blo, bhi;
+  extentsIn(best, points, &blo, &bhi);
+  const double floor_best = (bhi - blo).cwiseMax(floor).prod();
+  const double floor_identity = (hi - lo).cwiseMax(floor).prod();
+  if (!(floor_best < floor_identity)) {
+    best = Eigen::Matrix3d::Identity();
+    blo = lo;
+    bhi = hi;
   }
-  if (vertices == 0 || !lo.allFinite() || !hi.allFinite()) return false;
-  *lower = lo;
-  *upper = hi;
-  return true;
+  box.pose.linear() = best;
+  box.pose.translation() = best * (0.5 * (blo + bhi));
+  box.half_extents = 0.5 * (bhi - blo);
+  return box;
 }
 
-std::vector<RobotBodySpec> bodiesFromUrdf(const std::string& urdf_xml, const MeshResolver& resolve,
-                                          std::vector<std::string>* warnings) {
+bool loadMeshVertices(const std::string& url, const Eigen::Vector3d& scale,
+                      Eigen::Matrix3Xd* vertices, std::string* why) {
+  const std::string what = "mesh '" + url + "': ";
+  try {
+    std::string resolved = url;
+    if (url.find("://") == std::string::npos) {
+      if (url.empty() || url[0] != '/') {
+        *why = what + "a relative path (the URDF needs package://, file:// or an absolute path)";
+        return false;
+      }
+      resolved = "file://" + url;
+    }
+    if (!scale.allFinite()) {
+      *why = what + "non-finite scale";
+      return false;
+    }
+    resource_retriever::Retriever retriever;
+    resource_retriever::MemoryResource resource;
+    try {
+      resource = retriever.get(resolved);
+    } catch (const resource_retriever::Exception& e) {
+      *why = what + "cannot be retrieved (" + e.what() + ")";
+      return false;
+    }
+    if (resource.size == 0 || !resource.data) {
+      *why = what + "the file is empty";
+      return false;
+    }
+    const char* data = reinterpret_cast<const char*>(resource.data.get());
+    const std::string ext = lowerExtension(resolved);
+    const double unit = ext == "dae" ? colladaUnit(data, resource.size) : 1.0;
+    // geometric_shapes takes assimp's format hint from the name's extension.
+    const std::unique_ptr<shapes::Mesh> mesh(
+        shapes::createMeshFromBinary(data, resource.size, unit * scale, resolved));
+    if (!mesh) {
+      *why = what + assimpCause(data, resource.size, ext, url);
+      return false;
+    }
+    if (mesh->vertex_count == 0 || mesh->triangle_count == 0) {
+      *why = what + "holds no triangles";
+      return false;
+    }
+    vertices->resize(3, mesh->vertex_count);
+    for (unsigned int i = 0; i < mesh->vertex_count; ++i) {
+      for (int d = 0; d < 3; ++d) (*vertices)(d, i) = mesh->vertices[3 * i + d];
+    }
+    if (!vertices->allFinite()) {
+      *why = what + "non-finite vertex coordinates";
+      return false;
+    }
+    return true;
+  } catch (const std::exception& e) {
+    *why = what + "cannot be loaded (" + e.what() + ")";
+    return false;
+  }
+}
+
+UrdfBodies bodiesFromUrdf(const std::string& urdf_xml) {
   urdf::Model model;
   if (!model.initString(urdf_xml)) throw std::runtime_error("robot_description: URDF does not parse");
   std::vector<urdf::LinkSharedPtr> links;
   model.getLinks(links);
-  std::vector<RobotBodySpec> bodies;
+  UrdfBodies result;
   for (const urdf::LinkSharedPtr& link : links) {
     std::vector<urdf::CollisionSharedPtr> elements = link->collision_array;
     if (elements.empty() && link->collision) elements.push_back(link->collision);
     for (std::size_t i = 0; i < elements.size(); ++i) {
       const urdf::CollisionSharedPtr& c = elements[i];
-      if (!c || !c->geometry) continue;
       RobotBodySpec body;
       body.name = elements.size() == 1 ? link->name : link->name + "/" + std::to_string(i);
       body.frame = link->name;
-      body.offset = toIsometry(c->origin);
       std::string why;
-      if (!makeBody(*c->geometry, resolve, &body, &why)) {
-        if (warnings) warnings->push_back("link '" + link->name + "': " + why + "; skipped");
-        continue;
+      bool made = false;
+      if (!c || !c->geometry) {
+        why = "collision element without geometry";
+      } else {
+        try {
+          body.offset = toIsometry(c->origin);
+          made = makeBody(*c->geometry, &body, &why);
+        } catch (const std::exception& e) {
+          why = std::string("cannot be modelled (") + e.what() + ")";
+        }
       }
-      bodies.push_back(body);
+      if (made) {
+        result.bodies.push_back(body);
+      } else {
+        result.unmodelled.push_back(UnmodelledElement{link->name, i, body.name, why});
+      }
     }
   }
-  return bodies;
+  return result;
 }
 
 }  // namespace workspace_proximity
