@@ -1,7 +1,6 @@
 #include "workspace_proximity/ros/robot_model.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -29,10 +28,9 @@ namespace {
 // ---------------------------------------------------------------------------
 // Oriented bounding box.
 
-// How many face directions of the hull become candidate box axes, and how many directions
-// are told apart at most while grouping the hull's triangles by normal.
+// How many face directions of the hull (its triangles grouped by normal, largest total
+// area first) become candidate box axes.
 constexpr std::size_t kFaceCandidates = 64;
-constexpr std::size_t kMaxFaceDirections = 64;
 // Two unit normals closer than this (|dot| above) count as one face direction (0.08 deg).
 constexpr double kSameDirection = 1.0 - 1e-6;
 constexpr int kMaxRefinePasses = 16;
@@ -244,14 +242,12 @@ std::vector<Eigen::Vector3d> largestFaceDirections(const std::vector<Eigen::Vect
         break;
       }
     }
-    if (!joined && groups.size() < kMaxFaceDirections) groups.push_back(f);
+    if (!joined && groups.size() < kFaceCandidates) groups.push_back(f);
   }
   std::sort(groups.begin(), groups.end(),
             [](const auto& x, const auto& y) { return x.first > y.first; });
   std::vector<Eigen::Vector3d> directions;
-  for (std::size_t i = 0; i < groups.size() && i < kFaceCandidates; ++i) {
-    directions.push_back(groups[i].second);
-  }
+  for (const auto& g : groups) directions.push_back(g.second);
   return directions;
 }
 
