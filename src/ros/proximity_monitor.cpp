@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
 
 #include "workspace_proximity/ros/conversions.hpp"
 #include "workspace_proximity/ros/diagnostics_bridge.hpp"
@@ -30,10 +31,24 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
       markers_(params.fixed_frame, params.marker_lifetime),
       diagnostics_(nh_, private_nh) {
   const std::vector<std::string> topics = inputTopics(nh_, params_);
-  pipeline_ = std::make_unique<MonitorPipeline>(params_, loadRobotBodies(nh_, params_), topics,
+  RobotDescription robot = loadRobotBodies(nh_, params_);
+  if (params_.require_all_links && !robot.unmodelled.empty()) {
+    // Asked not to run with part of the robot missing: refuse, naming every element.
+    for (const std::string& line : robot.unmodelled) ROS_FATAL("proximity_monitor: %s", line.c_str());
+    throw std::runtime_error(std::to_string(robot.unmodelled.size()) +
+                             " URDF collision elements cannot be modelled and ~require_all_links "
+                             "is true: " + robot.unmodelled.front());
+  }
+  pipeline_ = std::make_unique<MonitorPipeline>(params_, std::move(robot.bodies), topics,
                                                 !params_.input_topics.empty(), &tf_buffer_,
                                                 &rejection_log_);
   monitor_ = &pipeline_->monitor();
+  // A link that cannot be modelled is never dropped silently: DEGRADED (and a diagnostics
+  // WARN) with its reason for as long as the node runs.
+  for (const std::string& line : robot.unmodelled) {
+    ROS_WARN("proximity_monitor: %s; status DEGRADED while the node runs", line.c_str());
+    monitor_->addPermanentIssue(line);
+  }
   contacts_ = std::make_unique<ContactPublisher>(nh_, params_.fixed_frame);
   // Advertised even when ~publish_markers is false, so live tuning can turn markers on.
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("markers", 10);

@@ -122,7 +122,7 @@ RobotBodySpec readRobotBody(const XmlRpcValue& v, const std::string& name) {
 const char* const kNodeKeys[] = {
     "fixed_frame", "rate", "horizon", "track_timeout", "input_topics", "stale_after",
     "source_timeout", "max_future", "max_tracks", "use_robot_description",
-    "robot_description_param", "robot_margin", "velocity_window", "tf_timeout", "ignore_pairs",
+    "robot_description_param", "require_all_links", "robot_margin", "velocity_window", "tf_timeout", "ignore_pairs",
     "check_pairs", "publish_markers", "marker_lifetime", "marker_rate", "robot_bodies", "labels",
     "robot_thresholds",
     // Read by libraries the node uses: diagnostic_updater's period.
@@ -216,6 +216,7 @@ MonitorParams readParams(const XmlRpcValue& root) {
   }
   readBool(root, "use_robot_description", &p.use_robot_description);
   readString(root, "robot_description_param", &p.robot_description_param);
+  readBool(root, "require_all_links", &p.require_all_links);
   readDouble(root, "robot_margin", &p.robot_margin);
   readDouble(root, "velocity_window", &p.velocity_window);
   readDouble(root, "tf_timeout", &p.tf_timeout);

@@ -46,6 +46,9 @@ struct MonitorParams {
   bool use_robot_description = true;
   std::string robot_description_param = "robot_description";
   std::vector<RobotBodySpec> robot_bodies;
+  /// Refuse to start when a URDF collision element cannot be modelled (otherwise the status
+  /// stays DEGRADED naming it for as long as the node runs).
+  bool require_all_links = false;
   double robot_margin = 0.02;     ///< m
   double velocity_window = 0.1;   ///< s of tf history for robot link velocities
   double tf_timeout = 0.5;        ///< s; older robot transforms are not used
