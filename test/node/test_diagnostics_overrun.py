@@ -9,7 +9,8 @@ beyond the period on any machine of this class. Checks, over every status receiv
   within 1 µs of it are skipped), and then the message says "cycle takes ... longer than
   the 1.0 ms period";
 - while the scene is published, ERROR is reported (at least 3 statuses);
-- contacts keep coming while the node overruns (it degrades its rate, never stops);
+- contacts keep coming while the node overruns (it degrades its rate, never stops): at least
+  5 arrays stamped in the loaded seconds;
 - after the scene stops, the tracks time out, the cycle is short again and the level is no
   longer ERROR (WARN: the source is silent).
 The assertion is the logic (ERROR iff the reported cycle time exceeds the period), not a
@@ -75,9 +76,10 @@ class DiagnosticsOverrunTest(unittest.TestCase):
         thread = threading.Thread(target=publish)
         thread.daemon = True
         start = time.monotonic()
+        loaded_from = rospy.Time.now() + rospy.Duration(1.0)
         thread.start()
         time.sleep(5.0)
-        contacts_during = len(col.contact_msgs(since=rospy.Time.now() - rospy.Duration(3.0)))
+        loaded_to = rospy.Time.now()
         stop.set()
         thread.join()
         loaded = diags.since(start)
@@ -107,7 +109,12 @@ class DiagnosticsOverrunTest(unittest.TestCase):
         loaded_errors = sum(1 for _, st in loaded if st.level == ERROR)
         self.assertGreaterEqual(loaded_errors, 3, "the heavy scene never overran: %s" %
                                 [diag_values(st).get("cycle time (ms)") for _, st in loaded])
-        self.assertGreater(contacts_during, 10, "contacts stopped while overrunning")
+        # Contacts keep coming while the node overruns: every array stamped in the 4 loaded
+        # seconds counts. (How many depends on how fast this Python subscriber keeps up with
+        # arrays of hundreds of events on a loaded machine, so the bar is "not silent".)
+        contacts_during = len([m for m in col.contact_msgs(since=loaded_from)
+                               if m.header.stamp <= loaded_to])
+        self.assertGreaterEqual(contacts_during, 5, "contacts stopped while overrunning")
         self.assertTrue(quiet, "no status after the scene stopped")
         for _, st in quiet:
             self.assertNotEqual(st.level, ERROR, "still ERROR after the scene stopped: %r (%s)"
