@@ -51,6 +51,9 @@ struct Shape {
   bool valid() const;
 };
 
+/// True when a safety margin (m) is finite and within [0, Limits::kMaxMargin].
+bool validMargin(double margin);
+
 /// Which side of the robot/world divide a body is on; pair rules use it.
 enum class BodyGroup : std::uint8_t { kRobot = 0, kObject = 1 };
 

@@ -81,9 +81,18 @@ class ProximityWorld {
 
  private:
   struct BodyRecord;
+  // The world's own record of a broad-phase pair, kept from the pair's begin to its end.
+  struct PairRecord {
+    std::int32_t proxy_a = -1;  // the broad phase's pair (the cache's key)
+    std::int32_t proxy_b = -1;
+    std::int32_t body_a = -1;   // body slots of the two proxies
+    std::int32_t body_b = -1;
+    std::uint8_t verdict = 0;   // pair rules: unknown, allowed, denied
+  };
   BodyRecord& record(BodyHandle body);
   const BodyRecord& record(BodyHandle body) const;
   void freeRemovedSlots();
+  void syncPairCache();
 
   WorldConfig config_;
   std::vector<BodyRecord> bodies_;
@@ -96,6 +105,8 @@ class ProximityWorld {
   bool rules_changed_ = true;
 
   SweepAndPrune broad_phase_;
+  std::vector<std::int32_t> body_of_proxy_;    // body slot per broad-phase proxy id
+  BasicPairTable<PairRecord> pair_cache_;       // the broad phase's pairs, as the world sees them
   NarrowPhase narrow_phase_;
   EventTracker tracker_;
   WorldStats stats_;

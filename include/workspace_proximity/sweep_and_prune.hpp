@@ -37,6 +37,15 @@ struct SweepAndPruneConfig {
   double rebuild_factor = 1.0;
 };
 
+/// Two proxies whose stored bounds overlap, with proxy_a < proxy_b.
+struct BroadPair {
+  std::int32_t proxy_a = -1;
+  std::int32_t proxy_b = -1;
+  /// The structure's own bookkeeping (the last rebuild that found the pair); means nothing
+  /// to callers.
+  std::uint32_t epoch = 0;
+};
+
 /// Counters of the last update(), for benchmarks and diagnostics.
 struct SweepAndPruneStats {
   std::int64_t swaps = 0;       ///< insertion-sort swaps over three axes
@@ -52,8 +61,9 @@ class SweepAndPrune {
   explicit SweepAndPrune(const SweepAndPruneConfig& config = SweepAndPruneConfig());
 
   /// New proxy with the given bounds; it joins the structure (and its pairs are reported)
-  /// at the next update(). `user_data` is returned with its pairs. Bounds must be valid().
-  ProxyId createProxy(const Aabb& bounds, std::uint32_t user_data);
+  /// at the next update(). Ids are small non-negative integers, reused after destroyProxy();
+  /// callers map them to their own objects. Bounds must be valid(); throws otherwise.
+  ProxyId createProxy(const Aabb& bounds);
   /// Remove a proxy; its pairs are reported as ended at the next update(). The id may be
   /// reused by a later createProxy().
   void destroyProxy(ProxyId proxy);
@@ -64,35 +74,26 @@ class SweepAndPrune {
   void update();
 
   /// Every pair overlapping after the last update(), in no particular order.
-  const std::vector<ProxyPair>& pairs() const { return pairs_.pairs(); }
-  /// Pairs that started overlapping in the last update().
-  const std::vector<ProxyPair>& beganPairs() const { return began_; }
-  /// Pairs that stopped overlapping (or lost a proxy) in the last update().
-  const std::vector<ProxyPair>& endedPairs() const { return ended_; }
+  const std::vector<BroadPair>& pairs() const { return pairs_.pairs(); }
+  /// Pairs that started overlapping in the last update(). With endedPairs() this is all a
+  /// caller needs to keep its own per-pair state: pairs() after an update equals pairs()
+  /// before it, minus endedPairs(), plus beganPairs() (the two never share a pair).
+  const std::vector<BroadPair>& beganPairs() const { return began_; }
+  /// Pairs that stopped overlapping (or lost a proxy) in the last update(). They may name
+  /// proxies destroyed in that update, whose ids a later createProxy() reuses.
+  const std::vector<BroadPair>& endedPairs() const { return ended_; }
+  /// True when (a, b), in either order, is one of pairs().
+  bool hasPair(ProxyId a, ProxyId b) const { return pairs_.find(a, b) != nullptr; }
 
-  /// Live pair record for (a, b), or nullptr. Its `user` field belongs to the caller.
-  ProxyPair* findPair(ProxyId a, ProxyId b) { return pairs_.find(a, b); }
-  /// The current pairs, for writing their `user` fields (nothing else may be changed).
-  std::vector<ProxyPair>& mutablePairs() { return pairs_.mutablePairs(); }
-
-  std::uint32_t userData(ProxyId proxy) const { return info_[proxy].user; }
   /// The bounds the structure tests with (the given ones, moved outward by at most one ulp).
   Aabb storedBounds(ProxyId proxy) const;
   int proxyCount() const { return live_count_; }
   const SweepAndPruneStats& stats() const { return stats_; }
 
-  /// Compact 32-bit keys: order-preserving map of a float to uint32, rounded outward and
-  /// tagged like the structure's own 64-bit keys (which are exact doubles). Kept for callers
-  /// that need small sortable keys.
-  static std::uint32_t lowerKey(double value);
-  static std::uint32_t upperKey(double value);
-  static double keyValue(std::uint32_t key);
-
  private:
   enum class ProxyState : std::uint8_t { kFree, kPendingInsert, kLive };
 
   struct ProxyInfo {
-    std::uint32_t user;
     std::int32_t next_free;
     ProxyState state;
     bool pending_remove;
@@ -208,9 +209,9 @@ class SweepAndPrune {
   std::vector<ProxyId> pending_insert_;
   std::vector<ProxyId> pending_remove_;
 
-  PairTable pairs_;
-  std::vector<ProxyPair> began_;
-  std::vector<ProxyPair> ended_;
+  BasicPairTable<BroadPair> pairs_;
+  std::vector<BroadPair> began_;
+  std::vector<BroadPair> ended_;
 
   // Rebuild heuristics.
   bool last_rebuilt_ = false;

@@ -83,6 +83,10 @@ bool Shape::valid() const {
   return false;
 }
 
+bool validMargin(double margin) {
+  return std::isfinite(margin) && margin >= 0.0 && margin <= Limits::kMaxMargin;
+}
+
 Eigen::Isometry3d BodyMotion::poseAt(double t) const {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = position + linear_velocity * t;

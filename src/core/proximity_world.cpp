@@ -11,10 +11,10 @@
 namespace workspace_proximity {
 namespace {
 
-// Verdicts cached in the broad phase's per-pair user field.
-constexpr std::uint32_t kVerdictUnknown = 0;
-constexpr std::uint32_t kVerdictAllowed = 1;
-constexpr std::uint32_t kVerdictDenied = 2;
+// Pair-rule verdicts cached per pair.
+constexpr std::uint8_t kVerdictUnknown = 0;
+constexpr std::uint8_t kVerdictAllowed = 1;
+constexpr std::uint8_t kVerdictDenied = 2;
 
 std::int64_t nanosSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() -
@@ -51,9 +51,11 @@ struct ProximityWorld::BodyRecord {
 ProximityWorld::ProximityWorld(const WorldConfig& config)
     : config_(config),
       broad_phase_(broadPhaseConfig(config)),
+      pair_cache_(config.initial_pair_capacity),
       narrow_phase_(config.narrow_phase),
       tracker_(config.initial_event_capacity) {
   bodies_.reserve(static_cast<std::size_t>(std::max(config.initial_body_capacity, 1)));
+  body_of_proxy_.reserve(bodies_.capacity());
   removed_.reserve(bodies_.capacity());
   to_free_.reserve(bodies_.capacity());
 }
@@ -97,8 +99,9 @@ BodyHandle ProximityWorld::addBody(const BodyDesc& desc, const BodyMotion& motio
   const Aabb swept = workspace_proximity::sweptBounds(desc.shape, motion, desc.margin, horizon);
   const std::int32_t index =
       free_list_ >= 0 ? free_list_ : static_cast<std::int32_t>(bodies_.size());
-  const SweepAndPrune::ProxyId proxy =
-      broad_phase_.createProxy(swept, static_cast<std::uint32_t>(index));
+  const SweepAndPrune::ProxyId proxy = broad_phase_.createProxy(swept);
+  if (static_cast<std::size_t>(proxy) >= body_of_proxy_.size()) body_of_proxy_.resize(proxy + 1, -1);
+  body_of_proxy_[static_cast<std::size_t>(proxy)] = index;
 
   if (free_list_ >= 0) {
     free_list_ = bodies_[index].next_free;
@@ -170,6 +173,23 @@ void ProximityWorld::setRules(const PairRules& rules) {
   rules_changed_ = true;
 }
 
+void ProximityWorld::syncPairCache() {
+  // The broad phase's pairs now = before - ended + began (disjoint): the cache follows, and
+  // a new pair's bodies and verdict are looked up once, when it begins.
+  for (const BroadPair& p : broad_phase_.endedPairs()) pair_cache_.erase(p.proxy_a, p.proxy_b);
+  for (const BroadPair& p : broad_phase_.beganPairs()) {
+    PairRecord* pair = pair_cache_.insert(p.proxy_a, p.proxy_b, nullptr);
+    pair->body_a = body_of_proxy_[static_cast<std::size_t>(pair->proxy_a)];
+    pair->body_b = body_of_proxy_[static_cast<std::size_t>(pair->proxy_b)];
+    pair->verdict = kVerdictUnknown;
+  }
+  // A quarter of headroom, as in the broad phase: the cache grows while the pair count climbs
+  // to its usual level, not when it first touches a new maximum by chance.
+  if (4 * static_cast<std::size_t>(pair_cache_.size()) > 3 * pair_cache_.capacity()) {
+    pair_cache_.reserve(2 * pair_cache_.capacity());
+  }
+}
+
 void ProximityWorld::freeRemovedSlots() {
   // Bodies removed before the previous predict() had their END events then; their slots
   // can be reused now. Bodies removed since stay nameable through this predict().
@@ -208,29 +228,30 @@ const std::vector<PairEvent>& ProximityWorld::predict(double horizon) {
   // 2. Incremental sweep-and-prune.
   t0 = std::chrono::steady_clock::now();
   broad_phase_.update();
+  syncPairCache();
   stats_.ns_broad = nanosSince(t0);
   stats_.broad_phase = broad_phase_.stats();
   stats_.bodies = live_count_;
 
   // 3-4. Rules, per-axis time of impact, narrow phase.
   tracker_.beginCycle();
-  std::vector<ProxyPair>& pairs = broad_phase_.mutablePairs();
+  std::vector<PairRecord>& pairs = pair_cache_.mutablePairs();
   stats_.broad_pairs = static_cast<int>(pairs.size());
   std::int64_t ns_axis = 0;
   std::int64_t ns_narrow = 0;
   const bool timed = config_.time_pair_stages;
   const auto pairs_start = std::chrono::steady_clock::now();
   std::chrono::steady_clock::time_point ta, tn;
-  for (ProxyPair& pair : pairs) {
-    const std::int32_t ia = static_cast<std::int32_t>(broad_phase_.userData(pair.proxy_a));
-    const std::int32_t ib = static_cast<std::int32_t>(broad_phase_.userData(pair.proxy_b));
+  for (PairRecord& pair : pairs) {
+    const std::int32_t ia = pair.body_a;
+    const std::int32_t ib = pair.body_b;
     BodyRecord& a = bodies_[ia];
     BodyRecord& b = bodies_[ib];
-    if (pair.user == kVerdictUnknown || rules_changed_) {
+    if (pair.verdict == kVerdictUnknown || rules_changed_) {
       // Rules are evaluated once per broad-phase pair, not every cycle.
-      pair.user = config_.rules.allowed(a.desc, b.desc) ? kVerdictAllowed : kVerdictDenied;
+      pair.verdict = config_.rules.allowed(a.desc, b.desc) ? kVerdictAllowed : kVerdictDenied;
     }
-    if (pair.user != kVerdictAllowed) continue;
+    if (pair.verdict != kVerdictAllowed) continue;
     ++stats_.allowed_pairs;
 
     if (timed) ta = std::chrono::steady_clock::now();

@@ -16,22 +16,8 @@ constexpr std::uint64_t kSign64 = 0x8000000000000000ull;
 // A plain sweep with fewer overlap tests per proxy than this is cheaper than a slab sweep.
 constexpr std::int64_t kSlabTestsPerProxy = 16;
 
-// Order-preserving map float -> uint32: flip all bits of negatives, set the sign of positives.
-std::uint32_t sortable(float f) {
-  if (f == 0.0f) f = 0.0f;  // -0 and +0 must map to the same key
-  std::uint32_t bits;
-  std::memcpy(&bits, &f, sizeof bits);
-  return (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
-}
-
-float unsortable(std::uint32_t key) {
-  const std::uint32_t bits = (key & 0x80000000u) ? (key & 0x7FFFFFFFu) : ~key;
-  float f;
-  std::memcpy(&f, &bits, sizeof f);
-  return f;
-}
-
-// The same map for doubles, without branches on the sign.
+// Order-preserving map double -> uint64: flip all bits of negatives, set the sign of
+// positives; without branches on the sign.
 inline std::uint64_t sortable64(double d) {
   std::uint64_t bits;
   std::memcpy(&bits, &d, sizeof bits);
@@ -84,23 +70,6 @@ void radixSortHigh32(std::vector<std::uint64_t>* items, std::vector<std::uint64_
 }
 
 }  // namespace
-
-std::uint32_t SweepAndPrune::lowerKey(double value) {
-  const float f = static_cast<float>(value);
-  // Rounded up? Then one float down: the next float below f is sortable(f) - 1.
-  const std::uint32_t k = sortable(f) - (static_cast<double>(f) > value ? 1u : 0u);
-  // Clearing the low bit moves the key down (outward) and tags it as a lower endpoint.
-  return k & ~1u;
-}
-
-std::uint32_t SweepAndPrune::upperKey(double value) {
-  const float f = static_cast<float>(value);
-  const std::uint32_t k = sortable(f) + (static_cast<double>(f) < value ? 1u : 0u);
-  return k | 1u;
-}
-
-double SweepAndPrune::keyValue(std::uint32_t key) { return static_cast<double>(unsortable(key)); }
-
 
 void SweepAndPrune::reserveSlots(std::size_t slots) {
   // Everything sized by the number of proxy slots grows here, together, so that updates never
@@ -177,19 +146,7 @@ inline void SweepAndPrune::checkLive(ProxyId id, const char* what) const {
   }
 }
 
-namespace {
-// Aabb::valid() without Eigen's reductions: finite, lower <= upper on every axis.
-inline bool validBounds(const Aabb& b) {
-  bool ok = true;
-  for (int axis = 0; axis < 3; ++axis) {
-    const double lo = b.lower[axis], hi = b.upper[axis];
-    ok = ok && std::isfinite(lo) && std::isfinite(hi) && lo <= hi;
-  }
-  return ok;
-}
-}  // namespace
-
-SweepAndPrune::ProxyId SweepAndPrune::createProxy(const Aabb& bounds, std::uint32_t user_data) {
+SweepAndPrune::ProxyId SweepAndPrune::createProxy(const Aabb& bounds) {
   if (!bounds.valid()) throw std::invalid_argument("SweepAndPrune::createProxy: invalid bounds");
   ProxyId id;
   if (free_list_ >= 0) {
@@ -204,7 +161,6 @@ SweepAndPrune::ProxyId SweepAndPrune::createProxy(const Aabb& bounds, std::uint3
   }
   writeBounds(id, bounds);
   ProxyInfo& p = info_[id];
-  p.user = user_data;
   p.next_free = -1;
   p.state = ProxyState::kPendingInsert;
   p.pending_remove = false;
@@ -232,7 +188,7 @@ void SweepAndPrune::destroyProxy(ProxyId id) {
 }
 
 void SweepAndPrune::moveProxy(ProxyId id, const Aabb& bounds) {
-  if (!validBounds(bounds)) throw std::invalid_argument("SweepAndPrune::moveProxy: invalid bounds");
+  if (!bounds.valid()) throw std::invalid_argument("SweepAndPrune::moveProxy: invalid bounds");
   checkLive(id, "moveProxy");
   // Only the proxy's keys change here; update() reads them while it re-sorts.
   writeBounds(id, bounds);
@@ -252,16 +208,15 @@ Aabb SweepAndPrune::storedBounds(ProxyId id) const {
 
 void SweepAndPrune::beginPair(std::int32_t a, std::int32_t b) {
   bool inserted = false;
-  ProxyPair* pair = pairs_.insert(a, b, &inserted);
+  BroadPair* pair = pairs_.insert(a, b, &inserted);
   if (inserted) {
-    pair->user = 0;
-    pair->stamp = epoch_;
+    pair->epoch = epoch_;
     began_.push_back(*pair);
   }
 }
 
 void SweepAndPrune::endPair(std::int32_t a, std::int32_t b) {
-  ProxyPair removed;
+  BroadPair removed;
   if (pairs_.erase(a, b, &removed)) ended_.push_back(removed);
 }
 
@@ -315,7 +270,7 @@ void SweepAndPrune::applyRemovals() {
   stats_.removed = static_cast<int>(pending_remove_.size());
 
   // Their pairs end. Walk backwards so eraseAt's swap-with-last never skips a pair.
-  std::vector<ProxyPair>& dense = pairs_.mutablePairs();
+  std::vector<BroadPair>& dense = pairs_.mutablePairs();
   for (int i = static_cast<int>(dense.size()) - 1; i >= 0; --i) {
     if (info_[dense[i].proxy_a].pending_remove || info_[dense[i].proxy_b].pending_remove) {
       ended_.push_back(dense[i]);
@@ -468,7 +423,7 @@ void SweepAndPrune::rollBack(std::size_t began_mark, std::size_t ended_mark) {
     pairs_.erase(began_[i].proxy_a, began_[i].proxy_b);
   }
   for (std::size_t i = ended_mark; i < ended_.size(); ++i) {
-    ProxyPair* pair = pairs_.insert(ended_[i].proxy_a, ended_[i].proxy_b, nullptr);
+    BroadPair* pair = pairs_.insert(ended_[i].proxy_a, ended_[i].proxy_b, nullptr);
     *pair = ended_[i];
   }
   began_.resize(began_mark);
@@ -600,9 +555,9 @@ void SweepAndPrune::rebuild(std::int64_t descents) {
     swept = sweepSlabs(axis, mean_width, true);
   }
   if (!swept) sweepForPairs(axis, false);
-  std::vector<ProxyPair>& dense = pairs_.mutablePairs();
+  std::vector<BroadPair>& dense = pairs_.mutablePairs();
   for (int i = static_cast<int>(dense.size()) - 1; i >= 0; --i) {
-    if (dense[i].stamp != epoch_) {
+    if (dense[i].epoch != epoch_) {
       ended_.push_back(dense[i]);
       pairs_.eraseAt(i);
     }
@@ -840,12 +795,9 @@ void SweepAndPrune::foundPair(std::int32_t a, std::int32_t b, bool rebuild) {
     return;
   }
   bool inserted = false;
-  ProxyPair* pair = pairs_.insert(a, b, &inserted);
-  pair->stamp = epoch_;
-  if (inserted) {
-    pair->user = 0;
-    began_.push_back(*pair);
-  }
+  BroadPair* pair = pairs_.insert(a, b, &inserted);
+  pair->epoch = epoch_;
+  if (inserted) began_.push_back(*pair);
 }
 
 void SweepAndPrune::sweepForPairs(int axis, bool only_new) {

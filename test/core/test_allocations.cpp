@@ -75,7 +75,7 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
     const Eigen::Vector3d h(half(rng), half(rng), half(rng));
     s.boxes.push_back({c - h, c + h});
     s.velocity.emplace_back(vel(rng), vel(rng), vel(rng));
-    s.ids.push_back(sap.createProxy(s.boxes.back(), static_cast<std::uint32_t>(i)));
+    s.ids.push_back(sap.createProxy(s.boxes.back()));
   }
   auto cycle = [&](double step, bool churn) {
     advance(&s, step);
@@ -85,7 +85,7 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
       for (int k = 0; k < 5; ++k) {
         const std::size_t i = rng() % s.boxes.size();
         sap.destroyProxy(s.ids[i]);
-        s.ids[i] = sap.createProxy(s.boxes[i], static_cast<std::uint32_t>(i));
+        s.ids[i] = sap.createProxy(s.boxes[i]);
       }
     }
     sap.update();

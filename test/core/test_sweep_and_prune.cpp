@@ -24,7 +24,7 @@
 #include "workspace_proximity/sweep_and_prune.hpp"
 
 using workspace_proximity::Aabb;
-using workspace_proximity::ProxyPair;
+using workspace_proximity::BroadPair;
 using workspace_proximity::SweepAndPrune;
 using workspace_proximity::SweepAndPruneConfig;
 
@@ -65,15 +65,15 @@ bool bruteOverlap(const Aabb& a, const Aabb& b) {
 }
 
 // Drives a SweepAndPrune and checks it after every update() against the brute-force oracle.
-// Each proxy gets user_data = the test's object id; the test keeps its own proxy -> object
-// maps (current and as of the previous update, since proxy ids can be reused).
+// The test keeps its own proxy -> object maps (current and as of the previous update, since
+// proxy ids can be reused).
 class Harness {
  public:
   Harness(const SweepAndPruneConfig& config, bool exact) : sap_(config), exact_(exact) {}
 
   int create(const Aabb& box) {
     int obj = static_cast<int>(objs_.size());
-    int proxy = sap_.createProxy(box, static_cast<std::uint32_t>(obj));
+    int proxy = sap_.createProxy(box);
     EXPECT_GE(proxy, 0);
     if (proxy >= static_cast<int>(proxy_to_obj_.size())) proxy_to_obj_.resize(proxy + 1, -1);
     EXPECT_EQ(proxy_to_obj_[proxy], -1) << "proxy id " << proxy << " handed out while in use";
@@ -110,7 +110,6 @@ class Harness {
     // Stored bounds enclose the given ones (outward rounding), and not by much.
     for (int obj : live_) {
       const Obj& o = objs_[obj];
-      ASSERT_EQ(sap_.userData(o.proxy), static_cast<std::uint32_t>(obj));
       Aabb s = sap_.storedBounds(o.proxy);
       for (int k = 0; k < 3; ++k) {
         ASSERT_LE(s.lower[k], o.box.lower[k]) << "object " << obj << " axis " << k;
@@ -133,9 +132,9 @@ class Harness {
     // Reported pairs, mapped to object ids: ordered, live, no duplicates.
     std::vector<PairCode> reported = mapPairs(sap_.pairs(), proxy_to_obj_, "pairs()");
     if (::testing::Test::HasFatalFailure()) return;
-    for (const ProxyPair& p : sap_.pairs()) {
-      ASSERT_EQ(sap_.findPair(p.proxy_a, p.proxy_b), sap_.findPair(p.proxy_b, p.proxy_a));
-      ASSERT_NE(sap_.findPair(p.proxy_a, p.proxy_b), nullptr);
+    for (const BroadPair& p : sap_.pairs()) {
+      ASSERT_TRUE(sap_.hasPair(p.proxy_a, p.proxy_b));
+      ASSERT_TRUE(sap_.hasPair(p.proxy_b, p.proxy_a));
     }
 
     if (exact_) {
@@ -144,13 +143,13 @@ class Harness {
       ASSERT_TRUE(missing.empty()) << describe(missing, "missing");
       ASSERT_TRUE(extra.empty()) << describe(extra, "extra");
       if (updates_ % 4 == 0) {
-        // findPair must also reject every non-overlapping live pair.
+        // hasPair must also reject every non-overlapping live pair.
         for (std::size_t i = 0; i < live_.size(); ++i) {
           for (std::size_t j = i + 1; j < live_.size(); ++j) {
             const Obj& a = objs_[live_[i]];
             const Obj& b = objs_[live_[j]];
             if (!bruteOverlap(a.box, b.box)) {
-              ASSERT_EQ(sap_.findPair(a.proxy, b.proxy), nullptr);
+              ASSERT_FALSE(sap_.hasPair(a.proxy, b.proxy));
             }
           }
         }
@@ -206,11 +205,11 @@ class Harness {
   };
 
   // Maps proxy pairs to sorted object pairs; checks proxy_a < proxy_b, known ids, no duplicates.
-  std::vector<PairCode> mapPairs(const std::vector<ProxyPair>& pairs, const std::vector<int>& map,
+  std::vector<PairCode> mapPairs(const std::vector<BroadPair>& pairs, const std::vector<int>& map,
                                  const char* what) {
     std::vector<PairCode> out;
     out.reserve(pairs.size());
-    for (const ProxyPair& p : pairs) {
+    for (const BroadPair& p : pairs) {
       EXPECT_LT(p.proxy_a, p.proxy_b) << what;
       bool known = p.proxy_a >= 0 && p.proxy_b >= 0 &&
                    p.proxy_a < static_cast<int>(map.size()) &&
@@ -502,56 +501,6 @@ std::vector<Aabb> spreadBoxes(Rng& rng, int n) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-// Keys: monotone, outward-rounded, lower tag below upper tag.
-
-TEST(SweepAndPruneKeys, MonotoneAndOutwardRounded) {
-  Rng rng(17);
-  std::uniform_real_distribution<double> uni(-1e4, 1e4), expo(-38.0, 38.0), unit(0.0, 1.0);
-  std::uniform_int_distribution<int> kind(0, 5);
-  auto sample = [&]() {
-    switch (kind(rng)) {
-      case 0: return uni(rng);
-      case 1: return (unit(rng) < 0.5 ? -1.0 : 1.0) * std::pow(10.0, expo(rng));
-      case 2: return static_cast<double>(static_cast<float>(uni(rng)));  // exact float
-      case 3: return std::round(uni(rng)) / 64.0;
-      case 4: return (unit(rng) < 0.5 ? -1.0 : 1.0) * 1e-40 * unit(rng);  // float subnormal
-      default: return unit(rng) < 0.5 ? 0.0 : -0.0;
-    }
-  };
-  auto check = [&](double x, double y) {  // requires x <= y
-    SCOPED_TRACE(testing::Message() << std::hexfloat << "x=" << x << " y=" << y);
-    std::uint32_t lx = SweepAndPrune::lowerKey(x), ly = SweepAndPrune::lowerKey(y);
-    std::uint32_t ux = SweepAndPrune::upperKey(x), uy = SweepAndPrune::upperKey(y);
-    ASSERT_LE(lx, ly);
-    ASSERT_LE(ux, uy);
-    ASSERT_LT(lx, ux);
-    ASSERT_LT(lx, uy);  // x <= y: touching or overlapping endpoints always overlap
-    ASSERT_LE(SweepAndPrune::keyValue(lx), x);
-    ASSERT_GE(SweepAndPrune::keyValue(ux), x);
-    // Not looser than a few float ulps.
-    ASSERT_LE(SweepAndPrune::keyValue(ux) - SweepAndPrune::keyValue(lx),
-              1e-6 * std::abs(x) + 1e-37);
-  };
-  for (int i = 0; i < 100000; ++i) {
-    double x = sample(), y = sample();
-    if (y < x) std::swap(x, y);
-    check(x, y);
-    check(x, x);
-    check(x, std::nextafter(x, 1e300));                         // adjacent doubles
-    double f = static_cast<double>(static_cast<float>(x));      // neighbours of a float
-    check(std::nextafter(f, -1e300), f);
-    check(f, std::nextafter(f, 1e300));
-    if (::testing::Test::HasFatalFailure()) return;
-  }
-}
-
-TEST(SweepAndPruneKeys, SignedZeroesAreEqual) {
-  // -0.0 == +0.0 in double, so an upper bound at -0 touches a lower bound at +0 and vice versa.
-  EXPECT_LT(SweepAndPrune::lowerKey(0.0), SweepAndPrune::upperKey(-0.0));
-  EXPECT_LT(SweepAndPrune::lowerKey(-0.0), SweepAndPrune::upperKey(0.0));
-}
-
-// ---------------------------------------------------------------------------------------------
 // Deterministic configurations with known answers.
 
 TEST(SweepAndPrune, EmptyStructureUpdates) {
@@ -590,7 +539,7 @@ TEST(SweepAndPrune, TouchingPairsAtEveryContactKind) {
   h.create(makeBox(3, 3, 3, 4, 4, 4));              // apart from everything
   h.updateAndCheck();
   int with_base = 0;
-  for (const ProxyPair& p : h.sap().pairs()) with_base += (p.proxy_a == 0 || p.proxy_b == 0);
+  for (const BroadPair& p : h.sap().pairs()) with_base += (p.proxy_a == 0 || p.proxy_b == 0);
   EXPECT_EQ(with_base, 7);
 }
 
