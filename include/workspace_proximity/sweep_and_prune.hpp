@@ -100,6 +100,11 @@ class SweepAndPrune {
     bool is_new;  // inserted in the current update
   };
 
+  // A proxy's keys on the two axes a sweep does not run along (b, c).
+  struct EndKeys {
+    std::uint64_t lb, ub, lc, uc;
+  };
+
   // Open intervals of one sweep: structure of arrays over the two axes the sweep does not run
   // along, so the inner loop streams through contiguous keys.
   struct ActiveSet {
@@ -110,14 +115,13 @@ class SweepAndPrune {
     void reserve(std::size_t n);
     void clear() { size = 0; }
     /// Appends a proxy with its keys on the two tested axes; returns its position.
-    std::size_t push(std::int32_t p, std::uint64_t lb, std::uint64_t ub, std::uint64_t lc,
-                     std::uint64_t uc, std::uint32_t first_slab) {
+    std::size_t push(std::int32_t p, const EndKeys& k, std::uint32_t first_slab) {
       const std::size_t pos = size++;
       id[pos] = p;
-      lower_b[pos] = lb;
-      upper_b[pos] = ub;
-      lower_c[pos] = lc;
-      upper_c[pos] = uc;
+      lower_b[pos] = k.lb;
+      upper_b[pos] = k.ub;
+      lower_c[pos] = k.lc;
+      upper_c[pos] = k.uc;
       first[pos] = first_slab;
       return pos;
     }
@@ -167,29 +171,74 @@ class SweepAndPrune {
     }
     return true;
   }
+  // What a sweep reports: kRebuild stamps every pair it finds (new ones also begin); kAllNew
+  // begins every pair (all proxies new); kNewOnly begins the pairs with a new proxy.
+  enum class SweepMode : std::uint8_t { kRebuild, kAllNew, kNewOnly };
+
+  // Slabs of a second axis for a slab sweep; count 0: not worth it.
+  struct SlabGrid {
+    int axis = -1;
+    double lo = 0.0, scale = 0.0;  // slab of x: (x - lo) * scale
+    std::size_t count = 0;
+    std::uint32_t slabOf(std::uint64_t key) const;
+  };
+
+  // Endpoint positions [from, to) of one axis that a new proxy must look at.
+  struct Window {
+    std::size_t from = 0, to = 0;
+  };
+
   void reserveSlots(std::size_t slots);
   void checkLive(ProxyId proxy, const char* what) const;
   void writeBounds(ProxyId proxy, const Aabb& bounds);
+  void beginPair(std::int32_t a, std::int32_t b);
+  void endPair(std::int32_t a, std::int32_t b);
+
+  // update() in steps: removals, re-sorting (incremental or rebuild), insertions.
   void applyRemovals();
+  void dropRemovedEndpoints(int axis);
+  void resort();
+  void keepHeadroom();
   std::int64_t swapBudget() const;
   std::int64_t refreshKeys();  // reads every endpoint's key; returns the descents
-  // Insertion sort of every axis (reading the proxies' keys first when `refresh`), reporting
-  // pair events; false when the swap budget ran out.
+
+  // Incremental path: insertion sort of every axis (reading the proxies' keys first when
+  // `refresh`), reporting pair events; false when the swap budget ran out.
   bool sortAxes(bool refresh, std::int64_t budget);
+  std::size_t findBreaks(int axis, bool refresh);  // positions where the order breaks
+  bool sortRuns(int axis, std::size_t breaks, std::int64_t budget, std::int64_t* swaps);
+  std::size_t sinkEndpoint(int axis, std::size_t i);  // returns its new position
   void rollBack(std::size_t began_mark, std::size_t ended_mark);
+
+  // Rebuild path.
   void rebuild(std::int64_t descents);  // descents < 0: keys not read yet
-  void sortAxis(int axis);
+  void radixSortAxis(int axis);
+  void insertionSortAxis(int axis);
   std::int64_t sweepTests(int axis) const;
   int cheapestSweepAxis(std::int64_t* tests) const;
-  void insertPending();
-  bool insertByWindows();
+  void measureWidths(double* mean_width);
+
+  // Sweeps for pairs, around one kernel (testOpen).
+  void findPairs(int axis, std::int64_t tests, SweepMode mode);
   void sweepForPairs(int axis, bool only_new);
   // false: not worth it here, nothing done. `rebuild`: stamp pairs (else report them as begun).
   bool sweepSlabs(int axis, const double* mean_width, bool rebuild);
-  void measureWidths(double* mean_width);
+  SlabGrid slabGrid(int axis, const double* mean_width) const;
+  bool binIntoSlabs(int axis, const SlabGrid& grid);
+  std::int64_t sweepEachSlab(int axis, const SlabGrid& grid, bool rebuild);
+  template <bool kSlabs>
+  std::size_t testOpen(const ActiveSet& set, std::int32_t p, const EndKeys& k, bool p_first,
+                       bool rebuild);
+  void open(ActiveSet& set, std::int32_t p, const EndKeys& k, std::uint32_t first_slab);
+  void close(ActiveSet& set, std::int32_t p);
   void foundPair(std::int32_t a, std::int32_t b, bool rebuild);
-  void beginPair(std::int32_t a, std::int32_t b);
-  void endPair(std::int32_t a, std::int32_t b);
+
+  // Insertions.
+  void insertPending();
+  void mergeNewEndpoints(int axis);
+  bool insertByWindows();
+  int cheapestWindowAxis(std::int64_t limit) const;
+  Window window(int axis, ProxyId p) const;
 
   SweepAndPruneConfig config_;
   std::vector<std::uint64_t> ends_[3];  // 2 keys per proxy slot and axis
