@@ -85,6 +85,20 @@ struct BodyHandle {
   bool operator!=(const BodyHandle& o) const { return !(*this == o); }
 };
 
+/// A body as the per-pair stages (contact window, narrow phase) see it. Pointers are
+/// borrowed for the call.
+struct PairBody {
+  const Shape* shape = nullptr;
+  const BodyMotion* motion = nullptr;
+  double margin = 0.0;  ///< safety margin around the shape, m
+  /// Contact window: half extents (m) of an axis-aligned box around the centre that holds the
+  /// shape and margin in every orientation over the horizon (rotationHalfExtents()).
+  Eigen::Vector3d half = Eigen::Vector3d::Zero();
+  /// Narrow phase: the slot of the shape's FCL geometry in its cache (NarrowPhase::setShape),
+  /// or -1 to build the geometry for this query alone (allocates: for tests and one-off use).
+  std::int32_t geometry = -1;
+};
+
 /// Everything that describes a body except its motion.
 struct BodyDesc {
   std::string id;            ///< caller's identifier, unique among live bodies

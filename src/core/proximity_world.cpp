@@ -6,7 +6,6 @@
 #include <utility>
 
 #include "workspace_proximity/swept_bounds.hpp"
-#include "workspace_proximity/time_of_impact.hpp"
 
 namespace workspace_proximity {
 namespace {
@@ -16,17 +15,52 @@ constexpr std::uint8_t kVerdictUnknown = 0;
 constexpr std::uint8_t kVerdictAllowed = 1;
 constexpr std::uint8_t kVerdictDenied = 2;
 
-std::int64_t nanosSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() -
-                                                              start)
-      .count();
-}
+// Adds the nanoseconds from its construction to its destruction to *total; reads no clock
+// when disabled.
+class StageTimer {
+ public:
+  explicit StageTimer(std::int64_t* total, bool enabled = true)
+      : total_(enabled ? total : nullptr) {
+    if (total_ != nullptr) start_ = std::chrono::steady_clock::now();
+  }
+  ~StageTimer() {
+    if (total_ == nullptr) return;
+    *total_ += std::chrono::duration_cast<std::chrono::nanoseconds>(
+                   std::chrono::steady_clock::now() - start_)
+                   .count();
+  }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+
+ private:
+  std::int64_t* total_;
+  std::chrono::steady_clock::time_point start_;
+};
 
 SweepAndPruneConfig broadPhaseConfig(const WorldConfig& config) {
   SweepAndPruneConfig c = config.broad_phase;
   c.initial_proxy_capacity = config.initial_body_capacity;
   c.initial_pair_capacity = config.initial_pair_capacity;
   return c;
+}
+
+// The one check of a body's shape and margin, and of its motion, for every entry point.
+void checkShape(const char* where, const std::string& id, const Shape& shape, double margin) {
+  if (!shape.valid()) {
+    throw std::invalid_argument(std::string(where) + ": body '" + id +
+                                "' has a non-finite or non-positive dimension");
+  }
+  if (!validMargin(margin)) {
+    throw std::invalid_argument(std::string(where) + ": body '" + id +
+                                "' has a negative, non-finite or huge margin");
+  }
+}
+
+void checkMotion(const char* where, const std::string& id, const BodyMotion& motion) {
+  if (!motion.valid()) {
+    throw std::invalid_argument(std::string(where) + ": body '" + id +
+                                "' has a non-finite or out-of-range motion or a non-unit quaternion");
+  }
 }
 
 }  // namespace
@@ -36,8 +70,6 @@ struct ProximityWorld::BodyRecord {
 
   BodyDesc desc;
   BodyMotion motion;
-  std::shared_ptr<fcl::CollisionGeometryd> geometry;
-  double bounding_radius = 0.0;
   Eigen::Vector3d half = Eigen::Vector3d::Zero();  // rotation-inflated half extents + margin
   Aabb swept;
   SweepAndPrune::ProxyId proxy = -1;
@@ -72,6 +104,14 @@ const ProximityWorld::BodyRecord& ProximityWorld::record(BodyHandle body) const 
   return bodies_[body.index];
 }
 
+ProximityWorld::BodyRecord& ProximityWorld::liveRecord(BodyHandle body, const char* what) {
+  BodyRecord& b = record(body);
+  if (b.state != BodyRecord::State::kLive) {
+    throw std::invalid_argument(std::string(what) + ": body '" + b.desc.id + "' was removed");
+  }
+  return b;
+}
+
 bool ProximityWorld::contains(BodyHandle body) const {
   return body.index >= 0 && body.index < static_cast<std::int32_t>(bodies_.size()) &&
          bodies_[body.index].generation == body.generation &&
@@ -79,26 +119,17 @@ bool ProximityWorld::contains(BodyHandle body) const {
 }
 
 BodyHandle ProximityWorld::addBody(const BodyDesc& desc, const BodyMotion& motion) {
+  constexpr const char* kWhere = "ProximityWorld::addBody";
   if (desc.id.empty()) throw std::invalid_argument("ProximityWorld::addBody: empty id");
-  if (!desc.shape.valid()) {
-    throw std::invalid_argument("ProximityWorld::addBody: body '" + desc.id +
-                                "' has a non-finite or non-positive dimension");
-  }
-  if (!std::isfinite(desc.margin) || desc.margin < 0.0 || desc.margin > Limits::kMaxMargin) {
-    throw std::invalid_argument("ProximityWorld::addBody: body '" + desc.id +
-                                "' has a negative, non-finite or huge margin");
-  }
-  if (!motion.valid()) {
-    throw std::invalid_argument("ProximityWorld::addBody: body '" + desc.id +
-                                "' has a non-finite or out-of-range motion or a non-unit quaternion");
-  }
+  checkShape(kWhere, desc.id, desc.shape, desc.margin);
+  checkMotion(kWhere, desc.id, motion);
   // Everything that can fail happens before the slot is taken, so a rejected body leaves
-  // no trace.
-  std::shared_ptr<fcl::CollisionGeometryd> geometry = makeGeometry(desc.shape);
-  const double horizon = std::max(last_horizon_, 0.0);
-  const Aabb swept = workspace_proximity::sweptBounds(desc.shape, motion, desc.margin, horizon);
+  // no trace (a geometry built for a free slot is simply replaced when the slot is used).
   const std::int32_t index =
       free_list_ >= 0 ? free_list_ : static_cast<std::int32_t>(bodies_.size());
+  narrow_phase_.setShape(index, desc.shape);
+  const double horizon = std::max(last_horizon_, 0.0);
+  const Aabb swept = workspace_proximity::sweptBounds(desc.shape, motion, desc.margin, horizon);
   const SweepAndPrune::ProxyId proxy = broad_phase_.createProxy(swept);
   if (static_cast<std::size_t>(proxy) >= body_of_proxy_.size()) body_of_proxy_.resize(proxy + 1, -1);
   body_of_proxy_[static_cast<std::size_t>(proxy)] = index;
@@ -111,8 +142,6 @@ BodyHandle ProximityWorld::addBody(const BodyDesc& desc, const BodyMotion& motio
   BodyRecord& b = bodies_[index];
   b.desc = desc;
   b.motion = motion;
-  b.geometry = std::move(geometry);
-  b.bounding_radius = desc.shape.boundingRadius();
   b.serial = next_serial_++;
   b.state = BodyRecord::State::kLive;
   b.dirty = true;
@@ -135,32 +164,18 @@ void ProximityWorld::removeBody(BodyHandle body) {
 }
 
 void ProximityWorld::setMotion(BodyHandle body, const BodyMotion& motion) {
-  BodyRecord& b = record(body);
-  if (b.state != BodyRecord::State::kLive) {
-    throw std::invalid_argument("ProximityWorld::setMotion: body '" + b.desc.id +
-                                "' was removed");
-  }
-  if (!motion.valid()) {
-    throw std::invalid_argument("ProximityWorld::setMotion: body '" + b.desc.id +
-                                "' has a non-finite or out-of-range motion or a non-unit quaternion");
-  }
+  BodyRecord& b = liveRecord(body, "ProximityWorld::setMotion");
+  checkMotion("ProximityWorld::setMotion", b.desc.id, motion);
   b.motion = motion;
   b.dirty = true;
 }
 
 void ProximityWorld::setShape(BodyHandle body, const Shape& shape, double margin) {
-  BodyRecord& b = record(body);
-  if (b.state != BodyRecord::State::kLive) {
-    throw std::invalid_argument("ProximityWorld::setShape: body '" + b.desc.id + "' was removed");
-  }
-  if (!shape.valid() || !std::isfinite(margin) || margin < 0.0 || margin > Limits::kMaxMargin) {
-    throw std::invalid_argument("ProximityWorld::setShape: body '" + b.desc.id +
-                                "' gets an invalid shape or margin");
-  }
+  BodyRecord& b = liveRecord(body, "ProximityWorld::setShape");
+  checkShape("ProximityWorld::setShape", b.desc.id, shape, margin);
+  narrow_phase_.setShape(body.index, shape);
   b.desc.shape = shape;
   b.desc.margin = margin;
-  b.geometry = makeGeometry(shape);
-  b.bounding_radius = shape.boundingRadius();
   b.dirty = true;
 }
 
@@ -171,6 +186,63 @@ Aabb ProximityWorld::sweptBounds(BodyHandle body) const { return record(body).sw
 void ProximityWorld::setRules(const PairRules& rules) {
   config_.rules = rules;
   rules_changed_ = true;
+}
+
+const std::vector<PairEvent>& ProximityWorld::predict(double horizon) {
+  if (!std::isfinite(horizon) || horizon < 0.0 || horizon > Limits::kMaxHorizon) {
+    throw std::invalid_argument("ProximityWorld::predict: horizon must be in [0, 1e4] s");
+  }
+  stats_ = WorldStats();
+  freeRemovedSlots();
+  {
+    StageTimer timer(&stats_.ns_bounds);
+    updateBounds(horizon);
+  }
+  {
+    StageTimer timer(&stats_.ns_broad);
+    broad_phase_.update();
+    syncPairCache();
+  }
+  stats_.broad_phase = broad_phase_.stats();
+  stats_.bodies = live_count_;
+  {
+    StageTimer timer(&stats_.ns_pairs);
+    predictPairs(horizon);
+  }
+  if (!config_.time_pair_stages) stats_.ns_axis = stats_.ns_pairs;
+  {
+    StageTimer timer(&stats_.ns_events);
+    tracker_.endCycle();  // BEGIN / ONGOING / END, earliest first
+  }
+  return tracker_.events();
+}
+
+void ProximityWorld::freeRemovedSlots() {
+  // Bodies removed before the previous predict() had their END events then; their slots
+  // can be reused now. Bodies removed since stay nameable through this predict().
+  for (std::int32_t index : to_free_) {
+    BodyRecord& b = bodies_[index];
+    b.state = BodyRecord::State::kFree;
+    ++b.generation;
+    narrow_phase_.clearShape(index);
+    b.next_free = free_list_;
+    free_list_ = index;
+  }
+  to_free_.clear();
+  std::swap(to_free_, removed_);
+}
+
+void ProximityWorld::updateBounds(double horizon) {
+  // Swept bounds of every body that moved (all of them when the horizon changed).
+  const bool horizon_changed = horizon != last_horizon_;
+  last_horizon_ = horizon;
+  for (BodyRecord& b : bodies_) {
+    if (b.state != BodyRecord::State::kLive || !(b.dirty || horizon_changed)) continue;
+    b.half = rotationHalfExtents(b.desc.shape, b.motion, b.desc.margin, horizon);
+    b.swept = workspace_proximity::sweptBounds(b.desc.shape, b.motion, b.desc.margin, horizon);
+    broad_phase_.moveProxy(b.proxy, b.swept);
+    b.dirty = false;
+  }
 }
 
 void ProximityWorld::syncPairCache() {
@@ -190,113 +262,67 @@ void ProximityWorld::syncPairCache() {
   }
 }
 
-void ProximityWorld::freeRemovedSlots() {
-  // Bodies removed before the previous predict() had their END events then; their slots
-  // can be reused now. Bodies removed since stay nameable through this predict().
-  for (std::int32_t index : to_free_) {
-    BodyRecord& b = bodies_[index];
-    b.state = BodyRecord::State::kFree;
-    ++b.generation;
-    b.geometry.reset();
-    b.next_free = free_list_;
-    free_list_ = index;
-  }
-  to_free_.clear();
-  std::swap(to_free_, removed_);
-}
-
-const std::vector<PairEvent>& ProximityWorld::predict(double horizon) {
-  if (!std::isfinite(horizon) || horizon < 0.0 || horizon > Limits::kMaxHorizon) {
-    throw std::invalid_argument("ProximityWorld::predict: horizon must be in [0, 1e4] s");
-  }
-  stats_ = WorldStats();
-  freeRemovedSlots();
-
-  // 1. Swept bounds of every body that moved (all of them when the horizon changed).
-  auto t0 = std::chrono::steady_clock::now();
-  const bool horizon_changed = horizon != last_horizon_;
-  last_horizon_ = horizon;
-  for (BodyRecord& b : bodies_) {
-    if (b.state != BodyRecord::State::kLive || !(b.dirty || horizon_changed)) continue;
-    b.half = rotationHalfExtents(b.desc.shape, b.motion, b.desc.margin, horizon);
-    b.swept = workspace_proximity::sweptBounds(b.desc.shape, b.motion, b.desc.margin, horizon);
-    broad_phase_.moveProxy(b.proxy, b.swept);
-    b.dirty = false;
-  }
-  stats_.ns_bounds = nanosSince(t0);
-
-  // 2. Incremental sweep-and-prune.
-  t0 = std::chrono::steady_clock::now();
-  broad_phase_.update();
-  syncPairCache();
-  stats_.ns_broad = nanosSince(t0);
-  stats_.broad_phase = broad_phase_.stats();
-  stats_.bodies = live_count_;
-
-  // 3-4. Rules, per-axis time of impact, narrow phase.
+void ProximityWorld::predictPairs(double horizon) {
+  // Per pair: rules, contact window, narrow phase inside the window, report.
   tracker_.beginCycle();
-  std::vector<PairRecord>& pairs = pair_cache_.mutablePairs();
-  stats_.broad_pairs = static_cast<int>(pairs.size());
-  std::int64_t ns_axis = 0;
-  std::int64_t ns_narrow = 0;
+  stats_.broad_pairs = pair_cache_.size();
   const bool timed = config_.time_pair_stages;
-  const auto pairs_start = std::chrono::steady_clock::now();
-  std::chrono::steady_clock::time_point ta, tn;
-  for (PairRecord& pair : pairs) {
-    const std::int32_t ia = pair.body_a;
-    const std::int32_t ib = pair.body_b;
-    BodyRecord& a = bodies_[ia];
-    BodyRecord& b = bodies_[ib];
-    if (pair.verdict == kVerdictUnknown || rules_changed_) {
-      // Rules are evaluated once per broad-phase pair, not every cycle.
-      pair.verdict = config_.rules.allowed(a.desc, b.desc) ? kVerdictAllowed : kVerdictDenied;
-    }
-    if (pair.verdict != kVerdictAllowed) continue;
+  for (PairRecord& pair : pair_cache_.mutablePairs()) {
+    if (!allowed(pair)) continue;
     ++stats_.allowed_pairs;
-
-    if (timed) ta = std::chrono::steady_clock::now();
-    const TimeInterval window =
-        boxContactInterval(a.motion.position, a.half, a.motion.linear_velocity, b.motion.position,
-                           b.half, b.motion.linear_velocity, horizon);
-    if (timed) ns_axis += nanosSince(ta);
-    if (window.empty()) continue;
+    const BodyRecord& a = bodies_[pair.body_a];
+    const BodyRecord& b = bodies_[pair.body_b];
+    const PairBody pa{&a.desc.shape, &a.motion, a.desc.margin, a.half, pair.body_a};
+    const PairBody pb{&b.desc.shape, &b.motion, b.desc.margin, b.half, pair.body_b};
+    ContactWindow window;
+    {
+      StageTimer timer(&stats_.ns_axis, timed);
+      window = contactWindow(pa, pb, horizon);
+    }
+    if (window.axis.empty()) continue;
     ++stats_.axis_candidates;
-
-    if (timed) tn = std::chrono::steady_clock::now();
-    const NarrowBody na{a.geometry.get(), &a.motion, a.desc.margin, a.bounding_radius};
-    const NarrowBody nb{b.geometry.get(), &b.motion, b.desc.margin, b.bounding_radius};
-    const ContactPrediction prediction = narrow_phase_.predict(na, nb, window);
-    if (timed) ns_narrow += nanosSince(tn);
+    if (window.empty()) continue;
+    ContactPrediction prediction;
+    {
+      StageTimer timer(&stats_.ns_narrow, timed);
+      prediction = narrow_phase_.predict(pa, pb, window);
+    }
     stats_.narrow_iterations += prediction.iterations;
     if (!prediction.contact) continue;
     ++stats_.contacts;
-
-    // Name the pair so that body_a's id sorts first, as the message contract asks.
-    const bool swap = b.desc.id < a.desc.id;
-    PairEvent event;
-    event.body_a = BodyHandle{swap ? ib : ia, swap ? b.generation : a.generation};
-    event.body_b = BodyHandle{swap ? ia : ib, swap ? a.generation : b.generation};
-    event.time_to_contact = prediction.time_to_contact;
-    event.time_to_separation = prediction.time_to_separation;
-    event.distance = prediction.distance;
-    event.point_a = swap ? prediction.point_b : prediction.point_a;
-    event.point_b = swap ? prediction.point_a : prediction.point_b;
-    event.normal = swap ? Eigen::Vector3d(-prediction.normal) : prediction.normal;
-    event.closing_speed = prediction.closing_speed;
-    const std::uint32_t lo = std::min(a.serial, b.serial);
-    const std::uint32_t hi = std::max(a.serial, b.serial);
-    tracker_.report((static_cast<std::uint64_t>(lo) << 32) | hi, event);
+    report(pair, prediction);
   }
   rules_changed_ = false;
-  stats_.ns_pairs = nanosSince(pairs_start);
-  stats_.ns_axis = timed ? ns_axis : stats_.ns_pairs;
-  stats_.ns_narrow = ns_narrow;
+}
 
-  // 5. Events: BEGIN / ONGOING / END, earliest first.
-  t0 = std::chrono::steady_clock::now();
-  tracker_.endCycle();
-  stats_.ns_events = nanosSince(t0);
-  return tracker_.events();
+bool ProximityWorld::allowed(PairRecord& pair) {
+  // Rules are evaluated once per broad-phase pair (and again after setRules), not every cycle.
+  if (pair.verdict == kVerdictUnknown || rules_changed_) {
+    const bool allow = config_.rules.allowed(bodies_[pair.body_a].desc, bodies_[pair.body_b].desc);
+    pair.verdict = allow ? kVerdictAllowed : kVerdictDenied;
+  }
+  return pair.verdict == kVerdictAllowed;
+}
+
+void ProximityWorld::report(const PairRecord& pair, const ContactPrediction& prediction) {
+  const BodyRecord& a = bodies_[pair.body_a];
+  const BodyRecord& b = bodies_[pair.body_b];
+  // Name the pair so that body_a's id sorts first, as the message contract asks.
+  const bool swap = b.desc.id < a.desc.id;
+  PairEvent event;
+  event.body_a = BodyHandle{swap ? pair.body_b : pair.body_a, swap ? b.generation : a.generation};
+  event.body_b = BodyHandle{swap ? pair.body_a : pair.body_b, swap ? a.generation : b.generation};
+  event.time_to_contact = prediction.time_to_contact;
+  event.time_to_separation = prediction.time_to_separation;
+  event.distance = prediction.distance;
+  event.point_a = swap ? prediction.point_b : prediction.point_a;
+  event.point_b = swap ? prediction.point_a : prediction.point_b;
+  event.normal = swap ? Eigen::Vector3d(-prediction.normal) : prediction.normal;
+  event.closing_speed = prediction.closing_speed;
+  // The bodies' serials name the pair for the tracker: never reused, unlike slots.
+  const std::uint32_t lo = std::min(a.serial, b.serial);
+  const std::uint32_t hi = std::max(a.serial, b.serial);
+  tracker_.report((static_cast<std::uint64_t>(lo) << 32) | hi, event);
 }
 
 }  // namespace workspace_proximity
