@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "fuzz_input.hpp"
+#include "oracles.hpp"
 #include "workspace_proximity/sweep_and_prune.hpp"
 
 namespace wp = workspace_proximity;
@@ -37,11 +38,7 @@ namespace {
 constexpr int kMaxProxies = 64;
 constexpr int kMaxOperations = 400;
 
-std::string str(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
+using wp_fuzz::str;
 
 std::string str(const wp::Aabb& b) {
   std::string s = "[";
@@ -51,13 +48,8 @@ std::string str(const wp::Aabb& b) {
 
 std::string str(const Pair& p) { return "(" + std::to_string(p.first) + "," + std::to_string(p.second) + ")"; }
 
-// Closed intervals, in double: touching boxes overlap.
-bool overlap(const wp::Aabb& a, const wp::Aabb& b) {
-  for (int k = 0; k < 3; ++k) {
-    if (!(a.lower[k] <= b.upper[k]) || !(b.lower[k] <= a.upper[k])) return false;
-  }
-  return true;
-}
+// Closed intervals, in double: touching boxes overlap (the brute-force oracle).
+bool overlap(const wp::Aabb& a, const wp::Aabb& b) { return oracle::aabbOverlap(a, b); }
 
 struct ModelProxy {
   wp::Aabb bounds;
