@@ -100,7 +100,7 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
 
 TEST(Allocations, EventTrackerSteadyStateAllocatesNothing) {
   wp::EventTracker tracker(64);
-  std::mt19937 rng(9);
+  wp_test::Rng rng(9);
   auto cycle = [&] {
     tracker.beginCycle();
     const int n = static_cast<int>(rng() % 200);

@@ -7,6 +7,7 @@
 #include <random>
 #include <set>
 
+#include "random.hpp"
 #include "workspace_proximity/event_tracker.hpp"
 
 namespace wp = workspace_proximity;
@@ -122,7 +123,7 @@ TEST(EventTracker, EventsAreSortedEarliestFirstWithEndsLast) {
 // a std::map model, and the pool must stop growing once it has seen the peak.
 TEST(EventTracker, MatchesModelAndRecyclesRecords) {
   wp::EventTracker tracker(16);
-  std::mt19937 rng(7);
+  wp_test::Rng rng(7);
   std::map<std::uint64_t, int> model_active;  // key -> cycles active
   std::map<std::uint64_t, std::int32_t> model_number;  // live key -> its pair number
   int reused_numbers = 0;

@@ -86,6 +86,20 @@ ContactPrediction predict(const MovingBody& a, const MovingBody& b, double first
   return phase.predict(a.body(), b.body(), window);
 }
 
+/// Random box: half extents in [min_half, max_half), centre within +-reach of the origin.
+Obb randomBox(Rng& rng, double min_half, double max_half, double reach, const Quaterniond& q) {
+  Obb box;
+  box.half = rng.vector(min_half, max_half);
+  box.pose = makePose(rng.vector(-reach, reach), q);
+  return box;
+}
+
+/// The box grown (or shrunk, by < 0) by `by` m on every side.
+Obb grown(Obb box, double by) {
+  box.half.array() += by;
+  return box;
+}
+
 ShapeDistance boxDistance(const NarrowPhase& phase, const Obb& a, const Obb& b) {
   return phase.distance(Shape::box(a.half), a.pose, Shape::box(b.half), b.pose);
 }
@@ -149,15 +163,12 @@ TEST(NarrowPhaseDistance, RandomBoxPairsMatchExactOracle) {
   Rng rng(7);
   int checked = 0;
   for (int i = 0; i < 6000; ++i) {
-    Obb a, b;
-    a.half = rng.vector(0.02, 1.0);
-    b.half = rng.vector(0.02, 1.0);
     // A third of the pairs share one orientation (face-parallel, the degenerate case behind
     // fcl #508), a third are axis aligned, the rest are random.
     const Quaterniond qa = (i % 3 == 2) ? Quaterniond::Identity() : rng.rotation();
     const Quaterniond qb = (i % 3 == 0) ? rng.rotation() : qa;
-    a.pose = makePose(rng.vector(-2.0, 2.0), qa);
-    b.pose = makePose(rng.vector(-2.0, 2.0), qb);
+    const Obb a = randomBox(rng, 0.02, 1.0, 2.0, qa);
+    const Obb b = randomBox(rng, 0.02, 1.0, 2.0, qb);
     if (boxesOverlap(a, b) || boxBoxDistance(a, b) < 1e-6) continue;
     SCOPED_TRACE(i);
     checkBoxPair(phase, a, b);
@@ -358,16 +369,10 @@ TEST(NarrowPhaseDistance, RandomOverlappingBoxesAgreeWithSat) {
   Rng rng(13);
   int overlapping = 0;
   for (int i = 0; i < 3000; ++i) {
-    Obb a, b;
-    a.half = rng.vector(0.05, 0.8);
-    b.half = rng.vector(0.05, 0.8);
-    a.pose = makePose(rng.vector(-0.8, 0.8), rng.rotation());
-    b.pose = makePose(rng.vector(-0.8, 0.8), rng.rotation());
+    const Obb a = randomBox(rng, 0.05, 0.8, 0.8, rng.rotation());
+    const Obb b = randomBox(rng, 0.05, 0.8, 0.8, rng.rotation());
     // Skip near-touching pairs whose verdict depends on solver tolerance.
-    Obb a_in = a, a_out = a;
-    a_in.half.array() -= 1e-6;
-    a_out.half.array() += 1e-6;
-    if (boxesOverlap(a_in, b) != boxesOverlap(a_out, b)) continue;
+    if (boxesOverlap(grown(a, -1e-6), b) != boxesOverlap(grown(a, 1e-6), b)) continue;
     const ShapeDistance d =
         phase.distance(Shape::box(a.half), a.pose, Shape::box(b.half), b.pose);
     ASSERT_EQ(d.overlapping, boxesOverlap(a, b)) << i;
@@ -464,15 +469,9 @@ TEST(UprightBoxes, OverlappingPairsGiveAPointInBothAndAWayOut) {
   Rng rng(73);
   int overlapping = 0;
   for (int i = 0; i < 4000; ++i) {
-    Obb a, b;
-    a.half = rng.vector(0.05, 0.8);
-    b.half = rng.vector(0.05, 0.8);
-    a.pose = makePose(rng.vector(-0.8, 0.8), uprightRotation(rng, i));
-    b.pose = makePose(rng.vector(-0.8, 0.8), uprightRotation(rng, i + 2));
-    Obb a_in = a, a_out = a;
-    a_in.half.array() -= 1e-6;
-    a_out.half.array() += 1e-6;
-    if (!boxesOverlap(a_in, b) || !boxesOverlap(a_out, b)) continue;  // clearly overlapping
+    const Obb a = randomBox(rng, 0.05, 0.8, 0.8, uprightRotation(rng, i));
+    const Obb b = randomBox(rng, 0.05, 0.8, 0.8, uprightRotation(rng, i + 2));
+    if (!boxesOverlap(grown(a, -1e-6), b)) continue;  // clearly overlapping
     SCOPED_TRACE(i);
     const UprightBoxDistance d = uprightBoxDistance(a.pose, a.half, b.pose, b.half);
     ASSERT_TRUE(d.solved);
