@@ -7,7 +7,6 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
-
 #include <vector>
 
 #include <fcl/narrowphase/collision.h>
@@ -51,7 +50,7 @@ double shapeExtent(const Shape& shape, const Eigen::Matrix3d& rotation, const Ei
     case ShapeType::kCapsule:
       return shape.radius * l.norm() + 0.5 * shape.length * std::abs(l.z());
   }
-  return std::numeric_limits<double>::quiet_NaN();
+  return std::numeric_limits<double>::quiet_NaN();  // unreachable: shapes are valid() here
 }
 
 // Gap between the projections of a and b on the unit axis n: a true lower bound on their

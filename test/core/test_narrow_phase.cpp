@@ -1,6 +1,7 @@
-// Narrow phase tests. Every expectation comes from an independent oracle written here
-// (exact box-box distance, separating-axis overlap, segment distances, closed-form motion),
-// never from the code under test.
+// Narrow phase tests. Every expectation comes from an independent oracle (test/shared/
+// oracles.hpp: exact box-box distance, separating-axis overlap, segment distances, closed-form
+// motion) or an analytic case, never from the code under test. predict() runs as in the
+// pipeline: the window's moving separating-axis step (refineWindow), then the narrow phase.
 
 #include <gtest/gtest.h>
 
