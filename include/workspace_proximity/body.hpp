@@ -97,6 +97,16 @@ struct PairBody {
   /// Narrow phase: the slot of the shape's FCL geometry in its cache (NarrowPhase::setShape),
   /// or -1 to build the geometry for this query alone (allocates: for tests and one-off use).
   std::int32_t geometry = -1;
+  /// The pose at t = 0 (motion->poseAt(0)) if the caller has it, so that the stages need not
+  /// compute it again; nullptr: computed where needed.
+  const Eigen::Isometry3d* pose = nullptr;
+
+  /// The pose at t = 0: *pose, or motion->poseAt(0) written into `scratch`.
+  const Eigen::Isometry3d& poseNow(Eigen::Isometry3d* scratch) const {
+    if (pose != nullptr) return *pose;
+    *scratch = motion->poseAt(0.0);
+    return *scratch;
+  }
 };
 
 /// Everything that describes a body except its motion.

@@ -27,15 +27,19 @@ struct ContactWindow {
   bool empty() const { return interval.empty(); }
 };
 
-/// Step 2 alone: narrows `window` (seconds, within [0, horizon]) for two bodies whose margins
-/// add up to `margins` (m). Two boxes that only translate get movingBoxInterval() at their
-/// poses at t = 0, exact without margins and conservative with them; other pairs keep the
-/// window as it is. `axis` of the result is `window`.
-ContactWindow refineWindow(const Shape& shape_a, const BodyMotion& motion_a,
-                           const Shape& shape_b, const BodyMotion& motion_b, double margins,
-                           TimeInterval window);
+/// Step 1 alone: boxContactInterval() of the bodies' rotation-inflated boxes (PairBody::half,
+/// centred on the positions at t = 0, translating at the linear velocities) within
+/// [0, horizon].
+TimeInterval axisWindow(const PairBody& a, const PairBody& b, double horizon);
 
-/// Both steps for two bodies (shape, motion, margin and half extents of each are read).
+/// Step 2 alone: narrows `window` (seconds, the axis window or any part of [0, horizon]) for
+/// two bodies (shape, motion, margin and pose now of each are read). Two boxes that only
+/// translate get movingBoxInterval() at their poses at t = 0, exact without margins and
+/// conservative with them; other pairs keep the window as it is. `axis` of the result is
+/// `window`.
+ContactWindow refineWindow(const PairBody& a, const PairBody& b, TimeInterval window);
+
+/// Both steps: refineWindow(a, b, axisWindow(a, b, horizon)).
 ContactWindow contactWindow(const PairBody& a, const PairBody& b, double horizon);
 
 }  // namespace workspace_proximity

@@ -104,6 +104,9 @@ class ProximityWorld {
   void updateBounds(double horizon);
   void syncPairCache();
   void predictPairs(double horizon);
+  PairBody pairBody(std::int32_t slot) const;
+  ContactWindow windowOf(PairBody* a, PairBody* b, double horizon);
+  const Eigen::Isometry3d& poseNow(std::int32_t slot);
   bool allowed(PairRecord& pair);
   void report(const PairRecord& pair, const ContactPrediction& prediction);
 
@@ -116,6 +119,7 @@ class ProximityWorld {
   std::vector<std::int32_t> to_free_;
   double last_horizon_ = -1.0;
   bool rules_changed_ = true;
+  std::uint64_t cycle_ = 0;                 // predict() calls so far (never wraps)
 
   SweepAndPrune broad_phase_;
   std::vector<std::int32_t> body_of_proxy_;    // body slot per broad-phase proxy id

@@ -11,35 +11,33 @@ bool translatingBox(const Shape& shape, const BodyMotion& motion) {
 
 }  // namespace
 
-ContactWindow refineWindow(const Shape& shape_a, const BodyMotion& motion_a,
-                           const Shape& shape_b, const BodyMotion& motion_b, double margins,
-                           TimeInterval window) {
+TimeInterval axisWindow(const PairBody& a, const PairBody& b, double horizon) {
+  return boxContactInterval(a.motion->position, a.half, a.motion->linear_velocity,
+                            b.motion->position, b.half, b.motion->linear_velocity, horizon);
+}
+
+ContactWindow refineWindow(const PairBody& a, const PairBody& b, TimeInterval window) {
   ContactWindow w;
   w.axis = window;
   w.interval = window;
-  if (window.empty() || !translatingBox(shape_a, motion_a) || !translatingBox(shape_b, motion_b)) {
+  if (window.empty() || !translatingBox(*a.shape, *a.motion) ||
+      !translatingBox(*b.shape, *b.motion)) {
     return w;
   }
   // The moving separating-axis test: exact without margins, and with them (rounded boxes) an
   // interval that contains every contact, whose exit time stands as the last contact.
-  w.interval = movingBoxInterval(motion_a.poseAt(0.0), shape_a.half_extents,
-                                 motion_a.linear_velocity, motion_b.poseAt(0.0),
-                                 shape_b.half_extents, motion_b.linear_velocity, margins, window);
+  const double margins = a.margin + b.margin;
+  Eigen::Isometry3d scratch_a, scratch_b;
+  w.interval = movingBoxInterval(a.poseNow(&scratch_a), a.shape->half_extents,
+                                 a.motion->linear_velocity, b.poseNow(&scratch_b),
+                                 b.shape->half_extents, b.motion->linear_velocity, margins, window);
   w.exact = margins == 0.0;
   w.last_known = true;
   return w;
 }
 
 ContactWindow contactWindow(const PairBody& a, const PairBody& b, double horizon) {
-  const TimeInterval axis =
-      boxContactInterval(a.motion->position, a.half, a.motion->linear_velocity,
-                         b.motion->position, b.half, b.motion->linear_velocity, horizon);
-  if (axis.empty()) {
-    ContactWindow none;
-    none.axis = none.interval = axis;
-    return none;
-  }
-  return refineWindow(*a.shape, *a.motion, *b.shape, *b.motion, a.margin + b.margin, axis);
+  return refineWindow(a, b, axisWindow(a, b, horizon));
 }
 
 }  // namespace workspace_proximity

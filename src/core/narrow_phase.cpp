@@ -233,12 +233,16 @@ Eigen::Vector3d pointVelocity(const BodyMotion& motion, const Eigen::Vector3d& p
   return motion.linear_velocity + motion.angular_velocity.cross(p - motion.position);
 }
 
+// Fastest speed of any point of a body relative to its centre, m/s (0 when not turning).
+double rimSpeed(const PairBody& body) {
+  const double w = body.motion->angular_velocity.norm();
+  return w == 0.0 ? 0.0 : w * body.shape->boundingRadius();
+}
+
 // Upper bound on how fast the gap between any point of a and any point of b can shrink, m/s:
 // relative translation plus the fastest rim speed of each rotating body.
 double closingSpeedBound(const PairBody& a, const PairBody& b) {
-  return (a.motion->linear_velocity - b.motion->linear_velocity).norm() +
-         a.motion->angular_velocity.norm() * a.shape->boundingRadius() +
-         b.motion->angular_velocity.norm() * b.shape->boundingRadius();
+  return (a.motion->linear_velocity - b.motion->linear_velocity).norm() + rimSpeed(a) + rimSpeed(b);
 }
 
 // One query's pair: both shapes with their geometry, motions and margins, and the count of
@@ -269,9 +273,11 @@ struct MovingPair {
 };
 
 // The report at t = 0 on the raw shapes: distance, nearest points, normal, closing speed.
-Evaluation describeNow(const MovingPair& pair, double tolerance, ContactPrediction* out) {
-  const Evaluation now = evaluate(pair.a, pair.motion_a.poseAt(0.0), pair.b,
-                                  pair.motion_b.poseAt(0.0), tolerance, true);
+Evaluation describeNow(const MovingPair& pair, const PairBody& a, const PairBody& b,
+                       double tolerance, ContactPrediction* out) {
+  Eigen::Isometry3d scratch_a, scratch_b;
+  const Evaluation now = evaluate(pair.a, a.poseNow(&scratch_a), pair.b, b.poseNow(&scratch_b),
+                                  tolerance, true);
   out->iterations = now.queries;
   out->distance = std::max(0.0, now.shape.distance - pair.margin_a - pair.margin_b);
   out->point_a = now.shape.point_a;
@@ -393,10 +399,10 @@ ContactPrediction NarrowPhase::predict(const PairBody& a, const PairBody& b,
   ContactPrediction out;
   const MovingPair pair{Solid{*a.shape, cache_->of(a, &own_a)}, Solid{*b.shape, cache_->of(b, &own_b)},
                         *a.motion, *b.motion, a.margin, b.margin, &out.iterations};
-  const Evaluation now = describeNow(pair, config_.distance_tolerance, &out);
+  const Evaluation now = describeNow(pair, a, b, config_.distance_tolerance, &out);
   if (window.empty()) return out;
   const TimeInterval w = window.interval;
-  const double mu = closingSpeedBound(a, b);
+  const double mu = window.exact ? 0.0 : closingSpeedBound(a, b);
   if (window.exact || !std::isfinite(mu)) {
     // Exact already, or non-finite motion (a caller bug): the whole window, rather than
     // miss a contact.

@@ -37,6 +37,13 @@ class StageTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
+// f(), its time added to *total when enabled (a returned value is not copied).
+template <class F>
+auto timed(std::int64_t* total, bool enabled, F&& f) {
+  StageTimer timer(total, enabled);
+  return f();
+}
+
 SweepAndPruneConfig broadPhaseConfig(const WorldConfig& config) {
   SweepAndPruneConfig c = config.broad_phase;
   c.initial_proxy_capacity = config.initial_body_capacity;
@@ -72,6 +79,8 @@ struct ProximityWorld::BodyRecord {
   BodyMotion motion;
   Eigen::Vector3d half = Eigen::Vector3d::Zero();  // rotation-inflated half extents + margin
   Aabb swept;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // at t = 0, valid in cycle pose_cycle
+  std::uint64_t pose_cycle = 0;
   SweepAndPrune::ProxyId proxy = -1;
   std::uint32_t generation = 0;
   std::uint32_t serial = 0;  // unique over the world's life: names the body in event keys
@@ -188,11 +197,15 @@ void ProximityWorld::setRules(const PairRules& rules) {
   rules_changed_ = true;
 }
 
+// The per-pair helpers below are `inline`: in a shared library an exported function may be
+// interposed, so the compiler would not inline them into the pair loop otherwise.
+
 const std::vector<PairEvent>& ProximityWorld::predict(double horizon) {
   if (!std::isfinite(horizon) || horizon < 0.0 || horizon > Limits::kMaxHorizon) {
     throw std::invalid_argument("ProximityWorld::predict: horizon must be in [0, 1e4] s");
   }
   stats_ = WorldStats();
+  ++cycle_;
   freeRemovedSlots();
   {
     StageTimer timer(&stats_.ns_bounds);
@@ -266,27 +279,18 @@ void ProximityWorld::predictPairs(double horizon) {
   // Per pair: rules, contact window, narrow phase inside the window, report.
   tracker_.beginCycle();
   stats_.broad_pairs = pair_cache_.size();
-  const bool timed = config_.time_pair_stages;
+  const bool timed_pairs = config_.time_pair_stages;
   for (PairRecord& pair : pair_cache_.mutablePairs()) {
     if (!allowed(pair)) continue;
     ++stats_.allowed_pairs;
-    const BodyRecord& a = bodies_[pair.body_a];
-    const BodyRecord& b = bodies_[pair.body_b];
-    const PairBody pa{&a.desc.shape, &a.motion, a.desc.margin, a.half, pair.body_a};
-    const PairBody pb{&b.desc.shape, &b.motion, b.desc.margin, b.half, pair.body_b};
-    ContactWindow window;
-    {
-      StageTimer timer(&stats_.ns_axis, timed);
-      window = contactWindow(pa, pb, horizon);
-    }
+    PairBody a = pairBody(pair.body_a), b = pairBody(pair.body_b);
+    const ContactWindow window =
+        timed(&stats_.ns_axis, timed_pairs, [&] { return windowOf(&a, &b, horizon); });
     if (window.axis.empty()) continue;
     ++stats_.axis_candidates;
     if (window.empty()) continue;
-    ContactPrediction prediction;
-    {
-      StageTimer timer(&stats_.ns_narrow, timed);
-      prediction = narrow_phase_.predict(pa, pb, window);
-    }
+    const ContactPrediction prediction =
+        timed(&stats_.ns_narrow, timed_pairs, [&] { return narrow_phase_.predict(a, b, window); });
     stats_.narrow_iterations += prediction.iterations;
     if (!prediction.contact) continue;
     ++stats_.contacts;
@@ -295,7 +299,38 @@ void ProximityWorld::predictPairs(double horizon) {
   rules_changed_ = false;
 }
 
-bool ProximityWorld::allowed(PairRecord& pair) {
+inline PairBody ProximityWorld::pairBody(std::int32_t slot) const {
+  const BodyRecord& r = bodies_[slot];
+  PairBody body;
+  body.shape = &r.desc.shape;
+  body.motion = &r.motion;
+  body.margin = r.desc.margin;
+  body.half = r.half;
+  body.geometry = slot;  // the narrow phase's geometry cache is indexed by body slot
+  return body;
+}
+
+inline ContactWindow ProximityWorld::windowOf(PairBody* a, PairBody* b, double horizon) {
+  // The axis window first; only bodies of pairs that pass it need their pose now, which each
+  // body computes once per cycle for all its pairs.
+  const TimeInterval axis = axisWindow(*a, *b, horizon);
+  if (!axis.empty()) {
+    a->pose = &poseNow(a->geometry);
+    b->pose = &poseNow(b->geometry);
+  }
+  return refineWindow(*a, *b, axis);
+}
+
+inline const Eigen::Isometry3d& ProximityWorld::poseNow(std::int32_t slot) {
+  BodyRecord& r = bodies_[slot];
+  if (r.pose_cycle != cycle_) {
+    r.pose = r.motion.poseAt(0.0);
+    r.pose_cycle = cycle_;
+  }
+  return r.pose;
+}
+
+inline bool ProximityWorld::allowed(PairRecord& pair) {
   // Rules are evaluated once per broad-phase pair (and again after setRules), not every cycle.
   if (pair.verdict == kVerdictUnknown || rules_changed_) {
     const bool allow = config_.rules.allowed(bodies_[pair.body_a].desc, bodies_[pair.body_b].desc);
@@ -304,7 +339,7 @@ bool ProximityWorld::allowed(PairRecord& pair) {
   return pair.verdict == kVerdictAllowed;
 }
 
-void ProximityWorld::report(const PairRecord& pair, const ContactPrediction& prediction) {
+inline void ProximityWorld::report(const PairRecord& pair, const ContactPrediction& prediction) {
   const BodyRecord& a = bodies_[pair.body_a];
   const BodyRecord& b = bodies_[pair.body_b];
   // Name the pair so that body_a's id sorts first, as the message contract asks.

@@ -82,8 +82,7 @@ BodyMotion motion(const Vector3d& position, const Vector3d& velocity = Vector3d:
 /// test for translating boxes) inside [first, last], then the narrow phase inside it.
 ContactPrediction predict(const MovingBody& a, const MovingBody& b, double first, double last,
                           const NarrowPhase& phase = NarrowPhase()) {
-  const ContactWindow window = refineWindow(a.shape, a.motion, b.shape, b.motion,
-                                            a.margin + b.margin, TimeInterval{first, last});
+  const ContactWindow window = refineWindow(a.body(), b.body(), TimeInterval{first, last});
   return phase.predict(a.body(), b.body(), window);
 }
 
