@@ -531,28 +531,35 @@ class OursPeer : public Peer {
   void setup(const SceneState& s) override {
     id_.assign(s.slots(), -1);
     for (int i = 0; i < s.slots(); ++i)
-      if (s.alive[i]) id_[i] = sap_.createProxy(s.box[i], static_cast<std::uint32_t>(i));
+      if (s.alive[i]) create(i, s.box[i]);
     sap_.update();
   }
   void cycle(const SceneState& s) override {
     for (int i : s.destroyed) sap_.destroyProxy(id_[i]);
     for (int i : s.moved) sap_.moveProxy(id_[i], s.box[i]);
-    for (int i : s.created) id_[i] = sap_.createProxy(s.box[i], static_cast<std::uint32_t>(i));
+    for (int i : s.created) create(i, s.box[i]);
     sap_.update();
     std::uint64_t sum = 0;
-    for (const wp::ProxyPair& p : sap_.pairs()) sum += sap_.userData(p.proxy_a) ^ (sap_.userData(p.proxy_b) << 7);
+    for (const wp::BroadPair& p : sap_.pairs()) sum += slot_[p.proxy_a] ^ (slot_[p.proxy_b] << 7);
     checksum += sum;
   }
   void collect(std::vector<PairCode>* out) const override {
-    for (const wp::ProxyPair& p : sap_.pairs())
-      out->push_back(pairCode(sap_.userData(p.proxy_a), sap_.userData(p.proxy_b)));
+    for (const wp::BroadPair& p : sap_.pairs()) out->push_back(pairCode(slot_[p.proxy_a], slot_[p.proxy_b]));
   }
   std::size_t reported() const override { return sap_.pairs().size(); }
   const wp::SweepAndPrune& sap() const { return sap_; }
 
  private:
+  // The structure keeps no caller data: the peer maps proxy ids back to slots itself.
+  void create(int i, const wp::Aabb& box) {
+    id_[i] = sap_.createProxy(box);
+    if (static_cast<std::size_t>(id_[i]) >= slot_.size()) slot_.resize(id_[i] + 1);
+    slot_[id_[i]] = static_cast<std::uint32_t>(i);
+  }
+
   wp::SweepAndPrune sap_;
   std::vector<wp::SweepAndPrune::ProxyId> id_;
+  std::vector<std::uint32_t> slot_;
 };
 
 // Base of the peers that keep their own copy of the boxes by slot and start from scratch.

@@ -1,8 +1,8 @@
 // Pipeline benchmark: the robot-cell scene through the whole core (swept bounds,
-// sweep-and-prune, pair rules, per-axis time of impact, FCL narrow phase, event tracking),
-// with the time per cycle split by stage. Writes a markdown table to stdout (and --out FILE).
+// sweep-and-prune, pair rules, contact window, narrow phase, event tracking), with the time
+// per cycle split by stage. Writes a markdown table to stdout (and --out FILE).
 //
-// Scene: an arm of L link boxes (L/6 chains of 6 links) turning about the base at 0.8 rad/s
+// Scene (wp_test::RobotCell, test/shared/scenes.hpp): an arm of L link boxes (L/6 chains of 6 links) turning about the base at 0.8 rad/s
 // (each link with the matching linear and angular velocity), plus N tracked objects (people
 // 0.5 x 0.5 x 1.8 m, every tenth a 2.4 x 1.2 x 2.0 m forklift) walking at 0.3-1.5 m/s in a
 // 16 m square around it, bouncing at the walls, margins 0.2 / 0.3 / 0.02 m. 30 Hz steps.
@@ -12,11 +12,11 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "scenes.hpp"  // test/shared: the robot cell
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace wp = workspace_proximity;
@@ -40,58 +40,12 @@ Result run(int links, int objects, double horizon, int cycles) {
   wp::WorldConfig config;
   config.time_pair_stages = true;  // the stage split is what this benchmark reports
   wp::ProximityWorld world(config);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> pos(-8, 8), dir(0, 2 * M_PI), speed(0.3, 1.5);
-  const double omega = 0.8;
-  struct Link { wp::BodyHandle h; double radius, height, phase; };
-  std::vector<Link> arm;
-  for (int i = 0; i < links; ++i) {
-    const int chain = i / 6, k = i % 6;
-    Link l{wp::BodyHandle(), 0.25 + 0.25 * k, 0.5 + 0.2 * chain, 2 * M_PI * chain / std::max(1, links / 6)};
-    l.h = world.addBody({"link_" + std::to_string(i), "robot", wp::BodyGroup::kRobot,
-                         wp::Shape::box({0.13, 0.06, 0.06}), 0.02},
-                        wp::BodyMotion());
-    arm.push_back(l);
-  }
-  struct Walker { wp::BodyHandle h; double x, y, vx, vy; };
-  std::vector<Walker> walkers;
-  for (int i = 0; i < objects; ++i) {
-    const bool forklift = i % 10 == 0;
-    const double a = dir(rng), s = speed(rng);
-    Walker w{wp::BodyHandle(), pos(rng), pos(rng), s * std::cos(a), s * std::sin(a)};
-    w.h = world.addBody({"object_" + std::to_string(i), forklift ? "forklift" : "person",
-                         wp::BodyGroup::kObject,
-                         wp::Shape::box(forklift ? Eigen::Vector3d(1.2, 0.6, 1.0)
-                                                 : Eigen::Vector3d(0.25, 0.25, 0.9)),
-                         forklift ? 0.3 : 0.2},
-                        wp::BodyMotion());
-    walkers.push_back(w);
-  }
-
+  wp_test::RobotCell cell(&world, links, objects);
   std::vector<double> total;
   Result r{links, objects, horizon, 0, 0, {0, 0, 0, 0, 0}, 0, 0, 0, 0};
   const int warmup = 30;
   for (int c = 0; c < warmup + cycles; ++c) {
-    const double t = c / 30.0;
-    for (const Link& l : arm) {
-      const double yaw = omega * t + l.phase;
-      wp::BodyMotion m;
-      m.position = {l.radius * std::cos(yaw), l.radius * std::sin(yaw), l.height};
-      m.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
-      m.angular_velocity = {0, 0, omega};
-      m.linear_velocity = m.angular_velocity.cross(Eigen::Vector3d(m.position.x(), m.position.y(), 0));
-      world.setMotion(l.h, m);
-    }
-    for (Walker& w : walkers) {
-      w.x += w.vx / 30.0;
-      w.y += w.vy / 30.0;
-      if (std::abs(w.x) > 8) w.vx = -w.vx;
-      if (std::abs(w.y) > 8) w.vy = -w.vy;
-      wp::BodyMotion m;
-      m.position = {w.x, w.y, 1.0};
-      m.linear_velocity = {w.vx, w.vy, 0};
-      world.setMotion(w.h, m);
-    }
+    cell.step(c / 30.0, 1.0 / 30.0);
     const auto start = std::chrono::steady_clock::now();
     world.predict(horizon);
     const double us =

@@ -1,6 +1,8 @@
 #pragma once
 /// Axis-aligned bounding boxes in double precision (metres).
 
+#include <cmath>
+
 #include <Eigen/Core>
 
 namespace workspace_proximity {
@@ -23,9 +25,14 @@ struct Aabb {
     return Aabb{lower.cwiseMin(other.lower), upper.cwiseMax(other.upper)};
   }
 
-  /// True when every component is finite and lower <= upper on every axis.
+  /// True when every component is finite and lower <= upper on every axis. (Written out
+  /// without Eigen's reductions: the broad phase checks every moved box with it.)
   bool valid() const {
-    return lower.allFinite() && upper.allFinite() && (lower.array() <= upper.array()).all();
+    bool ok = true;
+    for (int k = 0; k < 3; ++k) {
+      ok = ok && std::isfinite(lower[k]) && std::isfinite(upper[k]) && lower[k] <= upper[k];
+    }
+    return ok;
   }
 };
 

@@ -51,6 +51,9 @@ struct Shape {
   bool valid() const;
 };
 
+/// True when a safety margin (m) is finite and within [0, Limits::kMaxMargin].
+bool validMargin(double margin);
+
 /// Which side of the robot/world divide a body is on; pair rules use it.
 enum class BodyGroup : std::uint8_t { kRobot = 0, kObject = 1 };
 
@@ -80,6 +83,30 @@ struct BodyHandle {
   std::uint32_t generation = 0;
   bool operator==(const BodyHandle& o) const { return index == o.index && generation == o.generation; }
   bool operator!=(const BodyHandle& o) const { return !(*this == o); }
+};
+
+/// A body as the per-pair stages (contact window, narrow phase) see it. Pointers are
+/// borrowed for the call.
+struct PairBody {
+  const Shape* shape = nullptr;
+  const BodyMotion* motion = nullptr;
+  double margin = 0.0;  ///< safety margin around the shape, m
+  /// Contact window: half extents (m) of an axis-aligned box around the centre that holds the
+  /// shape and margin in every orientation over the horizon (rotationHalfExtents()).
+  Eigen::Vector3d half = Eigen::Vector3d::Zero();
+  /// Narrow phase: the slot of the shape's FCL geometry in its cache (NarrowPhase::setShape),
+  /// or -1 to build the geometry for this query alone (allocates: for tests and one-off use).
+  std::int32_t geometry = -1;
+  /// The pose at t = 0 (motion->poseAt(0)) if the caller has it, so that the stages need not
+  /// compute it again; nullptr: computed where needed.
+  const Eigen::Isometry3d* pose = nullptr;
+
+  /// The pose at t = 0: *pose, or motion->poseAt(0) written into `scratch`.
+  const Eigen::Isometry3d& poseNow(Eigen::Isometry3d* scratch) const {
+    if (pose != nullptr) return *pose;
+    *scratch = motion->poseAt(0.0);
+    return *scratch;
+  }
 };
 
 /// Everything that describes a body except its motion.

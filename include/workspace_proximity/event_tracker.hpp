@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "workspace_proximity/hash_index.hpp"
 #include "workspace_proximity/pair_event.hpp"
 
 namespace workspace_proximity {
@@ -18,7 +19,8 @@ class EventTracker {
 
   void beginCycle();
   /// `key` identifies the pair for its whole life (never reused for another pair).
-  /// The event's state is set by the tracker; everything else is copied.
+  /// The event's state and pair number (PairEvent::pair, the pair's record in the pool) are
+  /// set by the tracker; everything else is copied.
   void report(std::uint64_t key, const PairEvent& prediction);
   /// Emits END for unreported pairs and sorts the events by time to contact.
   void endCycle();
@@ -40,20 +42,18 @@ class EventTracker {
     std::int32_t active_pos; // position in active_, -1 when free
     std::int32_t next_free;
   };
-  static constexpr std::int32_t kEmpty = -1;
-
-  std::int32_t find(std::uint64_t key) const;
+  std::int32_t find(std::uint64_t key) const {
+    return index_.find(key, [this](std::int32_t r) { return records_[r].key; });
+  }
   std::int32_t allocate(std::uint64_t key);
   void release(std::int32_t record);
-  void indexInsert(std::uint64_t key, std::int32_t record);
-  void indexErase(std::uint64_t key);
+  void growPool(std::size_t records);
   void growIndex();
 
   std::vector<Record> records_;        // the pool
   std::int32_t free_list_ = -1;
   std::vector<std::int32_t> active_;   // records in use
-  std::vector<std::int32_t> index_;    // open addressing: record or kEmpty
-  std::uint32_t mask_ = 0;
+  HashIndex index_;                    // key -> record
   std::uint32_t cycle_ = 0;
   std::vector<PairEvent> events_;
 };

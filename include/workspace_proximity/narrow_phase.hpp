@@ -1,15 +1,17 @@
 #pragma once
-/// Narrow phase on the real shapes with FCL: distance now, and a conservative time of first
-/// and last contact under constant-twist motion (conservative advancement).
+/// Narrow phase on the real shapes: distance now, and a conservative time of first and last
+/// contact under constant-twist motion (conservative advancement) inside the window the
+/// contact-window stage gives it. FCL answers for the shapes without a closed form; its
+/// geometry is a private cache of this class (no FCL type in this header).
 
+#include <cstdint>
 #include <memory>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <fcl/geometry/collision_geometry.h>
 
 #include "workspace_proximity/body.hpp"
-#include "workspace_proximity/time_of_impact.hpp"
+#include "workspace_proximity/contact_window.hpp"
 
 namespace workspace_proximity {
 
@@ -21,14 +23,6 @@ struct NarrowPhaseConfig {
   /// Cap on advancement steps per query; reaching it reports contact at the current time
   /// (the safe answer).
   int max_iterations = 200;
-};
-
-/// One body as the narrow phase sees it. Pointers are borrowed; they must outlive the query.
-struct NarrowBody {
-  const fcl::CollisionGeometryd* geometry = nullptr;  ///< from makeGeometry(shape)
-  const BodyMotion* motion = nullptr;
-  double margin = 0.0;           ///< m
-  double bounding_radius = 0.0;  ///< Shape::boundingRadius(), m
 };
 
 /// Distance between two posed shapes (without margins).
@@ -53,30 +47,45 @@ struct ContactPrediction {
   int iterations = 0;          ///< distance queries spent: FCL calls and closed-form ones
 };
 
-/// FCL geometry for a shape. Create once per body and reuse: FCL geometries are immutable.
-std::shared_ptr<fcl::CollisionGeometryd> makeGeometry(const Shape& shape);
-
 class NarrowPhase {
  public:
   explicit NarrowPhase(const NarrowPhaseConfig& config = NarrowPhaseConfig());
+  ~NarrowPhase();
+  NarrowPhase(NarrowPhase&&) noexcept;
+  NarrowPhase& operator=(NarrowPhase&&) noexcept;
 
-  /// Distance and nearest points between two posed shapes. Every FCL distance is checked
-  /// against a lower bound (the gap of the shapes' projections on the reported normal):
-  /// FCL 0.7's independent GJK solver is tried first and libccd is the fallback, because
-  /// each is occasionally wrong (libccd box-box, fcl#508; independent GJK on ~0.1 % of
-  /// rotated box pairs). FCL collide (libccd) gives the contact for overlapping shapes.
-  ShapeDistance distance(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& pose_a,
-                         const fcl::CollisionGeometryd& b, const Eigen::Isometry3d& pose_b) const;
+  /// Builds and keeps the FCL geometry of `shape` in slot `slot` (>= 0; the world uses its
+  /// body slots), replacing what the slot held. Queries naming the slot (PairBody::geometry)
+  /// then allocate nothing. Throws std::invalid_argument on an invalid shape.
+  void setShape(std::int32_t slot, const Shape& shape);
+  /// Frees the slot's geometry.
+  void clearShape(std::int32_t slot);
 
-  /// Conservative first and last contact of the margin-inflated shapes within `window`
-  /// (seconds after t = 0, already clipped to the horizon by the caller). The distance,
-  /// nearest points, normal and closing speed describe t = 0 whatever the window.
-  ContactPrediction predict(const NarrowBody& a, const NarrowBody& b, TimeInterval window) const;
+  /// Distance and nearest points between two posed shapes (builds their FCL geometry for the
+  /// call). Upright boxes (turned about z only) have a closed form; other pairs go to FCL,
+  /// whose every distance is checked against a lower bound (the gap of the shapes'
+  /// projections on the reported normal): FCL 0.7's independent GJK solver is tried first
+  /// and libccd is the fallback, because each is occasionally wrong (libccd box-box, fcl#508;
+  /// independent GJK on ~0.1 % of rotated box pairs). FCL collide (libccd) gives the contact
+  /// for overlapping shapes.
+  ShapeDistance distance(const Shape& a, const Eigen::Isometry3d& pose_a, const Shape& b,
+                         const Eigen::Isometry3d& pose_b) const;
+
+  /// Conservative first and last contact of the margin-inflated shapes (shape, motion and
+  /// margin of each body are read) inside `window` (from contactWindow() or refineWindow()):
+  /// an exact window is taken as it is, otherwise advancement refines its first contact and,
+  /// unless the window's end is already known to be the last one, its last contact. The
+  /// distance, nearest points, normal and closing speed describe t = 0 whatever the window.
+  ContactPrediction predict(const PairBody& a, const PairBody& b,
+                            const ContactWindow& window) const;
 
   const NarrowPhaseConfig& config() const { return config_; }
 
  private:
+  struct GeometryCache;  // FCL geometry by slot
+
   NarrowPhaseConfig config_;
+  std::unique_ptr<GeometryCache> cache_;
 };
 
 }  // namespace workspace_proximity

@@ -17,6 +17,10 @@ enum class ContactState : std::uint8_t { kBegin = 0, kOngoing = 1, kEnd = 2 };
 /// time_to_contact = +infinity and time_to_separation = 0, other fields as last predicted.
 struct PairEvent {
   ContactState state = ContactState::kBegin;
+  /// Small non-negative integer naming the pair for its whole life (from its BEGIN to its END
+  /// inclusive); reused by later pairs after the END. (The EventTracker's record index; -1
+  /// on a prediction not yet reported.)
+  std::int32_t pair = -1;
   BodyHandle body_a;               ///< body whose id sorts first
   BodyHandle body_b;
   double time_to_contact = 0.0;     ///< s until first contact; 0 when touching now
@@ -26,9 +30,6 @@ struct PairEvent {
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< nearest point on b now, world, m
   Eigen::Vector3d normal = Eigen::Vector3d::UnitX();  ///< unit, from a towards b
   double closing_speed = 0.0;       ///< m/s, > 0 when approaching
-  /// Small non-negative integer naming the pair for its whole life (from its BEGIN to its END
-  /// inclusive); reused by later pairs after the END. Set by the EventTracker.
-  std::int32_t pair = -1;
 };
 
 }  // namespace workspace_proximity

@@ -1,19 +1,22 @@
 #pragma once
 /// The whole prediction pipeline: bodies in, contact events out. ROS-free.
 ///
-/// predict(H): swept bounds over [0, H] -> incremental sweep-and-prune -> pair rules ->
-/// per-axis time of impact -> FCL narrow phase (conservative advancement) -> events.
+/// predict(H): swept bounds over [0, H] -> incremental sweep-and-prune (the world mirrors its
+/// pairs from began/ended) -> pair rules (cached per pair) -> contact window (per-axis time of
+/// impact, then the moving separating-axis test for translating boxes) -> narrow phase
+/// (closed forms and FCL, conservative advancement inside the window) -> events.
 
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include "workspace_proximity/aabb.hpp"
 #include "workspace_proximity/body.hpp"
+#include "workspace_proximity/contact_window.hpp"
 #include "workspace_proximity/pair_event.hpp"
 #include "workspace_proximity/event_tracker.hpp"
 #include "workspace_proximity/narrow_phase.hpp"
 #include "workspace_proximity/pair_rules.hpp"
+#include "workspace_proximity/pair_table.hpp"
 #include "workspace_proximity/sweep_and_prune.hpp"
 
 namespace workspace_proximity {
@@ -25,8 +28,8 @@ struct WorldConfig {
   SweepAndPruneConfig broad_phase;   ///< capacities above override its capacities
   NarrowPhaseConfig narrow_phase;
   PairRules rules;                   ///< default: robot-robot pairs skipped
-  /// Time the per-pair stages (axis time of impact, narrow phase) separately. Costs two
-  /// clock reads per pair, so off by default: ns_axis then holds both and ns_narrow is 0.
+  /// Time the per-pair stages (contact window, narrow phase) separately. Costs two clock
+  /// reads per pair, so off by default: ns_axis then holds both and ns_narrow is 0.
   bool time_pair_stages = false;
 };
 
@@ -35,11 +38,13 @@ struct WorldStats {
   int bodies = 0;
   int broad_pairs = 0;       ///< overlapping swept bounds
   int allowed_pairs = 0;     ///< after the pair rules
-  int axis_candidates = 0;   ///< per-axis time of impact within the horizon
+  int axis_candidates = 0;   ///< per-axis time of impact within the horizon (contact window, step 1)
   int contacts = 0;          ///< confirmed by the narrow phase
   int narrow_iterations = 0; ///< distance queries (FCL calls and closed-form upright boxes)
+  /// Stage times, ns: swept bounds; broad phase (with the world's pair cache); contact
+  /// window; narrow phase; events.
   std::int64_t ns_bounds = 0, ns_broad = 0, ns_axis = 0, ns_narrow = 0, ns_events = 0;
-  std::int64_t ns_pairs = 0;  ///< rules + axis time of impact + narrow phase, all pairs
+  std::int64_t ns_pairs = 0;  ///< rules + contact window + narrow phase, all pairs
   SweepAndPruneStats broad_phase;
 };
 
@@ -59,7 +64,8 @@ class ProximityWorld {
   /// New pose and velocity at the next prediction instant. Throws on an invalid motion.
   void setMotion(BodyHandle body, const BodyMotion& motion);
   /// New shape and margin for a live body, keeping its identity (its pairs' events continue).
-  /// Builds a new FCL geometry, so callers should do it only when the size really changed.
+  /// Rebuilds the narrow phase's geometry, so callers should do it only when the size really
+  /// changed.
   /// Throws on an invalid shape or margin.
   void setShape(BodyHandle body, const Shape& shape, double margin);
 
@@ -81,9 +87,28 @@ class ProximityWorld {
 
  private:
   struct BodyRecord;
+  // The world's own record of a broad-phase pair, kept from the pair's begin to its end.
+  struct PairRecord {
+    std::int32_t proxy_a = -1;  // the broad phase's pair (the cache's key)
+    std::int32_t proxy_b = -1;
+    std::int32_t body_a = -1;   // body slots of the two proxies
+    std::int32_t body_b = -1;
+    std::uint8_t verdict = 0;   // pair rules: unknown, allowed, denied
+  };
   BodyRecord& record(BodyHandle body);
   const BodyRecord& record(BodyHandle body) const;
+  BodyRecord& liveRecord(BodyHandle body, const char* what);
+
+  // predict() in steps.
   void freeRemovedSlots();
+  void updateBounds(double horizon);
+  void syncPairCache();
+  void predictPairs(double horizon);
+  PairBody pairBody(std::int32_t slot) const;
+  ContactWindow windowOf(PairBody* a, PairBody* b, double horizon);
+  const Eigen::Isometry3d& poseNow(std::int32_t slot);
+  bool allowed(PairRecord& pair);
+  void report(const PairRecord& pair, const ContactPrediction& prediction);
 
   WorldConfig config_;
   std::vector<BodyRecord> bodies_;
@@ -94,8 +119,11 @@ class ProximityWorld {
   std::vector<std::int32_t> to_free_;
   double last_horizon_ = -1.0;
   bool rules_changed_ = true;
+  std::uint64_t cycle_ = 0;                 // predict() calls so far (never wraps)
 
   SweepAndPrune broad_phase_;
+  std::vector<std::int32_t> body_of_proxy_;    // body slot per broad-phase proxy id
+  BasicPairTable<PairRecord> pair_cache_;       // the broad phase's pairs, as the world sees them
   NarrowPhase narrow_phase_;
   EventTracker tracker_;
   WorldStats stats_;

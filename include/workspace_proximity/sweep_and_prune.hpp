@@ -37,6 +37,15 @@ struct SweepAndPruneConfig {
   double rebuild_factor = 1.0;
 };
 
+/// Two proxies whose stored bounds overlap, with proxy_a < proxy_b.
+struct BroadPair {
+  std::int32_t proxy_a = -1;
+  std::int32_t proxy_b = -1;
+  /// The structure's own bookkeeping (the last rebuild that found the pair); means nothing
+  /// to callers.
+  std::uint32_t epoch = 0;
+};
+
 /// Counters of the last update(), for benchmarks and diagnostics.
 struct SweepAndPruneStats {
   std::int64_t swaps = 0;       ///< insertion-sort swaps over three axes
@@ -52,8 +61,9 @@ class SweepAndPrune {
   explicit SweepAndPrune(const SweepAndPruneConfig& config = SweepAndPruneConfig());
 
   /// New proxy with the given bounds; it joins the structure (and its pairs are reported)
-  /// at the next update(). `user_data` is returned with its pairs. Bounds must be valid().
-  ProxyId createProxy(const Aabb& bounds, std::uint32_t user_data);
+  /// at the next update(). Ids are small non-negative integers, reused after destroyProxy();
+  /// callers map them to their own objects. Bounds must be valid(); throws otherwise.
+  ProxyId createProxy(const Aabb& bounds);
   /// Remove a proxy; its pairs are reported as ended at the next update(). The id may be
   /// reused by a later createProxy().
   void destroyProxy(ProxyId proxy);
@@ -64,39 +74,35 @@ class SweepAndPrune {
   void update();
 
   /// Every pair overlapping after the last update(), in no particular order.
-  const std::vector<ProxyPair>& pairs() const { return pairs_.pairs(); }
-  /// Pairs that started overlapping in the last update().
-  const std::vector<ProxyPair>& beganPairs() const { return began_; }
-  /// Pairs that stopped overlapping (or lost a proxy) in the last update().
-  const std::vector<ProxyPair>& endedPairs() const { return ended_; }
+  const std::vector<BroadPair>& pairs() const { return pairs_.pairs(); }
+  /// Pairs that started overlapping in the last update(). With endedPairs() this is all a
+  /// caller needs to keep its own per-pair state: pairs() after an update equals pairs()
+  /// before it, minus endedPairs(), plus beganPairs() (the two never share a pair).
+  const std::vector<BroadPair>& beganPairs() const { return began_; }
+  /// Pairs that stopped overlapping (or lost a proxy) in the last update(). They may name
+  /// proxies destroyed in that update, whose ids a later createProxy() reuses.
+  const std::vector<BroadPair>& endedPairs() const { return ended_; }
+  /// True when (a, b), in either order, is one of pairs().
+  bool hasPair(ProxyId a, ProxyId b) const { return pairs_.find(a, b) != nullptr; }
 
-  /// Live pair record for (a, b), or nullptr. Its `user` field belongs to the caller.
-  ProxyPair* findPair(ProxyId a, ProxyId b) { return pairs_.find(a, b); }
-  /// The current pairs, for writing their `user` fields (nothing else may be changed).
-  std::vector<ProxyPair>& mutablePairs() { return pairs_.mutablePairs(); }
-
-  std::uint32_t userData(ProxyId proxy) const { return info_[proxy].user; }
   /// The bounds the structure tests with (the given ones, moved outward by at most one ulp).
   Aabb storedBounds(ProxyId proxy) const;
   int proxyCount() const { return live_count_; }
   const SweepAndPruneStats& stats() const { return stats_; }
 
-  /// Compact 32-bit keys: order-preserving map of a float to uint32, rounded outward and
-  /// tagged like the structure's own 64-bit keys (which are exact doubles). Kept for callers
-  /// that need small sortable keys.
-  static std::uint32_t lowerKey(double value);
-  static std::uint32_t upperKey(double value);
-  static double keyValue(std::uint32_t key);
-
  private:
   enum class ProxyState : std::uint8_t { kFree, kPendingInsert, kLive };
 
   struct ProxyInfo {
-    std::uint32_t user;
     std::int32_t next_free;
     ProxyState state;
     bool pending_remove;
     bool is_new;  // inserted in the current update
+  };
+
+  // A proxy's keys on the two axes a sweep does not run along (b, c).
+  struct EndKeys {
+    std::uint64_t lb, ub, lc, uc;
   };
 
   // Open intervals of one sweep: structure of arrays over the two axes the sweep does not run
@@ -109,14 +115,13 @@ class SweepAndPrune {
     void reserve(std::size_t n);
     void clear() { size = 0; }
     /// Appends a proxy with its keys on the two tested axes; returns its position.
-    std::size_t push(std::int32_t p, std::uint64_t lb, std::uint64_t ub, std::uint64_t lc,
-                     std::uint64_t uc, std::uint32_t first_slab) {
+    std::size_t push(std::int32_t p, const EndKeys& k, std::uint32_t first_slab) {
       const std::size_t pos = size++;
       id[pos] = p;
-      lower_b[pos] = lb;
-      upper_b[pos] = ub;
-      lower_c[pos] = lc;
-      upper_c[pos] = uc;
+      lower_b[pos] = k.lb;
+      upper_b[pos] = k.ub;
+      lower_c[pos] = k.lc;
+      upper_c[pos] = k.uc;
       first[pos] = first_slab;
       return pos;
     }
@@ -166,29 +171,74 @@ class SweepAndPrune {
     }
     return true;
   }
+  // What a sweep reports: kRebuild stamps every pair it finds (new ones also begin); kAllNew
+  // begins every pair (all proxies new); kNewOnly begins the pairs with a new proxy.
+  enum class SweepMode : std::uint8_t { kRebuild, kAllNew, kNewOnly };
+
+  // Slabs of a second axis for a slab sweep; count 0: not worth it.
+  struct SlabGrid {
+    int axis = -1;
+    double lo = 0.0, scale = 0.0;  // slab of x: (x - lo) * scale
+    std::size_t count = 0;
+    std::uint32_t slabOf(std::uint64_t key) const;
+  };
+
+  // Endpoint positions [from, to) of one axis that a new proxy must look at.
+  struct Window {
+    std::size_t from = 0, to = 0;
+  };
+
   void reserveSlots(std::size_t slots);
   void checkLive(ProxyId proxy, const char* what) const;
   void writeBounds(ProxyId proxy, const Aabb& bounds);
+  void beginPair(std::int32_t a, std::int32_t b);
+  void endPair(std::int32_t a, std::int32_t b);
+
+  // update() in steps: removals, re-sorting (incremental or rebuild), insertions.
   void applyRemovals();
+  void dropRemovedEndpoints(int axis);
+  void resort();
+  void keepHeadroom();
   std::int64_t swapBudget() const;
   std::int64_t refreshKeys();  // reads every endpoint's key; returns the descents
-  // Insertion sort of every axis (reading the proxies' keys first when `refresh`), reporting
-  // pair events; false when the swap budget ran out.
+
+  // Incremental path: insertion sort of every axis (reading the proxies' keys first when
+  // `refresh`), reporting pair events; false when the swap budget ran out.
   bool sortAxes(bool refresh, std::int64_t budget);
+  std::size_t findBreaks(int axis, bool refresh);  // positions where the order breaks
+  bool sortRuns(int axis, std::size_t breaks, std::int64_t budget, std::int64_t* swaps);
+  std::size_t sinkEndpoint(int axis, std::size_t i);  // returns its new position
   void rollBack(std::size_t began_mark, std::size_t ended_mark);
+
+  // Rebuild path.
   void rebuild(std::int64_t descents);  // descents < 0: keys not read yet
-  void sortAxis(int axis);
+  void radixSortAxis(int axis);
+  void insertionSortAxis(int axis);
   std::int64_t sweepTests(int axis) const;
   int cheapestSweepAxis(std::int64_t* tests) const;
-  void insertPending();
-  bool insertByWindows();
+  void measureWidths(double* mean_width);
+
+  // Sweeps for pairs, around one kernel (testOpen).
+  void findPairs(int axis, std::int64_t tests, SweepMode mode);
   void sweepForPairs(int axis, bool only_new);
   // false: not worth it here, nothing done. `rebuild`: stamp pairs (else report them as begun).
   bool sweepSlabs(int axis, const double* mean_width, bool rebuild);
-  void measureWidths(double* mean_width);
+  SlabGrid slabGrid(int axis, const double* mean_width) const;
+  bool binIntoSlabs(int axis, const SlabGrid& grid);
+  std::int64_t sweepEachSlab(int axis, const SlabGrid& grid, bool rebuild);
+  template <bool kSlabs>
+  std::size_t testOpen(const ActiveSet& set, std::int32_t p, const EndKeys& k, bool p_first,
+                       bool rebuild);
+  void open(ActiveSet& set, std::int32_t p, const EndKeys& k, std::uint32_t first_slab);
+  void close(ActiveSet& set, std::int32_t p);
   void foundPair(std::int32_t a, std::int32_t b, bool rebuild);
-  void beginPair(std::int32_t a, std::int32_t b);
-  void endPair(std::int32_t a, std::int32_t b);
+
+  // Insertions.
+  void insertPending();
+  void mergeNewEndpoints(int axis);
+  bool insertByWindows();
+  int cheapestWindowAxis(std::int64_t limit) const;
+  Window window(int axis, ProxyId p) const;
 
   SweepAndPruneConfig config_;
   std::vector<std::uint64_t> ends_[3];  // 2 keys per proxy slot and axis
@@ -208,9 +258,9 @@ class SweepAndPrune {
   std::vector<ProxyId> pending_insert_;
   std::vector<ProxyId> pending_remove_;
 
-  PairTable pairs_;
-  std::vector<ProxyPair> began_;
-  std::vector<ProxyPair> ended_;
+  BasicPairTable<BroadPair> pairs_;
+  std::vector<BroadPair> began_;
+  std::vector<BroadPair> ended_;
 
   // Rebuild heuristics.
   bool last_rebuilt_ = false;

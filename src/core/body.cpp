@@ -4,37 +4,32 @@
 
 namespace workspace_proximity {
 
-Shape Shape::box(const Eigen::Vector3d& half_extents) {
+namespace {
+
+// A shape of the given type and dimensions; half_extents is the local bounding box's.
+Shape makeShape(ShapeType type, const Eigen::Vector3d& half_extents, double radius, double length) {
   Shape s;
-  s.type = ShapeType::kBox;
+  s.type = type;
+  s.radius = radius;
+  s.length = length;
   s.half_extents = half_extents;
+  if (type != ShapeType::kBox) s.half_extents = s.localHalfExtents();
   return s;
 }
 
+}  // namespace
+
+Shape Shape::box(const Eigen::Vector3d& half_extents) {
+  return makeShape(ShapeType::kBox, half_extents, 0.0, 0.0);
+}
 Shape Shape::sphere(double radius) {
-  Shape s;
-  s.type = ShapeType::kSphere;
-  s.radius = radius;
-  s.half_extents = Eigen::Vector3d::Constant(radius);
-  return s;
+  return makeShape(ShapeType::kSphere, Eigen::Vector3d::Zero(), radius, 0.0);
 }
-
 Shape Shape::cylinder(double radius, double length) {
-  Shape s;
-  s.type = ShapeType::kCylinder;
-  s.radius = radius;
-  s.length = length;
-  s.half_extents = Eigen::Vector3d(radius, radius, 0.5 * length);
-  return s;
+  return makeShape(ShapeType::kCylinder, Eigen::Vector3d::Zero(), radius, length);
 }
-
 Shape Shape::capsule(double radius, double length) {
-  Shape s;
-  s.type = ShapeType::kCapsule;
-  s.radius = radius;
-  s.length = length;
-  s.half_extents = Eigen::Vector3d(radius, radius, 0.5 * length + radius);
-  return s;
+  return makeShape(ShapeType::kCapsule, Eigen::Vector3d::Zero(), radius, length);
 }
 
 Eigen::Vector3d Shape::localHalfExtents() const {
@@ -81,6 +76,10 @@ bool Shape::valid() const {
       return positive(radius) && (length == 0.0 || positive(length));
   }
   return false;
+}
+
+bool validMargin(double margin) {
+  return std::isfinite(margin) && margin >= 0.0 && margin <= Limits::kMaxMargin;
 }
 
 Eigen::Isometry3d BodyMotion::poseAt(double t) const {

@@ -4,15 +4,15 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
-#include <fcl/geometry/shape/box.h>
-#include <fcl/geometry/shape/capsule.h>
-#include <fcl/geometry/shape/cylinder.h>
-#include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
+#include "fcl_geometry.hpp"
 #include "workspace_proximity/upright_box_distance.hpp"
 
 namespace workspace_proximity {
@@ -30,45 +30,36 @@ constexpr double kGjkTolerance = 1e-9;
 constexpr double kCertifyRelative = 1e-6;
 constexpr double kCertifyAbsolute = 1e-10;
 
+// A shape as the distance queries see it: its dimensions and its FCL geometry.
+struct Solid {
+  const Shape& shape;
+  const fcl::CollisionGeometryd& geometry;
+};
+
 // Largest extent of a centred shape along the world direction u, i.e. max over points x of
-// the shape (relative to its centre) of u . x. Returns false for shapes we do not model.
-bool shapeExtent(const fcl::CollisionGeometryd& g, const Eigen::Matrix3d& rotation,
-                 const Eigen::Vector3d& u, double* extent) {
+// the shape (relative to its centre) of u . x.
+double shapeExtent(const Shape& shape, const Eigen::Matrix3d& rotation, const Eigen::Vector3d& u) {
   const Eigen::Vector3d l = rotation.transpose() * u;
-  switch (g.getNodeType()) {
-    case fcl::GEOM_BOX:
-      *extent = 0.5 * static_cast<const fcl::Boxd&>(g).side.cwiseProduct(l.cwiseAbs()).sum();
-      return true;
-    case fcl::GEOM_SPHERE:
-      *extent = static_cast<const fcl::Sphered&>(g).radius * l.norm();
-      return true;
-    case fcl::GEOM_CYLINDER: {
-      const auto& c = static_cast<const fcl::Cylinderd&>(g);
-      *extent = c.radius * l.head<2>().norm() + 0.5 * c.lz * std::abs(l.z());
-      return true;
-    }
-    case fcl::GEOM_CAPSULE: {
-      const auto& c = static_cast<const fcl::Capsuled&>(g);
-      *extent = c.radius * l.norm() + 0.5 * c.lz * std::abs(l.z());
-      return true;
-    }
-    default:
-      return false;
+  switch (shape.type) {
+    case ShapeType::kBox:
+      return shape.half_extents.cwiseProduct(l.cwiseAbs()).sum();
+    case ShapeType::kSphere:
+      return shape.radius * l.norm();
+    case ShapeType::kCylinder:
+      return shape.radius * l.head<2>().norm() + 0.5 * shape.length * std::abs(l.z());
+    case ShapeType::kCapsule:
+      return shape.radius * l.norm() + 0.5 * shape.length * std::abs(l.z());
   }
+  return std::numeric_limits<double>::quiet_NaN();  // unreachable: shapes are valid() here
 }
 
 // Gap between the projections of a and b on the unit axis n: a true lower bound on their
 // distance whatever n is (projection never lengthens a segment). Because it does not trust
 // any FCL output, it is what conservative advancement steps by.
-double axisLowerBound(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& pose_a,
-                      const fcl::CollisionGeometryd& b, const Eigen::Isometry3d& pose_b,
-                      const Eigen::Vector3d& n, double fallback) {
-  double extent_a = 0.0, extent_b = 0.0;
-  if (!shapeExtent(a, pose_a.linear(), n, &extent_a) ||
-      !shapeExtent(b, pose_b.linear(), n, &extent_b)) {
-    return fallback;  // unknown shape type: nothing better than the solver's own answer
-  }
-  return n.dot(pose_b.translation() - pose_a.translation()) - extent_a - extent_b;
+double axisLowerBound(const Solid& a, const Eigen::Isometry3d& pose_a, const Solid& b,
+                      const Eigen::Isometry3d& pose_b, const Eigen::Vector3d& n) {
+  return n.dot(pose_b.translation() - pose_a.translation()) -
+         shapeExtent(a.shape, pose_a.linear(), n) - shapeExtent(b.shape, pose_b.linear(), n);
 }
 
 // Unit direction from a's centre to b's, the fallback when nearest points coincide.
@@ -89,14 +80,13 @@ struct Attempt {
 
 // One FCL distance query with the given solver. Returns false when the solver reports the
 // shapes as intersecting (or throws); otherwise fills distance, points and lower bound.
-bool distanceAttempt(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& pose_a,
-                     const fcl::CollisionGeometryd& b, const Eigen::Isometry3d& pose_b,
-                     fcl::GJKSolverType solver, Attempt* out) {
+bool distanceAttempt(const Solid& a, const Eigen::Isometry3d& pose_a, const Solid& b,
+                     const Eigen::Isometry3d& pose_b, fcl::GJKSolverType solver, Attempt* out) {
   // Never request signed distance: FCL 0.7's EPA can throw or loop on touching boxes.
   fcl::DistanceRequestd request(true, false, 0.0, 0.0, kGjkTolerance, solver);
   fcl::DistanceResultd result;
   try {
-    fcl::distance(&a, pose_a, &b, pose_b, request, result);
+    fcl::distance(&a.geometry, pose_a, &b.geometry, pose_b, request, result);
   } catch (const std::exception&) {
     return false;
   }
@@ -107,7 +97,7 @@ bool distanceAttempt(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& 
   const double length = delta.norm();
   out->normal = length > 1e-12 ? Eigen::Vector3d(delta / length) : centreDirection(pose_a, pose_b);
   out->distance = result.min_distance;
-  out->lower_bound = axisLowerBound(a, pose_a, b, pose_b, out->normal, out->distance);
+  out->lower_bound = axisLowerBound(a, pose_a, b, pose_b, out->normal);
   return true;
 }
 
@@ -128,16 +118,15 @@ struct Evaluation {
 // without a dedicated routine (a cylinder or capsule against a box, cylinder or capsule)
 // FCL 0.7's independent solver (GJK + EPA) returns negative depths and reversed normals,
 // while libccd (MPR) returns normals that point from a towards b.
-bool contactAttempt(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& pose_a,
-                    const fcl::CollisionGeometryd& b, const Eigen::Isometry3d& pose_b,
-                    ShapeDistance* out) {
+bool contactAttempt(const Solid& a, const Eigen::Isometry3d& pose_a, const Solid& b,
+                    const Eigen::Isometry3d& pose_b, ShapeDistance* out) {
   fcl::CollisionRequestd request(1, true, 1, false, true, fcl::GST_LIBCCD);
   // One result per thread, cleared and reused: its contact vector keeps its capacity, so
   // overlap queries stop allocating after the first.
   thread_local fcl::CollisionResultd result;
   result.clear();
   try {
-    fcl::collide(&a, pose_a, &b, pose_b, request, result);
+    fcl::collide(&a.geometry, pose_a, &b.geometry, pose_b, request, result);
   } catch (const std::exception&) {
     return false;
   }
@@ -155,16 +144,13 @@ bool contactAttempt(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& p
 // Two upright boxes (turned about the vertical only, as trackers report people and
 // vehicles) have an exact closed-form distance and contact, at a tenth of the cost of an FCL
 // query. Returns false when FCL must answer: other shapes and tilted boxes.
-bool evaluateUpright(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& pose_a,
-                     const fcl::CollisionGeometryd& b, const Eigen::Isometry3d& pose_b,
-                     Evaluation* e) {
-  if (a.getNodeType() != fcl::GEOM_BOX || b.getNodeType() != fcl::GEOM_BOX ||
-      !isUpright(pose_a.linear()) || !isUpright(pose_b.linear())) {
+bool evaluateUpright(const Shape& a, const Eigen::Isometry3d& pose_a, const Shape& b,
+                     const Eigen::Isometry3d& pose_b, Evaluation* e) {
+  if (a.type != ShapeType::kBox || b.type != ShapeType::kBox || !isUpright(pose_a.linear()) ||
+      !isUpright(pose_b.linear())) {
     return false;
   }
-  const UprightBoxDistance d =
-      uprightBoxDistance(pose_a, 0.5 * static_cast<const fcl::Boxd&>(a).side, pose_b,
-                         0.5 * static_cast<const fcl::Boxd&>(b).side);
+  const UprightBoxDistance d = uprightBoxDistance(pose_a, a.half_extents, pose_b, b.half_extents);
   if (!d.solved) return false;
   e->queries = 1;
   e->exact = true;
@@ -178,31 +164,34 @@ bool evaluateUpright(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& 
   return true;
 }
 
+// FCL's two solvers, each answer checked against its own lower bound (see evaluate): the
+// best answer and the best lower bound go to `best`. False when GJK reports the shapes
+// intersecting.
+bool fclDistance(const Solid& a, const Eigen::Isometry3d& pose_a, const Solid& b,
+                 const Eigen::Isometry3d& pose_b, Attempt* best, int* queries) {
+  for (fcl::GJKSolverType solver : {fcl::GST_INDEP, fcl::GST_LIBCCD}) {
+    Attempt attempt;
+    ++*queries;
+    if (!distanceAttempt(a, pose_a, b, pose_b, solver, &attempt)) return false;
+    const double lower_bound = std::max(best->lower_bound, attempt.lower_bound);
+    if (attempt.distance < best->distance) *best = attempt;
+    best->lower_bound = lower_bound;
+    if (certified(attempt)) break;
+  }
+  return true;
+}
+
 // Distance with certification and fallbacks. FCL 0.7 GJK answers are occasionally far too
 // large: GST_INDEP on rotated box pairs (~0.1 % of random pairs, up to 2x), GST_LIBCCD on
 // axis-aligned box pairs (fcl #508). An answer is accepted only when the separating-axis
 // lower bound along its normal agrees; otherwise the other solver is tried and the best
 // bounds of both are kept. `want_contact` runs fcl::collide when the shapes may touch.
-Evaluation evaluate(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& pose_a,
-                    const fcl::CollisionGeometryd& b, const Eigen::Isometry3d& pose_b,
-                    double touch_threshold, bool want_contact) {
+Evaluation evaluate(const Solid& a, const Eigen::Isometry3d& pose_a, const Solid& b,
+                    const Eigen::Isometry3d& pose_b, double touch_threshold, bool want_contact) {
   Evaluation e;
-  if (evaluateUpright(a, pose_a, b, pose_b, &e)) return e;
+  if (evaluateUpright(a.shape, pose_a, b.shape, pose_b, &e)) return e;
   Attempt best;
-  bool gjk_inside = false;
-  for (fcl::GJKSolverType solver : {fcl::GST_INDEP, fcl::GST_LIBCCD}) {
-    Attempt attempt;
-    ++e.queries;
-    if (!distanceAttempt(a, pose_a, b, pose_b, solver, &attempt)) {
-      gjk_inside = true;
-      break;
-    }
-    const double lower_bound = std::max(best.lower_bound, attempt.lower_bound);
-    if (attempt.distance < best.distance) best = attempt;
-    best.lower_bound = lower_bound;
-    if (certified(attempt)) break;
-  }
-
+  const bool gjk_inside = !fclDistance(a, pose_a, b, pose_b, &best, &e.queries);
   const bool may_touch = gjk_inside || best.lower_bound <= touch_threshold;
   if (may_touch && want_contact) {
     ++e.queries;
@@ -217,7 +206,6 @@ Evaluation evaluate(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& p
     e.shape.overlapping = true;
     return e;
   }
-
   if (best.distance < kInf) {
     e.shape.distance = best.distance;
     e.shape.point_a = best.point_a;
@@ -234,9 +222,9 @@ Evaluation evaluate(const fcl::CollisionGeometryd& a, const Eigen::Isometry3d& p
   return e;
 }
 
-void checkBody(const NarrowBody& body) {
-  if (body.geometry == nullptr || body.motion == nullptr) {
-    throw std::invalid_argument("NarrowPhase::predict: body without geometry or motion");
+void checkBody(const PairBody& body) {
+  if (body.shape == nullptr || body.motion == nullptr) {
+    throw std::invalid_argument("NarrowPhase::predict: body without shape or motion");
   }
 }
 
@@ -245,23 +233,37 @@ Eigen::Vector3d pointVelocity(const BodyMotion& motion, const Eigen::Vector3d& p
   return motion.linear_velocity + motion.angular_velocity.cross(p - motion.position);
 }
 
-// Gap between the margin-inflated shapes at time t for the advancement loops.
-struct GapProbe {
-  const NarrowBody& a;
-  const NarrowBody& b;
+// Fastest speed of any point of a body relative to its centre, m/s (0 when not turning).
+double rimSpeed(const PairBody& body) {
+  const double w = body.motion->angular_velocity.norm();
+  return w == 0.0 ? 0.0 : w * body.shape->boundingRadius();
+}
+
+// Upper bound on how fast the gap between any point of a and any point of b can shrink, m/s:
+// relative translation plus the fastest rim speed of each rotating body.
+double closingSpeedBound(const PairBody& a, const PairBody& b) {
+  return (a.motion->linear_velocity - b.motion->linear_velocity).norm() + rimSpeed(a) + rimSpeed(b);
+}
+
+// One query's pair: both shapes with their geometry, motions and margins, and the count of
+// distance queries spent.
+struct MovingPair {
+  Solid a, b;
+  const BodyMotion& motion_a;
+  const BodyMotion& motion_b;
+  double margin_a, margin_b;
   int* queries;
 
   // Certified lower bound on the inflated gap at t, m (-inf when overlapping). No contact
   // point is needed here, so fcl::collide (which allocates) is never called. `normal`
   // receives the unit normal from a towards b and `exact` whether gap and normal are exact.
   double gapAt(double t, Eigen::Vector3d* normal, bool* exact) const {
-    const Evaluation e =
-        evaluate(*a.geometry, a.motion->poseAt(t), *b.geometry, b.motion->poseAt(t), 0.0, false);
+    const Evaluation e = evaluate(a, motion_a.poseAt(t), b, motion_b.poseAt(t), 0.0, false);
     *queries += e.queries;
     *normal = e.shape.normal;
     *exact = e.exact && !e.shape.overlapping;
     if (e.shape.overlapping) return -kInf;
-    return e.lower_bound - a.margin - b.margin;
+    return e.lower_bound - margin_a - margin_b;
   }
   double gapAt(double t) const {
     Eigen::Vector3d normal;
@@ -270,147 +272,155 @@ struct GapProbe {
   }
 };
 
-}  // namespace
-
-std::shared_ptr<fcl::CollisionGeometryd> makeGeometry(const Shape& shape) {
-  if (!shape.valid()) throw std::invalid_argument("makeGeometry: invalid shape");
-  switch (shape.type) {
-    case ShapeType::kBox:
-      return std::make_shared<fcl::Boxd>(2.0 * shape.half_extents);  // FCL takes full sides
-    case ShapeType::kSphere:
-      return std::make_shared<fcl::Sphered>(shape.radius);
-    case ShapeType::kCylinder:
-      return std::make_shared<fcl::Cylinderd>(shape.radius, shape.length);
-    case ShapeType::kCapsule:
-      // FCL's capsule lz is the segment between the hemisphere centres, like Shape::length
-      // (its local AABB is radius + lz / 2 along z).
-      // A zero-length capsule is a sphere; FCL 0.7's capsule code trips its own asserts
-      // (abort) on it against cylinders, found by fuzzing.
-      if (shape.length == 0.0) return std::make_shared<fcl::Sphered>(shape.radius);
-      return std::make_shared<fcl::Capsuled>(shape.radius, shape.length);
-  }
-  throw std::invalid_argument("makeGeometry: unknown shape type");
+// The report at t = 0 on the raw shapes: distance, nearest points, normal, closing speed.
+Evaluation describeNow(const MovingPair& pair, const PairBody& a, const PairBody& b,
+                       double tolerance, ContactPrediction* out) {
+  Eigen::Isometry3d scratch_a, scratch_b;
+  const Evaluation now = evaluate(pair.a, a.poseNow(&scratch_a), pair.b, b.poseNow(&scratch_b),
+                                  tolerance, true);
+  out->iterations = now.queries;
+  out->distance = std::max(0.0, now.shape.distance - pair.margin_a - pair.margin_b);
+  out->point_a = now.shape.point_a;
+  out->point_b = now.shape.point_b;
+  out->normal = now.shape.normal;
+  out->closing_speed = out->normal.dot(pointVelocity(pair.motion_a, out->point_a) -
+                                       pointVelocity(pair.motion_b, out->point_b));
+  return now;
 }
 
-NarrowPhase::NarrowPhase(const NarrowPhaseConfig& config) : config_(config) {}
-
-ShapeDistance NarrowPhase::distance(const fcl::CollisionGeometryd& a,
-                                    const Eigen::Isometry3d& pose_a,
-                                    const fcl::CollisionGeometryd& b,
-                                    const Eigen::Isometry3d& pose_b) const {
-  return evaluate(a, pose_a, b, pose_b, config_.distance_tolerance, true).shape;
-}
-
-ContactPrediction NarrowPhase::predict(const NarrowBody& a, const NarrowBody& b,
-                                       TimeInterval window) const {
-  checkBody(a);
-  checkBody(b);
-  ContactPrediction out;
-
-  // The report describes t = 0 on the raw shapes, whatever the window.
-  const Eigen::Isometry3d pose_a0 = a.motion->poseAt(0.0);
-  const Eigen::Isometry3d pose_b0 = b.motion->poseAt(0.0);
-  const Evaluation now =
-      evaluate(*a.geometry, pose_a0, *b.geometry, pose_b0, config_.distance_tolerance, true);
-  out.iterations = now.queries;
-  out.distance = std::max(0.0, now.shape.distance - a.margin - b.margin);
-  out.point_a = now.shape.point_a;
-  out.point_b = now.shape.point_b;
-  out.normal = now.shape.normal;
-  out.closing_speed =
-      out.normal.dot(pointVelocity(*a.motion, out.point_a) - pointVelocity(*b.motion, out.point_b));
-  if (window.empty()) return out;
-  bool separation_known = false;
-
-  // Two boxes that only translate: the moving separating-axis test gives the contact
-  // interval in closed form, exact without margins and conservative with them, at no FCL
-  // cost. Trackers report most objects this way.
-  if (a.geometry->getNodeType() == fcl::GEOM_BOX && b.geometry->getNodeType() == fcl::GEOM_BOX &&
-      a.motion->angular_velocity.isZero(0.0) && b.motion->angular_velocity.isZero(0.0) &&
-      a.motion->linear_velocity.allFinite() && b.motion->linear_velocity.allFinite()) {
-    const auto& box_a = static_cast<const fcl::Boxd&>(*a.geometry);
-    const auto& box_b = static_cast<const fcl::Boxd&>(*b.geometry);
-    const TimeInterval contact = movingBoxInterval(
-        pose_a0, 0.5 * box_a.side, a.motion->linear_velocity, pose_b0, 0.5 * box_b.side,
-        b.motion->linear_velocity, a.margin + b.margin, window);
-    if (contact.empty()) return out;
-    if (a.margin + b.margin == 0.0) {
-      out.contact = true;
-      out.time_to_contact = contact.first;
-      out.time_to_separation = contact.last;
-      return out;
-    }
-    // With margins the boxes are rounded, which the axis test bounds but does not match at
-    // edges and corners: conservative advancement finds the first contact inside the
-    // narrowed window. The axis test's exit time stands as the last contact (never early).
-    window = contact;
-    separation_known = true;
-  }
-
-  // Upper bound on how fast the gap between any point of a and any point of b can shrink:
-  // relative translation plus the fastest rim speed of each rotating body.
-  const double mu = (a.motion->linear_velocity - b.motion->linear_velocity).norm() +
-                    a.motion->angular_velocity.norm() * a.bounding_radius +
-                    b.motion->angular_velocity.norm() * b.bounding_radius;
-  if (!std::isfinite(mu)) {
-    // Non-finite motion (a caller bug): claim the whole window rather than miss a contact.
-    out.contact = true;
-    out.time_to_contact = window.first;
-    out.time_to_separation = window.last;
-    return out;
-  }
-  const double tol = config_.distance_tolerance;
-  const GapProbe probe{a, b, &out.iterations};
-  const double gap_now = now.shape.overlapping ? -kInf : now.lower_bound - a.margin - b.margin;
-
-  // Forward advancement: every step is shorter than the time the gap needs to close, so no
-  // contact is ever skipped.
-  //
-  // Two bodies that only translate have a gap g(t) that is convex in t (the distance from
-  // the origin to a translating convex set, minus the margins), with g'(t) = n . (v_b - v_a)
-  // wherever g > 0 (the nearest point is unique). A convex function lies above its tangents,
-  // so with an exact gap and normal (the upright closed form) two shortcuts are safe: the
-  // Newton step gap / (-g') never passes the first root, and g' >= 0 means the gap never
-  // shrinks again. Newton's step is never shorter than gap / mu and converges in a step or
-  // two where conservative advancement creeps along grazing approaches.
+// Forward advancement from the window's start: every step is shorter than the time the gap
+// needs to close, so no contact is ever skipped. Returns false when the shapes do not touch
+// within the window; else `t` is the first contact (or where the steps ran out: contact then
+// is the safe answer).
+//
+// Two bodies that only translate have a gap g(t) that is convex in t (the distance from the
+// origin to a translating convex set, minus the margins), with g'(t) = n . (v_b - v_a)
+// wherever g > 0 (the nearest point is unique). A convex function lies above its tangents,
+// so with an exact gap and normal (the upright closed form) two shortcuts are safe: the
+// Newton step gap / (-g') never passes the first root, and g' >= 0 means the gap never
+// shrinks again. Newton's step is never shorter than gap / mu and converges in a step or two
+// where conservative advancement creeps along grazing approaches.
+bool advanceToFirstContact(const MovingPair& pair, const Evaluation& now, double mu,
+                           TimeInterval window, const NarrowPhaseConfig& config, double* t) {
+  const double gap_now = now.shape.overlapping ? -kInf : now.lower_bound - pair.margin_a - pair.margin_b;
   const bool translating =
-      a.motion->angular_velocity.isZero(0.0) && b.motion->angular_velocity.isZero(0.0);
-  const Eigen::Vector3d relative = b.motion->linear_velocity - a.motion->linear_velocity;
-  double t = window.first;
-  for (int step = 0; step < config_.max_iterations; ++step) {
+      pair.motion_a.angular_velocity.isZero(0.0) && pair.motion_b.angular_velocity.isZero(0.0);
+  const Eigen::Vector3d relative = pair.motion_b.linear_velocity - pair.motion_a.linear_velocity;
+  *t = window.first;
+  for (int step = 0; step < config.max_iterations; ++step) {
     Eigen::Vector3d normal = now.shape.normal;
     bool exact = now.exact && !now.shape.overlapping;
-    const double gap = (t == 0.0) ? gap_now : probe.gapAt(t, &normal, &exact);
-    if (gap <= tol) break;
-    if (!(mu > 0.0)) return out;  // no relative motion: the gap never closes
+    const double gap = (*t == 0.0) ? gap_now : pair.gapAt(*t, &normal, &exact);
+    if (gap <= config.distance_tolerance) break;
+    if (!(mu > 0.0)) return false;  // no relative motion: the gap never closes
     double advance = gap / mu;
     if (translating && exact) {
       const double closing = -normal.dot(relative);  // m/s, -g'(t)
-      if (!(closing > 0.0)) return out;              // g' >= 0: never closes from here on
+      if (!(closing > 0.0)) return false;            // g' >= 0: never closes from here on
       // Shaved by a part in 1e9 so rounding cannot carry it past the root.
       advance = std::max(advance, gap / closing * (1.0 - 1e-9));
     }
-    t += advance;
-    if (t > window.last) return out;
+    *t += advance;
+    if (*t > window.last) return false;
   }
-  // Reached on contact, or out of steps without deciding: contact now is the safe answer.
-  out.contact = true;
-  out.time_to_contact = t;
+  return true;
+}
 
-  // Backward advancement from the end of the window finds the last contact the same way.
-  double s = window.last;
-  out.time_to_separation = window.last;
-  if (!(mu > 0.0) || separation_known) return out;
-  for (int step = 0; step < config_.max_iterations; ++step) {
-    if (s <= out.time_to_contact) {
-      s = out.time_to_contact;
+// Backward advancement from the window's end finds the last contact the same way; never
+// before the first contact.
+double retreatToLastContact(const MovingPair& pair, double mu, double end, double first,
+                            const NarrowPhaseConfig& config) {
+  double s = end;
+  for (int step = 0; step < config.max_iterations; ++step) {
+    if (s <= first) {
+      s = first;
       break;
     }
-    const double gap = probe.gapAt(s);
-    if (gap <= tol) break;
+    const double gap = pair.gapAt(s);
+    if (gap <= config.distance_tolerance) break;
     s -= gap / mu;
   }
-  out.time_to_separation = std::max(s, out.time_to_contact);
+  return std::max(s, first);
+}
+
+}  // namespace
+
+// FCL geometry by slot; a body without one gets its geometry built for the query.
+struct NarrowPhase::GeometryCache {
+  std::vector<std::unique_ptr<fcl::CollisionGeometryd>> by_slot;
+
+  const fcl::CollisionGeometryd& of(const PairBody& body,
+                                    std::unique_ptr<fcl::CollisionGeometryd>* own) const {
+    if (body.geometry < 0) {
+      *own = makeFclGeometry(*body.shape);
+      return **own;
+    }
+    const std::size_t slot = static_cast<std::size_t>(body.geometry);
+    if (slot >= by_slot.size() || !by_slot[slot]) {
+      throw std::invalid_argument("NarrowPhase::predict: no geometry in slot " +
+                                  std::to_string(body.geometry));
+    }
+    return *by_slot[slot];
+  }
+};
+
+NarrowPhase::NarrowPhase(const NarrowPhaseConfig& config)
+    : config_(config), cache_(std::make_unique<GeometryCache>()) {}
+NarrowPhase::~NarrowPhase() = default;
+NarrowPhase::NarrowPhase(NarrowPhase&&) noexcept = default;
+NarrowPhase& NarrowPhase::operator=(NarrowPhase&&) noexcept = default;
+
+void NarrowPhase::setShape(std::int32_t slot, const Shape& shape) {
+  if (slot < 0) throw std::invalid_argument("NarrowPhase::setShape: negative slot");
+  std::unique_ptr<fcl::CollisionGeometryd> geometry = makeFclGeometry(shape);
+  std::vector<std::unique_ptr<fcl::CollisionGeometryd>>& slots = cache_->by_slot;
+  if (static_cast<std::size_t>(slot) >= slots.size()) slots.resize(static_cast<std::size_t>(slot) + 1);
+  slots[static_cast<std::size_t>(slot)] = std::move(geometry);
+}
+
+void NarrowPhase::clearShape(std::int32_t slot) {
+  if (slot >= 0 && static_cast<std::size_t>(slot) < cache_->by_slot.size()) {
+    cache_->by_slot[static_cast<std::size_t>(slot)].reset();
+  }
+}
+
+ShapeDistance NarrowPhase::distance(const Shape& a, const Eigen::Isometry3d& pose_a,
+                                    const Shape& b, const Eigen::Isometry3d& pose_b) const {
+  const std::unique_ptr<fcl::CollisionGeometryd> ga = makeFclGeometry(a), gb = makeFclGeometry(b);
+  return evaluate(Solid{a, *ga}, pose_a, Solid{b, *gb}, pose_b, config_.distance_tolerance, true)
+      .shape;
+}
+
+ContactPrediction NarrowPhase::predict(const PairBody& a, const PairBody& b,
+                                       const ContactWindow& window) const {
+  checkBody(a);
+  checkBody(b);
+  std::unique_ptr<fcl::CollisionGeometryd> own_a, own_b;  // bodies without a cached geometry
+  ContactPrediction out;
+  const MovingPair pair{Solid{*a.shape, cache_->of(a, &own_a)}, Solid{*b.shape, cache_->of(b, &own_b)},
+                        *a.motion, *b.motion, a.margin, b.margin, &out.iterations};
+  const Evaluation now = describeNow(pair, a, b, config_.distance_tolerance, &out);
+  if (window.empty()) return out;
+  const TimeInterval w = window.interval;
+  const double mu = window.exact ? 0.0 : closingSpeedBound(a, b);
+  if (window.exact || !std::isfinite(mu)) {
+    // Exact already, or non-finite motion (a caller bug): the whole window, rather than
+    // miss a contact.
+    out.contact = true;
+    out.time_to_contact = w.first;
+    out.time_to_separation = w.last;
+    return out;
+  }
+  if (!advanceToFirstContact(pair, now, mu, w, config_, &out.time_to_contact)) {
+    out.time_to_contact = 0.0;
+    return out;
+  }
+  out.contact = true;
+  out.time_to_separation = w.last;
+  if (mu > 0.0 && !window.last_known) {
+    out.time_to_separation =
+        retreatToLastContact(pair, mu, w.last, out.time_to_contact, config_);
+  }
   return out;
 }
 

@@ -6,20 +6,42 @@
 #include <utility>
 
 #include "workspace_proximity/swept_bounds.hpp"
-#include "workspace_proximity/time_of_impact.hpp"
 
 namespace workspace_proximity {
 namespace {
 
-// Verdicts cached in the broad phase's per-pair user field.
-constexpr std::uint32_t kVerdictUnknown = 0;
-constexpr std::uint32_t kVerdictAllowed = 1;
-constexpr std::uint32_t kVerdictDenied = 2;
+// Pair-rule verdicts cached per pair.
+constexpr std::uint8_t kVerdictUnknown = 0;
+constexpr std::uint8_t kVerdictAllowed = 1;
+constexpr std::uint8_t kVerdictDenied = 2;
 
-std::int64_t nanosSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() -
-                                                              start)
-      .count();
+// Adds the nanoseconds from its construction to its destruction to *total; reads no clock
+// when disabled.
+class StageTimer {
+ public:
+  explicit StageTimer(std::int64_t* total, bool enabled = true)
+      : total_(enabled ? total : nullptr) {
+    if (total_ != nullptr) start_ = std::chrono::steady_clock::now();
+  }
+  ~StageTimer() {
+    if (total_ == nullptr) return;
+    *total_ += std::chrono::duration_cast<std::chrono::nanoseconds>(
+                   std::chrono::steady_clock::now() - start_)
+                   .count();
+  }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+
+ private:
+  std::int64_t* total_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// f(), its time added to *total when enabled (a returned value is not copied).
+template <class F>
+auto timed(std::int64_t* total, bool enabled, F&& f) {
+  StageTimer timer(total, enabled);
+  return f();
 }
 
 SweepAndPruneConfig broadPhaseConfig(const WorldConfig& config) {
@@ -29,6 +51,25 @@ SweepAndPruneConfig broadPhaseConfig(const WorldConfig& config) {
   return c;
 }
 
+// The one check of a body's shape and margin, and of its motion, for every entry point.
+void checkShape(const char* where, const std::string& id, const Shape& shape, double margin) {
+  if (!shape.valid()) {
+    throw std::invalid_argument(std::string(where) + ": body '" + id +
+                                "' has a non-finite or non-positive dimension");
+  }
+  if (!validMargin(margin)) {
+    throw std::invalid_argument(std::string(where) + ": body '" + id +
+                                "' has a negative, non-finite or huge margin");
+  }
+}
+
+void checkMotion(const char* where, const std::string& id, const BodyMotion& motion) {
+  if (!motion.valid()) {
+    throw std::invalid_argument(std::string(where) + ": body '" + id +
+                                "' has a non-finite or out-of-range motion or a non-unit quaternion");
+  }
+}
+
 }  // namespace
 
 struct ProximityWorld::BodyRecord {
@@ -36,10 +77,10 @@ struct ProximityWorld::BodyRecord {
 
   BodyDesc desc;
   BodyMotion motion;
-  std::shared_ptr<fcl::CollisionGeometryd> geometry;
-  double bounding_radius = 0.0;
   Eigen::Vector3d half = Eigen::Vector3d::Zero();  // rotation-inflated half extents + margin
   Aabb swept;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // at t = 0, valid in cycle pose_cycle
+  std::uint64_t pose_cycle = 0;
   SweepAndPrune::ProxyId proxy = -1;
   std::uint32_t generation = 0;
   std::uint32_t serial = 0;  // unique over the world's life: names the body in event keys
@@ -51,9 +92,11 @@ struct ProximityWorld::BodyRecord {
 ProximityWorld::ProximityWorld(const WorldConfig& config)
     : config_(config),
       broad_phase_(broadPhaseConfig(config)),
+      pair_cache_(config.initial_pair_capacity),
       narrow_phase_(config.narrow_phase),
       tracker_(config.initial_event_capacity) {
   bodies_.reserve(static_cast<std::size_t>(std::max(config.initial_body_capacity, 1)));
+  body_of_proxy_.reserve(bodies_.capacity());
   removed_.reserve(bodies_.capacity());
   to_free_.reserve(bodies_.capacity());
 }
@@ -70,6 +113,14 @@ const ProximityWorld::BodyRecord& ProximityWorld::record(BodyHandle body) const 
   return bodies_[body.index];
 }
 
+ProximityWorld::BodyRecord& ProximityWorld::liveRecord(BodyHandle body, const char* what) {
+  BodyRecord& b = record(body);
+  if (b.state != BodyRecord::State::kLive) {
+    throw std::invalid_argument(std::string(what) + ": body '" + b.desc.id + "' was removed");
+  }
+  return b;
+}
+
 bool ProximityWorld::contains(BodyHandle body) const {
   return body.index >= 0 && body.index < static_cast<std::int32_t>(bodies_.size()) &&
          bodies_[body.index].generation == body.generation &&
@@ -77,28 +128,20 @@ bool ProximityWorld::contains(BodyHandle body) const {
 }
 
 BodyHandle ProximityWorld::addBody(const BodyDesc& desc, const BodyMotion& motion) {
+  constexpr const char* kWhere = "ProximityWorld::addBody";
   if (desc.id.empty()) throw std::invalid_argument("ProximityWorld::addBody: empty id");
-  if (!desc.shape.valid()) {
-    throw std::invalid_argument("ProximityWorld::addBody: body '" + desc.id +
-                                "' has a non-finite or non-positive dimension");
-  }
-  if (!std::isfinite(desc.margin) || desc.margin < 0.0 || desc.margin > Limits::kMaxMargin) {
-    throw std::invalid_argument("ProximityWorld::addBody: body '" + desc.id +
-                                "' has a negative, non-finite or huge margin");
-  }
-  if (!motion.valid()) {
-    throw std::invalid_argument("ProximityWorld::addBody: body '" + desc.id +
-                                "' has a non-finite or out-of-range motion or a non-unit quaternion");
-  }
+  checkShape(kWhere, desc.id, desc.shape, desc.margin);
+  checkMotion(kWhere, desc.id, motion);
   // Everything that can fail happens before the slot is taken, so a rejected body leaves
-  // no trace.
-  std::shared_ptr<fcl::CollisionGeometryd> geometry = makeGeometry(desc.shape);
-  const double horizon = std::max(last_horizon_, 0.0);
-  const Aabb swept = workspace_proximity::sweptBounds(desc.shape, motion, desc.margin, horizon);
+  // no trace (a geometry built for a free slot is simply replaced when the slot is used).
   const std::int32_t index =
       free_list_ >= 0 ? free_list_ : static_cast<std::int32_t>(bodies_.size());
-  const SweepAndPrune::ProxyId proxy =
-      broad_phase_.createProxy(swept, static_cast<std::uint32_t>(index));
+  narrow_phase_.setShape(index, desc.shape);
+  const double horizon = std::max(last_horizon_, 0.0);
+  const Aabb swept = workspace_proximity::sweptBounds(desc.shape, motion, desc.margin, horizon);
+  const SweepAndPrune::ProxyId proxy = broad_phase_.createProxy(swept);
+  if (static_cast<std::size_t>(proxy) >= body_of_proxy_.size()) body_of_proxy_.resize(proxy + 1, -1);
+  body_of_proxy_[static_cast<std::size_t>(proxy)] = index;
 
   if (free_list_ >= 0) {
     free_list_ = bodies_[index].next_free;
@@ -108,8 +151,6 @@ BodyHandle ProximityWorld::addBody(const BodyDesc& desc, const BodyMotion& motio
   BodyRecord& b = bodies_[index];
   b.desc = desc;
   b.motion = motion;
-  b.geometry = std::move(geometry);
-  b.bounding_radius = desc.shape.boundingRadius();
   b.serial = next_serial_++;
   b.state = BodyRecord::State::kLive;
   b.dirty = true;
@@ -132,32 +173,18 @@ void ProximityWorld::removeBody(BodyHandle body) {
 }
 
 void ProximityWorld::setMotion(BodyHandle body, const BodyMotion& motion) {
-  BodyRecord& b = record(body);
-  if (b.state != BodyRecord::State::kLive) {
-    throw std::invalid_argument("ProximityWorld::setMotion: body '" + b.desc.id +
-                                "' was removed");
-  }
-  if (!motion.valid()) {
-    throw std::invalid_argument("ProximityWorld::setMotion: body '" + b.desc.id +
-                                "' has a non-finite or out-of-range motion or a non-unit quaternion");
-  }
+  BodyRecord& b = liveRecord(body, "ProximityWorld::setMotion");
+  checkMotion("ProximityWorld::setMotion", b.desc.id, motion);
   b.motion = motion;
   b.dirty = true;
 }
 
 void ProximityWorld::setShape(BodyHandle body, const Shape& shape, double margin) {
-  BodyRecord& b = record(body);
-  if (b.state != BodyRecord::State::kLive) {
-    throw std::invalid_argument("ProximityWorld::setShape: body '" + b.desc.id + "' was removed");
-  }
-  if (!shape.valid() || !std::isfinite(margin) || margin < 0.0 || margin > Limits::kMaxMargin) {
-    throw std::invalid_argument("ProximityWorld::setShape: body '" + b.desc.id +
-                                "' gets an invalid shape or margin");
-  }
+  BodyRecord& b = liveRecord(body, "ProximityWorld::setShape");
+  checkShape("ProximityWorld::setShape", b.desc.id, shape, margin);
+  narrow_phase_.setShape(body.index, shape);
   b.desc.shape = shape;
   b.desc.margin = margin;
-  b.geometry = makeGeometry(shape);
-  b.bounding_radius = shape.boundingRadius();
   b.dirty = true;
 }
 
@@ -170,6 +197,39 @@ void ProximityWorld::setRules(const PairRules& rules) {
   rules_changed_ = true;
 }
 
+// The per-pair helpers below are `inline`: in a shared library an exported function may be
+// interposed, so the compiler would not inline them into the pair loop otherwise.
+
+const std::vector<PairEvent>& ProximityWorld::predict(double horizon) {
+  if (!std::isfinite(horizon) || horizon < 0.0 || horizon > Limits::kMaxHorizon) {
+    throw std::invalid_argument("ProximityWorld::predict: horizon must be in [0, 1e4] s");
+  }
+  stats_ = WorldStats();
+  ++cycle_;
+  freeRemovedSlots();
+  {
+    StageTimer timer(&stats_.ns_bounds);
+    updateBounds(horizon);
+  }
+  {
+    StageTimer timer(&stats_.ns_broad);
+    broad_phase_.update();
+    syncPairCache();
+  }
+  stats_.broad_phase = broad_phase_.stats();
+  stats_.bodies = live_count_;
+  {
+    StageTimer timer(&stats_.ns_pairs);
+    predictPairs(horizon);
+  }
+  if (!config_.time_pair_stages) stats_.ns_axis = stats_.ns_pairs;
+  {
+    StageTimer timer(&stats_.ns_events);
+    tracker_.endCycle();  // BEGIN / ONGOING / END, earliest first
+  }
+  return tracker_.events();
+}
+
 void ProximityWorld::freeRemovedSlots() {
   // Bodies removed before the previous predict() had their END events then; their slots
   // can be reused now. Bodies removed since stay nameable through this predict().
@@ -177,7 +237,7 @@ void ProximityWorld::freeRemovedSlots() {
     BodyRecord& b = bodies_[index];
     b.state = BodyRecord::State::kFree;
     ++b.generation;
-    b.geometry.reset();
+    narrow_phase_.clearShape(index);
     b.next_free = free_list_;
     free_list_ = index;
   }
@@ -185,15 +245,8 @@ void ProximityWorld::freeRemovedSlots() {
   std::swap(to_free_, removed_);
 }
 
-const std::vector<PairEvent>& ProximityWorld::predict(double horizon) {
-  if (!std::isfinite(horizon) || horizon < 0.0 || horizon > Limits::kMaxHorizon) {
-    throw std::invalid_argument("ProximityWorld::predict: horizon must be in [0, 1e4] s");
-  }
-  stats_ = WorldStats();
-  freeRemovedSlots();
-
-  // 1. Swept bounds of every body that moved (all of them when the horizon changed).
-  auto t0 = std::chrono::steady_clock::now();
+void ProximityWorld::updateBounds(double horizon) {
+  // Swept bounds of every body that moved (all of them when the horizon changed).
   const bool horizon_changed = horizon != last_horizon_;
   last_horizon_ = horizon;
   for (BodyRecord& b : bodies_) {
@@ -203,79 +256,108 @@ const std::vector<PairEvent>& ProximityWorld::predict(double horizon) {
     broad_phase_.moveProxy(b.proxy, b.swept);
     b.dirty = false;
   }
-  stats_.ns_bounds = nanosSince(t0);
+}
 
-  // 2. Incremental sweep-and-prune.
-  t0 = std::chrono::steady_clock::now();
-  broad_phase_.update();
-  stats_.ns_broad = nanosSince(t0);
-  stats_.broad_phase = broad_phase_.stats();
-  stats_.bodies = live_count_;
+void ProximityWorld::syncPairCache() {
+  // The broad phase's pairs now = before - ended + began (disjoint): the cache follows, and
+  // a new pair's bodies and verdict are looked up once, when it begins.
+  for (const BroadPair& p : broad_phase_.endedPairs()) pair_cache_.erase(p.proxy_a, p.proxy_b);
+  for (const BroadPair& p : broad_phase_.beganPairs()) {
+    PairRecord* pair = pair_cache_.insert(p.proxy_a, p.proxy_b, nullptr);
+    pair->body_a = body_of_proxy_[static_cast<std::size_t>(pair->proxy_a)];
+    pair->body_b = body_of_proxy_[static_cast<std::size_t>(pair->proxy_b)];
+    pair->verdict = kVerdictUnknown;
+  }
+  // A quarter of headroom, as in the broad phase: the cache grows while the pair count climbs
+  // to its usual level, not when it first touches a new maximum by chance.
+  if (4 * static_cast<std::size_t>(pair_cache_.size()) > 3 * pair_cache_.capacity()) {
+    pair_cache_.reserve(2 * pair_cache_.capacity());
+  }
+}
 
-  // 3-4. Rules, per-axis time of impact, narrow phase.
+void ProximityWorld::predictPairs(double horizon) {
+  // Per pair: rules, contact window, narrow phase inside the window, report.
   tracker_.beginCycle();
-  std::vector<ProxyPair>& pairs = broad_phase_.mutablePairs();
-  stats_.broad_pairs = static_cast<int>(pairs.size());
-  std::int64_t ns_axis = 0;
-  std::int64_t ns_narrow = 0;
-  const bool timed = config_.time_pair_stages;
-  const auto pairs_start = std::chrono::steady_clock::now();
-  std::chrono::steady_clock::time_point ta, tn;
-  for (ProxyPair& pair : pairs) {
-    const std::int32_t ia = static_cast<std::int32_t>(broad_phase_.userData(pair.proxy_a));
-    const std::int32_t ib = static_cast<std::int32_t>(broad_phase_.userData(pair.proxy_b));
-    BodyRecord& a = bodies_[ia];
-    BodyRecord& b = bodies_[ib];
-    if (pair.user == kVerdictUnknown || rules_changed_) {
-      // Rules are evaluated once per broad-phase pair, not every cycle.
-      pair.user = config_.rules.allowed(a.desc, b.desc) ? kVerdictAllowed : kVerdictDenied;
-    }
-    if (pair.user != kVerdictAllowed) continue;
+  stats_.broad_pairs = pair_cache_.size();
+  const bool timed_pairs = config_.time_pair_stages;
+  for (PairRecord& pair : pair_cache_.mutablePairs()) {
+    if (!allowed(pair)) continue;
     ++stats_.allowed_pairs;
-
-    if (timed) ta = std::chrono::steady_clock::now();
-    const TimeInterval window =
-        boxContactInterval(a.motion.position, a.half, a.motion.linear_velocity, b.motion.position,
-                           b.half, b.motion.linear_velocity, horizon);
-    if (timed) ns_axis += nanosSince(ta);
-    if (window.empty()) continue;
+    PairBody a = pairBody(pair.body_a), b = pairBody(pair.body_b);
+    const ContactWindow window =
+        timed(&stats_.ns_axis, timed_pairs, [&] { return windowOf(&a, &b, horizon); });
+    if (window.axis.empty()) continue;
     ++stats_.axis_candidates;
-
-    if (timed) tn = std::chrono::steady_clock::now();
-    const NarrowBody na{a.geometry.get(), &a.motion, a.desc.margin, a.bounding_radius};
-    const NarrowBody nb{b.geometry.get(), &b.motion, b.desc.margin, b.bounding_radius};
-    const ContactPrediction prediction = narrow_phase_.predict(na, nb, window);
-    if (timed) ns_narrow += nanosSince(tn);
+    if (window.empty()) continue;
+    const ContactPrediction prediction =
+        timed(&stats_.ns_narrow, timed_pairs, [&] { return narrow_phase_.predict(a, b, window); });
     stats_.narrow_iterations += prediction.iterations;
     if (!prediction.contact) continue;
     ++stats_.contacts;
-
-    // Name the pair so that body_a's id sorts first, as the message contract asks.
-    const bool swap = b.desc.id < a.desc.id;
-    PairEvent event;
-    event.body_a = BodyHandle{swap ? ib : ia, swap ? b.generation : a.generation};
-    event.body_b = BodyHandle{swap ? ia : ib, swap ? a.generation : b.generation};
-    event.time_to_contact = prediction.time_to_contact;
-    event.time_to_separation = prediction.time_to_separation;
-    event.distance = prediction.distance;
-    event.point_a = swap ? prediction.point_b : prediction.point_a;
-    event.point_b = swap ? prediction.point_a : prediction.point_b;
-    event.normal = swap ? Eigen::Vector3d(-prediction.normal) : prediction.normal;
-    event.closing_speed = prediction.closing_speed;
-    const std::uint32_t lo = std::min(a.serial, b.serial);
-    const std::uint32_t hi = std::max(a.serial, b.serial);
-    tracker_.report((static_cast<std::uint64_t>(lo) << 32) | hi, event);
+    report(pair, prediction);
   }
   rules_changed_ = false;
-  stats_.ns_pairs = nanosSince(pairs_start);
-  stats_.ns_axis = timed ? ns_axis : stats_.ns_pairs;
-  stats_.ns_narrow = ns_narrow;
+}
 
-  // 5. Events: BEGIN / ONGOING / END, earliest first.
-  t0 = std::chrono::steady_clock::now();
-  tracker_.endCycle();
-  stats_.ns_events = nanosSince(t0);
-  return tracker_.events();
+inline PairBody ProximityWorld::pairBody(std::int32_t slot) const {
+  const BodyRecord& r = bodies_[slot];
+  PairBody body;
+  body.shape = &r.desc.shape;
+  body.motion = &r.motion;
+  body.margin = r.desc.margin;
+  body.half = r.half;
+  body.geometry = slot;  // the narrow phase's geometry cache is indexed by body slot
+  return body;
+}
+
+inline ContactWindow ProximityWorld::windowOf(PairBody* a, PairBody* b, double horizon) {
+  // The axis window first; only bodies of pairs that pass it need their pose now, which each
+  // body computes once per cycle for all its pairs.
+  const TimeInterval axis = axisWindow(*a, *b, horizon);
+  if (!axis.empty()) {
+    a->pose = &poseNow(a->geometry);
+    b->pose = &poseNow(b->geometry);
+  }
+  return refineWindow(*a, *b, axis);
+}
+
+inline const Eigen::Isometry3d& ProximityWorld::poseNow(std::int32_t slot) {
+  BodyRecord& r = bodies_[slot];
+  if (r.pose_cycle != cycle_) {
+    r.pose = r.motion.poseAt(0.0);
+    r.pose_cycle = cycle_;
+  }
+  return r.pose;
+}
+
+inline bool ProximityWorld::allowed(PairRecord& pair) {
+  // Rules are evaluated once per broad-phase pair (and again after setRules), not every cycle.
+  if (pair.verdict == kVerdictUnknown || rules_changed_) {
+    const bool allow = config_.rules.allowed(bodies_[pair.body_a].desc, bodies_[pair.body_b].desc);
+    pair.verdict = allow ? kVerdictAllowed : kVerdictDenied;
+  }
+  return pair.verdict == kVerdictAllowed;
+}
+
+inline void ProximityWorld::report(const PairRecord& pair, const ContactPrediction& prediction) {
+  const BodyRecord& a = bodies_[pair.body_a];
+  const BodyRecord& b = bodies_[pair.body_b];
+  // Name the pair so that body_a's id sorts first, as the message contract asks.
+  const bool swap = b.desc.id < a.desc.id;
+  PairEvent event;
+  event.body_a = BodyHandle{swap ? pair.body_b : pair.body_a, swap ? b.generation : a.generation};
+  event.body_b = BodyHandle{swap ? pair.body_a : pair.body_b, swap ? a.generation : b.generation};
+  event.time_to_contact = prediction.time_to_contact;
+  event.time_to_separation = prediction.time_to_separation;
+  event.distance = prediction.distance;
+  event.point_a = swap ? prediction.point_b : prediction.point_a;
+  event.point_b = swap ? prediction.point_a : prediction.point_b;
+  event.normal = swap ? Eigen::Vector3d(-prediction.normal) : prediction.normal;
+  event.closing_speed = prediction.closing_speed;
+  // The bodies' serials name the pair for the tracker: never reused, unlike slots.
+  const std::uint32_t lo = std::min(a.serial, b.serial);
+  const std::uint32_t hi = std::max(a.serial, b.serial);
+  tracker_.report((static_cast<std::uint64_t>(lo) << 32) | hi, event);
 }
 
 }  // namespace workspace_proximity

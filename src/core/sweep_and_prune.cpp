@@ -16,22 +16,8 @@ constexpr std::uint64_t kSign64 = 0x8000000000000000ull;
 // A plain sweep with fewer overlap tests per proxy than this is cheaper than a slab sweep.
 constexpr std::int64_t kSlabTestsPerProxy = 16;
 
-// Order-preserving map float -> uint32: flip all bits of negatives, set the sign of positives.
-std::uint32_t sortable(float f) {
-  if (f == 0.0f) f = 0.0f;  // -0 and +0 must map to the same key
-  std::uint32_t bits;
-  std::memcpy(&bits, &f, sizeof bits);
-  return (bits & 0x80000000u) ? ~bits : (bits | 0x80000000u);
-}
-
-float unsortable(std::uint32_t key) {
-  const std::uint32_t bits = (key & 0x80000000u) ? (key & 0x7FFFFFFFu) : ~key;
-  float f;
-  std::memcpy(&f, &bits, sizeof f);
-  return f;
-}
-
-// The same map for doubles, without branches on the sign.
+// Order-preserving map double -> uint64: flip all bits of negatives, set the sign of
+// positives; without branches on the sign.
 inline std::uint64_t sortable64(double d) {
   std::uint64_t bits;
   std::memcpy(&bits, &d, sizeof bits);
@@ -84,23 +70,6 @@ void radixSortHigh32(std::vector<std::uint64_t>* items, std::vector<std::uint64_
 }
 
 }  // namespace
-
-std::uint32_t SweepAndPrune::lowerKey(double value) {
-  const float f = static_cast<float>(value);
-  // Rounded up? Then one float down: the next float below f is sortable(f) - 1.
-  const std::uint32_t k = sortable(f) - (static_cast<double>(f) > value ? 1u : 0u);
-  // Clearing the low bit moves the key down (outward) and tags it as a lower endpoint.
-  return k & ~1u;
-}
-
-std::uint32_t SweepAndPrune::upperKey(double value) {
-  const float f = static_cast<float>(value);
-  const std::uint32_t k = sortable(f) + (static_cast<double>(f) < value ? 1u : 0u);
-  return k | 1u;
-}
-
-double SweepAndPrune::keyValue(std::uint32_t key) { return static_cast<double>(unsortable(key)); }
-
 
 void SweepAndPrune::reserveSlots(std::size_t slots) {
   // Everything sized by the number of proxy slots grows here, together, so that updates never
@@ -177,19 +146,7 @@ inline void SweepAndPrune::checkLive(ProxyId id, const char* what) const {
   }
 }
 
-namespace {
-// Aabb::valid() without Eigen's reductions: finite, lower <= upper on every axis.
-inline bool validBounds(const Aabb& b) {
-  bool ok = true;
-  for (int axis = 0; axis < 3; ++axis) {
-    const double lo = b.lower[axis], hi = b.upper[axis];
-    ok = ok && std::isfinite(lo) && std::isfinite(hi) && lo <= hi;
-  }
-  return ok;
-}
-}  // namespace
-
-SweepAndPrune::ProxyId SweepAndPrune::createProxy(const Aabb& bounds, std::uint32_t user_data) {
+SweepAndPrune::ProxyId SweepAndPrune::createProxy(const Aabb& bounds) {
   if (!bounds.valid()) throw std::invalid_argument("SweepAndPrune::createProxy: invalid bounds");
   ProxyId id;
   if (free_list_ >= 0) {
@@ -204,7 +161,6 @@ SweepAndPrune::ProxyId SweepAndPrune::createProxy(const Aabb& bounds, std::uint3
   }
   writeBounds(id, bounds);
   ProxyInfo& p = info_[id];
-  p.user = user_data;
   p.next_free = -1;
   p.state = ProxyState::kPendingInsert;
   p.pending_remove = false;
@@ -232,7 +188,7 @@ void SweepAndPrune::destroyProxy(ProxyId id) {
 }
 
 void SweepAndPrune::moveProxy(ProxyId id, const Aabb& bounds) {
-  if (!validBounds(bounds)) throw std::invalid_argument("SweepAndPrune::moveProxy: invalid bounds");
+  if (!bounds.valid()) throw std::invalid_argument("SweepAndPrune::moveProxy: invalid bounds");
   checkLive(id, "moveProxy");
   // Only the proxy's keys change here; update() reads them while it re-sorts.
   writeBounds(id, bounds);
@@ -252,16 +208,15 @@ Aabb SweepAndPrune::storedBounds(ProxyId id) const {
 
 void SweepAndPrune::beginPair(std::int32_t a, std::int32_t b) {
   bool inserted = false;
-  ProxyPair* pair = pairs_.insert(a, b, &inserted);
+  BroadPair* pair = pairs_.insert(a, b, &inserted);
   if (inserted) {
-    pair->user = 0;
-    pair->stamp = epoch_;
+    pair->epoch = epoch_;
     began_.push_back(*pair);
   }
 }
 
 void SweepAndPrune::endPair(std::int32_t a, std::int32_t b) {
-  ProxyPair removed;
+  BroadPair removed;
   if (pairs_.erase(a, b, &removed)) ended_.push_back(removed);
 }
 
@@ -269,40 +224,11 @@ void SweepAndPrune::update() {
   stats_ = SweepAndPruneStats();
   began_.clear();
   ended_.clear();
-
   applyRemovals();
-
-  if (live_count_ > 0) {
-    const std::size_t began_mark = began_.size();
-    const std::size_t ended_mark = ended_.size();
-    if (last_rebuilt_) {
-      // Motion was large last time. If the endpoints are still as shuffled (nearly every other
-      // neighbour out of order), insertion sort would blow its budget again: rebuild at once.
-      const std::int64_t descents = refreshKeys();
-      const std::int64_t endpoints = 6 * static_cast<std::int64_t>(live_count_);
-      if (100 * descents >= 42 * endpoints && 2 * descents >= rebuild_descents_) {
-        rebuild(descents);
-      } else if (!sortAxes(false, swapBudget())) {
-        rollBack(began_mark, ended_mark);
-        rebuild(descents);
-      }
-    } else if (!sortAxes(true, swapBudget())) {
-      // Motion too large for insertion sort to pay: undo its partial pair changes, then
-      // sort from scratch and diff the new pair set against the old one.
-      rollBack(began_mark, ended_mark);
-      rebuild(-1);
-    }
-  }
-
+  if (live_count_ > 0) resort();
   insertPending();
   last_rebuilt_ = stats_.rebuilt;
-  // Keep a quarter of headroom in the pair table: it then grows while the pair count climbs to
-  // its usual level, not later when the count first touches a new maximum by chance.
-  if (4 * static_cast<std::size_t>(pairs_.size()) > 3 * pairs_.capacity()) pairs_.reserve(2 * pairs_.capacity());
-  // began <= pairs now and ended <= pairs before: with the table's capacity they never grow
-  // unless the table does.
-  if (began_.capacity() < pairs_.capacity()) began_.reserve(pairs_.capacity());
-  if (ended_.capacity() < pairs_.capacity()) ended_.reserve(pairs_.capacity());
+  keepHeadroom();
   // The arrays are now sorted by the current keys: remember them for the next update's events.
   for (int axis = 1; axis < 3; ++axis) {
     prev_ends_[axis].resize(ends_[axis].size());
@@ -310,37 +236,53 @@ void SweepAndPrune::update() {
   }
 }
 
+void SweepAndPrune::resort() {
+  const std::size_t began_mark = began_.size();
+  const std::size_t ended_mark = ended_.size();
+  if (last_rebuilt_) {
+    // Motion was large last time. If the endpoints are still as shuffled (nearly every other
+    // neighbour out of order), insertion sort would blow its budget again: rebuild at once.
+    const std::int64_t descents = refreshKeys();
+    const std::int64_t endpoints = 6 * static_cast<std::int64_t>(live_count_);
+    if (100 * descents >= 42 * endpoints && 2 * descents >= rebuild_descents_) {
+      rebuild(descents);
+    } else if (!sortAxes(false, swapBudget())) {
+      rollBack(began_mark, ended_mark);
+      rebuild(descents);
+    }
+  } else if (!sortAxes(true, swapBudget())) {
+    // Motion too large for insertion sort to pay: undo its partial pair changes, then sort
+    // from scratch and diff the new pair set against the old one.
+    rollBack(began_mark, ended_mark);
+    rebuild(-1);
+  }
+}
+
+void SweepAndPrune::keepHeadroom() {
+  // A quarter of headroom in the pair table: it then grows while the pair count climbs to its
+  // usual level, not later when the count first touches a new maximum by chance.
+  if (4 * static_cast<std::size_t>(pairs_.size()) > 3 * pairs_.capacity()) {
+    pairs_.reserve(2 * pairs_.capacity());
+  }
+  // began <= pairs now and ended <= pairs before: with the table's capacity they never grow
+  // unless the table does.
+  if (began_.capacity() < pairs_.capacity()) began_.reserve(pairs_.capacity());
+  if (ended_.capacity() < pairs_.capacity()) ended_.reserve(pairs_.capacity());
+}
+
 void SweepAndPrune::applyRemovals() {
   if (pending_remove_.empty()) return;
   stats_.removed = static_cast<int>(pending_remove_.size());
 
   // Their pairs end. Walk backwards so eraseAt's swap-with-last never skips a pair.
-  std::vector<ProxyPair>& dense = pairs_.mutablePairs();
+  std::vector<BroadPair>& dense = pairs_.mutablePairs();
   for (int i = static_cast<int>(dense.size()) - 1; i >= 0; --i) {
     if (info_[dense[i].proxy_a].pending_remove || info_[dense[i].proxy_b].pending_remove) {
       ended_.push_back(dense[i]);
       pairs_.eraseAt(i);
     }
   }
-
-  // Compact the endpoint arrays in one pass per axis.
-  for (int axis = 0; axis < 3; ++axis) {
-    std::vector<std::uint64_t>& keys = keys_[axis];
-    std::vector<std::uint32_t>& owners = owners_[axis];
-    const std::size_t last = keys.size() - 1;
-    std::size_t w = 1;
-    for (std::size_t r = 1; r < last; ++r) {
-      const std::uint32_t owner = owners[r];
-      if (info_[owner >> 1].pending_remove) continue;
-      keys[w] = keys[r];
-      owners[w] = owner;
-      ++w;
-    }
-    keys[w] = kHighSentinel;
-    owners[w] = kSentinelOwner;
-    keys.resize(w + 1);
-    owners.resize(w + 1);
-  }
+  for (int axis = 0; axis < 3; ++axis) dropRemovedEndpoints(axis);
 
   for (ProxyId id : pending_remove_) {
     ProxyInfo& p = info_[id];
@@ -355,6 +297,25 @@ void SweepAndPrune::applyRemovals() {
     for (double& w : max_width_) w = 0.0;
     sweep_tests_ = 0;
   }
+}
+
+void SweepAndPrune::dropRemovedEndpoints(int axis) {
+  // Compacts the endpoint array in one pass.
+  std::vector<std::uint64_t>& keys = keys_[axis];
+  std::vector<std::uint32_t>& owners = owners_[axis];
+  const std::size_t last = keys.size() - 1;
+  std::size_t w = 1;
+  for (std::size_t r = 1; r < last; ++r) {
+    const std::uint32_t owner = owners[r];
+    if (info_[owner >> 1].pending_remove) continue;
+    keys[w] = keys[r];
+    owners[w] = owner;
+    ++w;
+  }
+  keys[w] = kHighSentinel;
+  owners[w] = kSentinelOwner;
+  keys.resize(w + 1);
+  owners.resize(w + 1);
 }
 
 std::int64_t SweepAndPrune::swapBudget() const {
@@ -388,79 +349,102 @@ std::int64_t SweepAndPrune::refreshKeys() {
   return descents;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Incremental path: insertion sort of every axis, reporting pair events as endpoints pass.
+
 bool SweepAndPrune::sortAxes(bool refresh, std::int64_t budget) {
   std::int64_t swaps = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    std::uint64_t* key = keys_[axis].data();
-    std::uint32_t* owner = owners_[axis].data();
-    const std::uint64_t* e = ends_[axis].data();
-    const std::size_t last = keys_[axis].size() - 1;  // high sentinel
+  bool within_budget = true;
+  for (int axis = 0; axis < 3 && within_budget; ++axis) {
+    const std::size_t breaks = findBreaks(axis, refresh);
+    within_budget = sortRuns(axis, breaks, budget, &swaps);
+  }
+  stats_.swaps = swaps;
+  return within_budget;
+}
 
-    // Pass 1, without branches: read the current keys (if asked) and list the positions where
-    // the order breaks. Between two breaks the endpoints are already in order.
-    breaks_.resize(last + 1);
-    std::uint32_t* brk = breaks_.data();
-    std::size_t count = 0;
-    std::uint64_t prev = kLowSentinel;
-    if (refresh) {
-      for (std::size_t i = 1; i < last; ++i) {
-        const std::uint64_t k = e[owner[i]];
-        key[i] = k;
-        brk[count] = static_cast<std::uint32_t>(i);
-        count += k < prev;
-        prev = k;
-      }
-    } else {
-      for (std::size_t i = 1; i < last; ++i) {
-        const std::uint64_t k = key[i];
-        brk[count] = static_cast<std::uint32_t>(i);
-        count += k < prev;
-        prev = k;
-      }
+std::size_t SweepAndPrune::findBreaks(int axis, bool refresh) {
+  // Without branches: read the current keys (if asked) and list the positions where the order
+  // breaks. Between two breaks the endpoints are already in order.
+  std::uint64_t* key = keys_[axis].data();
+  const std::uint32_t* owner = owners_[axis].data();
+  const std::uint64_t* e = ends_[axis].data();
+  const std::size_t last = keys_[axis].size() - 1;  // high sentinel
+  breaks_.resize(last + 1);
+  std::uint32_t* brk = breaks_.data();
+  std::size_t count = 0;
+  std::uint64_t prev = kLowSentinel;
+  if (refresh) {
+    for (std::size_t i = 1; i < last; ++i) {
+      const std::uint64_t k = e[owner[i]];
+      key[i] = k;
+      brk[count] = static_cast<std::uint32_t>(i);
+      count += k < prev;
+      prev = k;
     }
-    brk[count] = static_cast<std::uint32_t>(last);
+  } else {
+    for (std::size_t i = 1; i < last; ++i) {
+      const std::uint64_t k = key[i];
+      brk[count] = static_cast<std::uint32_t>(i);
+      count += k < prev;
+      prev = k;
+    }
+  }
+  brk[count] = static_cast<std::uint32_t>(last);
+  return count;
+}
 
-    // Pass 2: insertion sort that starts at each break and stops once an endpoint is not below
-    // everything before it (the rest of that run then is in place too).
-    for (std::size_t t = 0; t < count; ++t) {
-      const std::size_t next = brk[t + 1];
-      for (std::size_t i = brk[t]; i < next; ++i) {
-        const std::uint64_t k = key[i];
-        if (key[i - 1] <= k) break;
-
-        const std::uint32_t o = owner[i];
-        const std::uint32_t o_upper = o & 1u;
-        const std::int32_t p = static_cast<std::int32_t>(o >> 1);
-        std::size_t j = i;
-        do {
-          const std::uint32_t o2 = owner[j - 1];
-          if ((o2 & 1u) != o_upper) {
-            const std::int32_t q = static_cast<std::int32_t>(o2 >> 1);
-            if (o_upper == 0u) {
-              // p's lower passes below q's upper: they may now overlap on every axis.
-              if (overlapsAcross(p, q, axis)) beginPair(p, q);
-            } else {
-              // p's upper passes below q's lower: separated on this axis.
-              if (mayBePaired(p, q, axis)) endPair(p, q);
-            }
-          }
-          key[j] = key[j - 1];
-          owner[j] = o2;
-          --j;
-        } while (key[j - 1] > k);  // the low sentinel (key 0) stops this
-        key[j] = k;
-        owner[j] = o;
-
-        swaps += static_cast<std::int64_t>(i - j);
-        if (swaps > budget) {
-          stats_.swaps = swaps;
-          return false;
-        }
+bool SweepAndPrune::sortRuns(int axis, std::size_t breaks, std::int64_t budget,
+                             std::int64_t* swaps) {
+  // Insertion sort that starts at each break and stops once an endpoint is not below
+  // everything before it (the rest of that run then is in place too).
+  const std::uint64_t* key = keys_[axis].data();
+  const std::uint32_t* brk = breaks_.data();
+  std::int64_t total = *swaps;
+  for (std::size_t t = 0; t < breaks; ++t) {
+    const std::size_t next = brk[t + 1];
+    for (std::size_t i = brk[t]; i < next; ++i) {
+      if (key[i - 1] <= key[i]) break;
+      total += static_cast<std::int64_t>(i - sinkEndpoint(axis, i));
+      if (total > budget) {
+        *swaps = total;
+        return false;
       }
     }
   }
-  stats_.swaps = swaps;
+  *swaps = total;
   return true;
+}
+
+inline std::size_t SweepAndPrune::sinkEndpoint(int axis, std::size_t i) {
+  // Moves the endpoint at i down to its place. Passing an endpoint of the other kind starts or
+  // ends an overlap on this axis.
+  std::uint64_t* key = keys_[axis].data();
+  std::uint32_t* owner = owners_[axis].data();
+  const std::uint64_t k = key[i];
+  const std::uint32_t o = owner[i];
+  const std::uint32_t o_upper = o & 1u;
+  const std::int32_t p = static_cast<std::int32_t>(o >> 1);
+  std::size_t j = i;
+  do {
+    const std::uint32_t o2 = owner[j - 1];
+    if ((o2 & 1u) != o_upper) {
+      const std::int32_t q = static_cast<std::int32_t>(o2 >> 1);
+      if (o_upper == 0u) {
+        // p's lower passes below q's upper: they may now overlap on every axis.
+        if (overlapsAcross(p, q, axis)) beginPair(p, q);
+      } else {
+        // p's upper passes below q's lower: separated on this axis.
+        if (mayBePaired(p, q, axis)) endPair(p, q);
+      }
+    }
+    key[j] = key[j - 1];
+    owner[j] = o2;
+    --j;
+  } while (key[j - 1] > k);  // the low sentinel (key 0) stops this
+  key[j] = k;
+  owner[j] = o;
+  return j;
 }
 
 void SweepAndPrune::rollBack(std::size_t began_mark, std::size_t ended_mark) {
@@ -468,55 +452,84 @@ void SweepAndPrune::rollBack(std::size_t began_mark, std::size_t ended_mark) {
     pairs_.erase(began_[i].proxy_a, began_[i].proxy_b);
   }
   for (std::size_t i = ended_mark; i < ended_.size(); ++i) {
-    ProxyPair* pair = pairs_.insert(ended_[i].proxy_a, ended_[i].proxy_b, nullptr);
+    BroadPair* pair = pairs_.insert(ended_[i].proxy_a, ended_[i].proxy_b, nullptr);
     *pair = ended_[i];
   }
   began_.resize(began_mark);
   ended_.resize(ended_mark);
 }
 
-void SweepAndPrune::sortAxis(int axis) {
+
+// ---------------------------------------------------------------------------------------------
+// Rebuild: sort every axis from scratch, one sweep for the pairs, diff with the old set.
+
+void SweepAndPrune::rebuild(std::int64_t descents) {
+  if (descents < 0) descents = refreshKeys();
+  rebuild_descents_ = descents;
+  for (int axis = 0; axis < 3; ++axis) {
+    radixSortAxis(axis);
+    insertionSortAxis(axis);
+  }
+  // The axis with the fewest open intervals, re-chosen every 8th rebuild (counting them costs a
+  // pass over each axis).
+  if (rebuilds_since_choice_++ % 8 == 0) {
+    sweep_axis_ = cheapestSweepAxis(&sweep_tests_);
+  } else {
+    sweep_tests_ = sweepTests(sweep_axis_);
+  }
+  // Stamp every pair the sweep finds; unstamped survivors ended.
+  ++epoch_;
+  findPairs(sweep_axis_, sweep_tests_, SweepMode::kRebuild);
+  std::vector<BroadPair>& dense = pairs_.mutablePairs();
+  for (int i = static_cast<int>(dense.size()) - 1; i >= 0; --i) {
+    if (dense[i].epoch != epoch_) {
+      ended_.push_back(dense[i]);
+      pairs_.eraseAt(i);
+    }
+  }
+  stats_.rebuilt = true;
+}
+
+void SweepAndPrune::radixSortAxis(int axis) {
+  // Sorts by the 32 most significant bits that vary over the axis (radix sort); endpoints that
+  // share those bits are left for an insertion pass. Small axes go to insertion sort directly.
   std::vector<std::uint64_t>& keys = keys_[axis];
   std::vector<std::uint32_t>& owners = owners_[axis];
   const std::size_t n = keys.size() - 2;
-  if (n < 2) return;
-
-  if (n > 48) {
-    // Sort by the 32 most significant bits that vary over the axis (radix sort), then let an
-    // insertion pass order the endpoints that share those bits.
-    std::uint64_t lo = keys[1], hi = keys[1];
-    for (std::size_t i = 2; i <= n; ++i) {
-      lo = std::min(lo, keys[i]);
-      hi = std::max(hi, keys[i]);
-    }
-    // Prefix bits: about 8 more than log2(n), so that few endpoints share a prefix.
-    const int passes = n < 256 ? 2 : n < 65536 ? 3 : 4;
-    const int bits = 8 * passes;
-    const std::uint64_t range = hi - lo;
-    const int width = range == 0 ? 0 : 64 - __builtin_clzll(range);
-    const int shift = std::max(0, width - bits);
-    sort_items_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      sort_items_[i] = (((keys[i + 1] - lo) >> shift) << 32) | i;
-    }
-    radixSortHigh32(&sort_items_, &sort_items2_, passes);
-    tmp_keys_.resize(n + 2);
-    tmp_owners_.resize(n + 2);
-    tmp_keys_[0] = kLowSentinel;
-    tmp_owners_[0] = kSentinelOwner;
-    tmp_keys_[n + 1] = kHighSentinel;
-    tmp_owners_[n + 1] = kSentinelOwner;
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t from = static_cast<std::uint32_t>(sort_items_[i]) + 1;
-      tmp_keys_[i + 1] = keys[from];
-      tmp_owners_[i + 1] = owners[from];
-    }
-    keys.swap(tmp_keys_);
-    owners.swap(tmp_owners_);
+  if (n <= 48) return;
+  std::uint64_t lo = keys[1], hi = keys[1];
+  for (std::size_t i = 2; i <= n; ++i) {
+    lo = std::min(lo, keys[i]);
+    hi = std::max(hi, keys[i]);
   }
+  // Prefix bits: about 8 more than log2(n), so that few endpoints share a prefix.
+  const int passes = n < 256 ? 2 : n < 65536 ? 3 : 4;
+  const std::uint64_t range = hi - lo;
+  const int width = range == 0 ? 0 : 64 - __builtin_clzll(range);
+  const int shift = std::max(0, width - 8 * passes);
+  sort_items_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) sort_items_[i] = (((keys[i + 1] - lo) >> shift) << 32) | i;
+  radixSortHigh32(&sort_items_, &sort_items2_, passes);
+  tmp_keys_.resize(n + 2);
+  tmp_owners_.resize(n + 2);
+  tmp_keys_[0] = kLowSentinel;
+  tmp_owners_[0] = kSentinelOwner;
+  tmp_keys_[n + 1] = kHighSentinel;
+  tmp_owners_[n + 1] = kSentinelOwner;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t from = static_cast<std::uint32_t>(sort_items_[i]) + 1;
+    tmp_keys_[i + 1] = keys[from];
+    tmp_owners_[i + 1] = owners[from];
+  }
+  keys.swap(tmp_keys_);
+  owners.swap(tmp_owners_);
+}
 
-  std::uint64_t* key = keys.data();
-  std::uint32_t* owner = owners.data();
+void SweepAndPrune::insertionSortAxis(int axis) {
+  // Plain insertion sort, no pair events (the rebuild's sweep finds the pairs).
+  std::uint64_t* key = keys_[axis].data();
+  std::uint32_t* owner = owners_[axis].data();
+  const std::size_t n = keys_[axis].size() - 2;
   for (std::size_t i = 2; i <= n; ++i) {
     const std::uint64_t k = key[i];
     if (key[i - 1] <= k) continue;
@@ -576,49 +589,111 @@ void SweepAndPrune::measureWidths(double* mean_width) {
   }
 }
 
-void SweepAndPrune::rebuild(std::int64_t descents) {
-  if (descents < 0) descents = refreshKeys();
-  rebuild_descents_ = descents;
-  for (int axis = 0; axis < 3; ++axis) sortAxis(axis);
 
-  // The axis with the fewest open intervals, re-chosen every 8th rebuild (counting them costs a
-  // pass over each axis).
-  if (rebuilds_since_choice_++ % 8 == 0) {
-    sweep_axis_ = cheapestSweepAxis(&sweep_tests_);
-  } else {
-    sweep_tests_ = sweepTests(sweep_axis_);
-  }
-  const int axis = sweep_axis_;
+// ---------------------------------------------------------------------------------------------
+// Sweeps: every lower endpoint, in order along the sweep axis, is tested against the intervals
+// open at it. One kernel (testOpen) serves the plain and the slab sweep.
 
-  // Stamp every pair the sweep finds; unstamped survivors ended. Slabs pay only when a plain
-  // sweep would test each proxy against many open intervals.
-  ++epoch_;
-  bool swept = false;
-  if (sweep_tests_ >= kSlabTestsPerProxy * live_count_) {
+void SweepAndPrune::findPairs(int axis, std::int64_t tests, SweepMode mode) {
+  // Slabs pay only when a plain sweep would test each proxy against many open intervals, and
+  // only when every pair is wanted.
+  if (mode != SweepMode::kNewOnly && tests >= kSlabTestsPerProxy * live_count_) {
     double mean_width[3];
     measureWidths(mean_width);
-    swept = sweepSlabs(axis, mean_width, true);
+    if (sweepSlabs(axis, mean_width, mode == SweepMode::kRebuild)) return;
   }
-  if (!swept) sweepForPairs(axis, false);
-  std::vector<ProxyPair>& dense = pairs_.mutablePairs();
-  for (int i = static_cast<int>(dense.size()) - 1; i >= 0; --i) {
-    if (dense[i].stamp != epoch_) {
-      ended_.push_back(dense[i]);
-      pairs_.eraseAt(i);
+  sweepForPairs(axis, mode != SweepMode::kRebuild);
+}
+
+void SweepAndPrune::foundPair(std::int32_t a, std::int32_t b, bool rebuild) {
+  if (!rebuild) {
+    beginPair(a, b);
+    return;
+  }
+  bool inserted = false;
+  BroadPair* pair = pairs_.insert(a, b, &inserted);
+  pair->epoch = epoch_;
+  if (inserted) began_.push_back(*pair);
+}
+
+template <bool kSlabs>
+inline std::size_t SweepAndPrune::testOpen(const ActiveSet& set, std::int32_t p,
+                                           const EndKeys& k, bool p_first, bool rebuild) {
+  // Branch-free tests streaming through the set's key arrays. In a slab sweep a pair is
+  // reported only in the slab holding the larger of the two lower bounds: p's first slab, or
+  // the first slab of the other proxy.
+  const std::int32_t* id = set.id.data();
+  const std::uint64_t* slb = set.lower_b.data();
+  const std::uint64_t* sub = set.upper_b.data();
+  const std::uint64_t* slc = set.lower_c.data();
+  const std::uint64_t* suc = set.upper_c.data();
+  const std::uint32_t* first = set.first.data();
+  const std::size_t m = set.size;
+  for (std::size_t j = 0; j < m; ++j) {
+    bool hit = (slb[j] < k.ub) & (k.lb < sub[j]) & (slc[j] < k.uc) & (k.lc < suc[j]);
+    if (kSlabs) hit &= p_first | (first[j] != 0u);
+    if (hit) foundPair(p, id[j], rebuild);
+  }
+  return m;
+}
+
+inline void SweepAndPrune::open(ActiveSet& set, std::int32_t p, const EndKeys& k,
+                                std::uint32_t first_slab) {
+  active_pos_[p] = static_cast<std::int32_t>(set.push(p, k, first_slab));
+}
+
+inline void SweepAndPrune::close(ActiveSet& set, std::int32_t p) {
+  const std::size_t pos = static_cast<std::size_t>(active_pos_[p]);
+  const std::int32_t moved = set.removeAt(pos);
+  if (moved >= 0) active_pos_[moved] = static_cast<std::int32_t>(pos);
+}
+
+void SweepAndPrune::sweepForPairs(int axis, bool only_new) {
+  // One sweep along `axis` with sets of open intervals. With only_new, old proxies are tested
+  // only against new ones, so an insertion costs O(n + k * overlaps); otherwise every pair is
+  // found and stamped (rebuild).
+  const int axis_b = (axis + 1) % 3, axis_c = (axis + 2) % 3;
+  const std::uint32_t* owner = owners_[axis].data();
+  const std::size_t last = owners_[axis].size() - 1;
+  const std::uint64_t* eb = ends_[axis_b].data();
+  const std::uint64_t* ec = ends_[axis_c].data();
+  active_.reserve(reserved_slots_);
+  active_new_.reserve(reserved_slots_);
+  active_.clear();
+  active_new_.clear();
+  for (std::size_t i = 1; i < last; ++i) {
+    const std::uint32_t o = owner[i];
+    const std::int32_t p = static_cast<std::int32_t>(o >> 1);
+    const bool p_new = only_new && info_[p].is_new;
+    ActiveSet& set = p_new ? active_new_ : active_;
+    if ((o & 1u) != 0u) {
+      close(set, p);
+      continue;
     }
+    const EndKeys k{eb[o], eb[o + 1], ec[o], ec[o + 1]};
+    if (!only_new || p_new) testOpen<false>(active_, p, k, true, !only_new);
+    testOpen<false>(active_new_, p, k, true, !only_new);
+    open(set, p, k, 0u);
   }
-  stats_.rebuilt = true;
 }
 
 bool SweepAndPrune::sweepSlabs(int axis, const double* mean_width, bool rebuild) {
   // Many bodies: cut a second axis into slabs about two mean widths wide and sweep each slab on
   // its own, so a lower endpoint is tested only against the open intervals of its slab. A box
-  // goes into every slab it overlaps; a pair is reported in one slab only, the one holding the
-  // larger of the two lower bounds.
+  // goes into every slab it overlaps; a pair is reported in one slab only.
+  const SlabGrid grid = slabGrid(axis, mean_width);
+  if (grid.count == 0 || !binIntoSlabs(axis, grid)) return false;
+  sweep_tests_ = sweepEachSlab(axis, grid, rebuild);
+  return true;
+}
+
+SweepAndPrune::SlabGrid SweepAndPrune::slabGrid(int axis, const double* mean_width) const {
+  // The other axis that fits the most slabs of two mean widths; none (count 0) when fewer than
+  // four fit or there are too few proxies to share them.
   constexpr std::size_t kMaxSlabs = 4096;
   const std::size_t max_slabs = std::min<std::size_t>(kMaxSlabs, static_cast<std::size_t>(live_count_) / 8);
-  int slab_axis = -1;
-  double slabs = 0.0, lo = 0.0, hi = 0.0;
+  SlabGrid grid;
+  double slabs = 0.0, hi = 0.0;
   for (int k = 1; k < 3; ++k) {
     const int b = (axis + k) % 3;
     const std::vector<std::uint64_t>& kb = keys_[b];
@@ -626,59 +701,69 @@ bool SweepAndPrune::sweepSlabs(int axis, const double* mean_width, bool rebuild)
     const double fit = (b_hi - b_lo) / (2.0 * mean_width[b]);
     if (fit > slabs) {
       slabs = fit;
-      slab_axis = b;
-      lo = b_lo;
+      grid.axis = b;
+      grid.lo = b_lo;
       hi = b_hi;
     }
   }
-  if (slab_axis < 0 || !(slabs >= 4.0) || max_slabs < 4) return false;
-  const std::size_t count = static_cast<std::size_t>(std::min(slabs, static_cast<double>(max_slabs)));
-  const int b = slab_axis, c = 3 - axis - slab_axis;
-  const double scale = static_cast<double>(count) / (hi - lo);
-  const std::uint64_t* eb = ends_[b].data();
-  const std::uint64_t* ec = ends_[c].data();
-  auto slabOf = [&](std::uint64_t key) {
-    const double x = (unsortable64(key) - lo) * scale;
-    return static_cast<std::uint32_t>(std::clamp(x, 0.0, static_cast<double>(count - 1)));
-  };
+  if (grid.axis < 0 || !(slabs >= 4.0) || max_slabs < 4) return SlabGrid();
+  grid.count = static_cast<std::size_t>(std::min(slabs, static_cast<double>(max_slabs)));
+  grid.scale = static_cast<double>(grid.count) / (hi - grid.lo);
+  return grid;
+}
 
+inline std::uint32_t SweepAndPrune::SlabGrid::slabOf(std::uint64_t key) const {
+  const double x = (unsortable64(key) - lo) * scale;
+  return static_cast<std::uint32_t>(std::clamp(x, 0.0, static_cast<double>(count - 1)));
+}
+
+bool SweepAndPrune::binIntoSlabs(int axis, const SlabGrid& grid) {
   // Slab range of every proxy, then a stable counting sort of the sweep axis' endpoints into
-  // the slabs (each slab's list stays sorted along the sweep axis).
-  const std::uint32_t* owner = owners_[axis].data();
-  const std::size_t last = owners_[axis].size() - 1;
+  // the slabs (each slab's list stays sorted along the sweep axis). False when the boxes span
+  // so many slabs that the lists would outgrow their space: one plain sweep then.
+  const std::uint64_t* eb = ends_[grid.axis].data();
   slab_lo_.resize(info_.size());
   slab_hi_.resize(info_.size());
-  slab_start_.assign(count + 1, 0);
+  slab_start_.assign(grid.count + 1, 0);
   std::size_t total = 0;
   for (std::size_t p = 0, slots = info_.size(); p < slots; ++p) {  // in slot order: streams
     if (info_[p].state != ProxyState::kLive) continue;
-    const std::uint32_t s0 = slabOf(eb[2 * p]), s1 = slabOf(eb[2 * p + 1]);
+    const std::uint32_t s0 = grid.slabOf(eb[2 * p]), s1 = grid.slabOf(eb[2 * p + 1]);
     slab_lo_[p] = s0;
     slab_hi_[p] = s1;
     total += 2 * (s1 - s0 + 1);
     slab_start_[s0] += 2;  // difference array: +2 on [s0, s1]
-    if (s1 + 1 < count) slab_start_[s1 + 1] -= 2;
+    if (s1 + 1 < grid.count) slab_start_[s1 + 1] -= 2;
   }
-  if (total > slab_owners_.capacity()) return false;  // boxes spanning many slabs: one sweep
+  if (total > slab_owners_.capacity()) return false;
   // Running sum of the difference array = endpoints per slab; then exclusive prefix = starts.
   std::size_t run = 0, start = 0;
-  for (std::size_t s = 0; s < count; ++s) {
+  for (std::size_t s = 0; s < grid.count; ++s) {
     run += slab_start_[s];
     slab_start_[s] = start;
     start += run;
   }
-  slab_start_[count] = start;
+  slab_start_[grid.count] = start;
   slab_pos_.assign(slab_start_.begin(), slab_start_.end());
   slab_owners_.resize(total);
-  for (std::size_t i = 1; i < last; ++i) {
+  const std::uint32_t* owner = owners_[axis].data();
+  for (std::size_t i = 1, last = owners_[axis].size() - 1; i < last; ++i) {
     const std::uint32_t o = owner[i];
     const std::uint32_t p = o >> 1;
     for (std::uint32_t s = slab_lo_[p], s1 = slab_hi_[p]; s <= s1; ++s) slab_owners_[slab_pos_[s]++] = o;
   }
+  return true;
+}
 
+std::int64_t SweepAndPrune::sweepEachSlab(int axis, const SlabGrid& grid, bool rebuild) {
+  // Returns the overlap tests done.
+  const int b = grid.axis, c = 3 - axis - grid.axis;
+  const std::uint64_t* eb = ends_[b].data();
+  const std::uint64_t* ec = ends_[c].data();
+  const std::size_t total = slab_owners_.size();
   std::int64_t tests = 0;
   ActiveSet& set = active_;
-  for (std::size_t s = 0; s < count; ++s) {
+  for (std::size_t s = 0; s < grid.count; ++s) {
     set.clear();
     const std::uint32_t slab = static_cast<std::uint32_t>(s);
     for (std::size_t i = slab_start_[s], end = slab_start_[s + 1]; i < end; ++i) {
@@ -688,78 +773,29 @@ bool SweepAndPrune::sweepSlabs(int axis, const double* mean_width, bool rebuild)
       const std::uint32_t ahead = slab_owners_[std::min(i + 8, total - 1)] & ~1u;
       __builtin_prefetch(eb + ahead);
       __builtin_prefetch(ec + ahead);
-      if ((o & 1u) == 0u) {
-        const std::uint64_t lb = eb[o], ub = eb[o + 1], lc = ec[o], uc = ec[o + 1];
-        const bool p_first = slab_lo_[p] == slab;
-        const std::int32_t* id = set.id.data();
-        const std::uint64_t* slb = set.lower_b.data();
-        const std::uint64_t* sub = set.upper_b.data();
-        const std::uint64_t* slc = set.lower_c.data();
-        const std::uint64_t* suc = set.upper_c.data();
-        const std::uint32_t* first = set.first.data();
-        const std::size_t m = set.size;
-        tests += static_cast<std::int64_t>(m);
-        for (std::size_t j = 0; j < m; ++j) {
-          const bool hit = (slb[j] < ub) & (lb < sub[j]) & (slc[j] < uc) & (lc < suc[j]) &
-                           (p_first | (first[j] != 0u));
-          if (hit) foundPair(p, id[j], rebuild);
-        }
-        active_pos_[p] = static_cast<std::int32_t>(set.push(p, lb, ub, lc, uc, p_first));
-      } else {
-        const std::size_t pos = static_cast<std::size_t>(active_pos_[p]);
-        const std::int32_t moved = set.removeAt(pos);
-        if (moved >= 0) active_pos_[moved] = static_cast<std::int32_t>(pos);
+      if ((o & 1u) != 0u) {
+        close(set, p);
+        continue;
       }
+      const EndKeys k{eb[o], eb[o + 1], ec[o], ec[o + 1]};
+      const bool p_first = slab_lo_[p] == slab;
+      tests += static_cast<std::int64_t>(testOpen<true>(set, p, k, p_first, rebuild));
+      open(set, p, k, p_first);
     }
   }
-  sweep_tests_ = tests;
-  return true;
+  return tests;
 }
+
+// ---------------------------------------------------------------------------------------------
+// Insertion of new proxies: merged into the sorted arrays in one batch, then their pairs.
 
 void SweepAndPrune::insertPending() {
   if (pending_insert_.empty()) return;
   const std::size_t k = pending_insert_.size();
   stats_.inserted = static_cast<int>(k);
-
-  // Batched insertion: sort the new endpoints, then merge them into each axis from the back,
-  // so one insertion costs O(n + k log k) instead of k passes of insertion sort.
-  for (int axis = 0; axis < 3; ++axis) {
-    sort_items_.clear();
-    for (ProxyId id : pending_insert_) {
-      const std::uint64_t owner = static_cast<std::uint64_t>(id) << 1;
-      sort_items_.push_back(owner);
-      sort_items_.push_back(owner | 1u);
-    }
-    const std::uint64_t* e = ends_[axis].data();
-    auto keyOf = [e](std::uint64_t o) { return e[o]; };
-    std::sort(sort_items_.begin(), sort_items_.end(),
-              [&](std::uint64_t x, std::uint64_t y) { return keyOf(x) < keyOf(y); });
-
-    std::vector<std::uint64_t>& keys = keys_[axis];
-    std::vector<std::uint32_t>& owners = owners_[axis];
-    const std::size_t old_size = keys.size();
-    keys.resize(old_size + 2 * k);
-    owners.resize(old_size + 2 * k);
-    std::int64_t i = static_cast<std::int64_t>(old_size) - 2;  // last old real endpoint
-    std::int64_t j = static_cast<std::int64_t>(2 * k) - 1;
-    std::int64_t w = static_cast<std::int64_t>(keys.size()) - 2;
-    keys.back() = kHighSentinel;
-    owners.back() = kSentinelOwner;
-    while (j >= 0) {
-      const std::uint64_t new_key = keyOf(sort_items_[j]);
-      if (i >= 1 && keys[i] > new_key) {
-        keys[w] = keys[i];
-        owners[w] = owners[i];
-        --i;
-      } else {
-        keys[w] = new_key;
-        owners[w] = static_cast<std::uint32_t>(sort_items_[j]);
-        --j;
-      }
-      --w;
-    }
-  }
-
+  // Batched: sort the new endpoints, then merge them into each axis from the back, so one
+  // insertion costs O(n + k log k) instead of k passes of insertion sort.
+  for (int axis = 0; axis < 3; ++axis) mergeNewEndpoints(axis);
   for (ProxyId id : pending_insert_) {
     info_[id].state = ProxyState::kLive;
     info_[id].is_new = true;
@@ -770,60 +806,63 @@ void SweepAndPrune::insertPending() {
     std::int64_t tests = 0;
     const int axis = cheapestSweepAxis(&tests);
     sweep_tests_ = tests;
-    // Everything is new (say the first update): a slab sweep finds all pairs, each once.
-    bool swept = false;
-    if (k == static_cast<std::size_t>(live_count_) && tests >= kSlabTestsPerProxy * live_count_) {
-      double mean_width[3];
-      measureWidths(mean_width);
-      swept = sweepSlabs(axis, mean_width, false);
-    }
-    if (!swept) sweepForPairs(axis, true);
+    // Everything new (say the first update): a slab sweep may find all pairs, each once.
+    findPairs(axis, tests, k == static_cast<std::size_t>(live_count_) ? SweepMode::kAllNew : SweepMode::kNewOnly);
   }
-
   for (ProxyId id : pending_insert_) info_[id].is_new = false;
   pending_insert_.clear();
 }
 
+void SweepAndPrune::mergeNewEndpoints(int axis) {
+  sort_items_.clear();
+  for (ProxyId id : pending_insert_) {
+    const std::uint64_t owner = static_cast<std::uint64_t>(id) << 1;
+    sort_items_.push_back(owner);
+    sort_items_.push_back(owner | 1u);
+  }
+  const std::uint64_t* e = ends_[axis].data();
+  std::sort(sort_items_.begin(), sort_items_.end(),
+            [e](std::uint64_t x, std::uint64_t y) { return e[x] < e[y]; });
+
+  std::vector<std::uint64_t>& keys = keys_[axis];
+  std::vector<std::uint32_t>& owners = owners_[axis];
+  const std::size_t old_size = keys.size();
+  keys.resize(old_size + sort_items_.size());
+  owners.resize(old_size + sort_items_.size());
+  std::int64_t i = static_cast<std::int64_t>(old_size) - 2;  // last old real endpoint
+  std::int64_t j = static_cast<std::int64_t>(sort_items_.size()) - 1;
+  std::int64_t w = static_cast<std::int64_t>(keys.size()) - 2;
+  keys.back() = kHighSentinel;
+  owners.back() = kSentinelOwner;
+  while (j >= 0) {
+    const std::uint64_t new_key = e[sort_items_[j]];
+    if (i >= 1 && keys[i] > new_key) {
+      keys[w] = keys[i];
+      owners[w] = owners[i];
+      --i;
+    } else {
+      keys[w] = new_key;
+      owners[w] = static_cast<std::uint32_t>(sort_items_[j]);
+      --j;
+    }
+    --w;
+  }
+}
+
 bool SweepAndPrune::insertByWindows() {
   // A few insertions: each new proxy looks only at the lower endpoints that can belong to a
-  // box overlapping it on one axis, those within [its lower - widest width, its upper].
+  // box overlapping it on one axis, those within its window (see window()). False when a
+  // sweep is cheaper.
   const std::size_t k = pending_insert_.size();
   const std::size_t n = keys_[0].size() - 2;
   if (32 * k > n) return false;
+  const int axis = cheapestWindowAxis(static_cast<std::int64_t>(n / 4));
+  if (axis < 0) return false;
 
-  int best_axis = -1;
-  std::int64_t best_total = static_cast<std::int64_t>(n / 4);  // beyond this a sweep is cheaper
-  for (int axis = 0; axis < 3; ++axis) {
-    const std::uint64_t* begin = keys_[axis].data() + 1;
-    const std::uint64_t* end = keys_[axis].data() + keys_[axis].size() - 1;
-    std::int64_t total = 0;
-    for (ProxyId id : pending_insert_) {
-      const std::uint64_t* kp = ends_[axis].data() + 2 * static_cast<std::size_t>(id);
-      const double low = unsortable64(kp[0]);
-      const double reach = max_width_[axis] + 1e-12 * (std::abs(low) + max_width_[axis]) + 1e-300;
-      const std::uint64_t from = lower64(low - reach);
-      total += std::upper_bound(begin, end, kp[1]) - std::lower_bound(begin, end, from);
-      if (total > best_total) break;
-    }
-    if (total <= best_total) {
-      best_total = total;
-      best_axis = axis;
-    }
-  }
-  if (best_axis < 0) return false;
-
-  const int axis = best_axis;
-  const std::uint64_t* keys = keys_[axis].data();
   const std::uint32_t* owners = owners_[axis].data();
-  const std::uint64_t* begin = keys + 1;
-  const std::uint64_t* end = keys + keys_[axis].size() - 1;
   for (ProxyId p : pending_insert_) {
-    const std::uint64_t* kp = ends_[axis].data() + 2 * static_cast<std::size_t>(p);
-    const double low = unsortable64(kp[0]);
-    const double reach = max_width_[axis] + 1e-12 * (std::abs(low) + max_width_[axis]) + 1e-300;
-    const std::size_t from = std::lower_bound(begin, end, lower64(low - reach)) - keys;
-    const std::size_t to = std::upper_bound(begin, end, kp[1]) - keys;
-    for (std::size_t i = from; i < to; ++i) {
+    const Window w = window(axis, p);
+    for (std::size_t i = w.from; i < w.to; ++i) {
       const std::uint32_t o = owners[i];
       if (o & 1u) continue;
       const std::int32_t q = static_cast<std::int32_t>(o >> 1);
@@ -834,63 +873,38 @@ bool SweepAndPrune::insertByWindows() {
   return true;
 }
 
-void SweepAndPrune::foundPair(std::int32_t a, std::int32_t b, bool rebuild) {
-  if (!rebuild) {
-    beginPair(a, b);
-    return;
+int SweepAndPrune::cheapestWindowAxis(std::int64_t limit) const {
+  // The axis whose windows hold the fewest endpoints in all, if at most `limit`; else -1.
+  int best_axis = -1;
+  std::int64_t best_total = limit;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::int64_t total = 0;
+    for (ProxyId id : pending_insert_) {
+      const Window w = window(axis, id);
+      total += static_cast<std::int64_t>(w.to - w.from);
+      if (total > best_total) break;
+    }
+    if (total <= best_total) {
+      best_total = total;
+      best_axis = axis;
+    }
   }
-  bool inserted = false;
-  ProxyPair* pair = pairs_.insert(a, b, &inserted);
-  pair->stamp = epoch_;
-  if (inserted) {
-    pair->user = 0;
-    began_.push_back(*pair);
-  }
+  return best_axis;
 }
 
-void SweepAndPrune::sweepForPairs(int axis, bool only_new) {
-  // One sweep along `axis` with sets of open intervals. With only_new, old proxies are
-  // tested only against new ones, so an insertion costs O(n + k * overlaps).
-  const int axis_b = (axis + 1) % 3, axis_c = (axis + 2) % 3;
-  const std::uint32_t* owner = owners_[axis].data();
-  const std::size_t last = owners_[axis].size() - 1;
-  const std::uint64_t* eb = ends_[axis_b].data();
-  const std::uint64_t* ec = ends_[axis_c].data();
-  active_.reserve(reserved_slots_);
-  active_new_.reserve(reserved_slots_);
-  active_.clear();
-  active_new_.clear();
-
-  auto test = [this](const ActiveSet& set, std::int32_t p, std::uint64_t lb, std::uint64_t ub,
-                     std::uint64_t lc, std::uint64_t uc, bool rebuild) {
-    const std::int32_t* id = set.id.data();
-    const std::uint64_t* slb = set.lower_b.data();
-    const std::uint64_t* sub = set.upper_b.data();
-    const std::uint64_t* slc = set.lower_c.data();
-    const std::uint64_t* suc = set.upper_c.data();
-    for (std::size_t j = 0, m = set.size; j < m; ++j) {
-      const bool hit = (slb[j] < ub) & (lb < sub[j]) & (slc[j] < uc) & (lc < suc[j]);
-      if (hit) foundPair(p, id[j], rebuild);
-    }
-  };
-
-  for (std::size_t i = 1; i < last; ++i) {
-    const std::uint32_t o = owner[i];
-    const std::int32_t p = static_cast<std::int32_t>(o >> 1);
-    const bool p_new = only_new && info_[p].is_new;
-    ActiveSet& set = p_new ? active_new_ : active_;
-    if ((o & 1u) == 0u) {
-      const std::uint64_t lb = eb[o], ub = eb[o + 1];
-      const std::uint64_t lc = ec[o], uc = ec[o + 1];
-      if (!only_new || p_new) test(active_, p, lb, ub, lc, uc, !only_new);
-      test(active_new_, p, lb, ub, lc, uc, !only_new);
-      active_pos_[p] = static_cast<std::int32_t>(set.push(p, lb, ub, lc, uc, 0u));
-    } else {
-      const std::size_t pos = static_cast<std::size_t>(active_pos_[p]);
-      const std::int32_t moved = set.removeAt(pos);
-      if (moved >= 0) active_pos_[moved] = static_cast<std::int32_t>(pos);
-    }
-  }
+SweepAndPrune::Window SweepAndPrune::window(int axis, ProxyId p) const {
+  // Positions in the endpoint array of `axis` from its lower bound minus the widest width
+  // (with rounding slack) up to its upper bound.
+  const std::uint64_t* keys = keys_[axis].data();
+  const std::uint64_t* begin = keys + 1;
+  const std::uint64_t* end = keys + keys_[axis].size() - 1;
+  const std::uint64_t* kp = ends_[axis].data() + 2 * static_cast<std::size_t>(p);
+  const double low = unsortable64(kp[0]);
+  const double reach = max_width_[axis] + 1e-12 * (std::abs(low) + max_width_[axis]) + 1e-300;
+  Window w;
+  w.from = static_cast<std::size_t>(std::lower_bound(begin, end, lower64(low - reach)) - keys);
+  w.to = static_cast<std::size_t>(std::upper_bound(begin, end, kp[1]) - keys);
+  return w;
 }
 
 }  // namespace workspace_proximity

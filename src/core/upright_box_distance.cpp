@@ -143,23 +143,19 @@ UprightBoxDistance uprightBoxDistance(const Eigen::Isometry3d& pose_a,
   if (footprintGap(fa, fb) > 0.0) {
     // Disjoint convex polygons: the nearest pair has a vertex of one of them.
     double best = HUGE_VAL;
-    for (int i = 0; i < 4; ++i) {
-      const Vec2 ca = fa.corner(i);
-      const Vec2 on_b = fb.clamp(ca);
-      const double da = (on_b - ca).squaredNorm();
-      if (da < best) {
-        best = da;
-        pa_xy = ca;
+    auto consider = [&](const Vec2& on_a, const Vec2& on_b) {
+      const double d = (on_b - on_a).squaredNorm();
+      if (d < best) {
+        best = d;
+        pa_xy = on_a;
         pb_xy = on_b;
       }
+    };
+    for (int i = 0; i < 4; ++i) {
+      const Vec2 ca = fa.corner(i);
+      consider(ca, fb.clamp(ca));
       const Vec2 cb = fb.corner(i);
-      const Vec2 on_a = fa.clamp(cb);
-      const double db = (cb - on_a).squaredNorm();
-      if (db < best) {
-        best = db;
-        pa_xy = on_a;
-        pb_xy = cb;
-      }
+      consider(fa.clamp(cb), cb);
     }
   } else {
     // Footprints overlap: one box straight above the other, or the boxes overlap.

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "scenes.hpp"  // test/shared: the motions of the scene
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace wp = workspace_proximity;
@@ -54,32 +55,6 @@ bool parse(int argc, char** argv, Options* o) {
   return true;
 }
 
-// Poses of the scene at time t (seconds): positions and the velocities that go with them.
-struct Scene {
-  static wp::BodyMotion armLink(double t, double length, double height, double omega) {
-    const double yaw = omega * t;
-    wp::BodyMotion m;
-    m.position = Eigen::Vector3d(0.5 * length * std::cos(yaw), 0.5 * length * std::sin(yaw), height);
-    m.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
-    m.angular_velocity = Eigen::Vector3d(0, 0, omega);
-    m.linear_velocity = m.angular_velocity.cross(Eigen::Vector3d(m.position.x(), m.position.y(), 0));
-    return m;
-  }
-  static wp::BodyMotion walker(double t, const Eigen::Vector3d& start, const Eigen::Vector3d& end,
-                               double period) {
-    // Walks start -> end -> start, forever, at constant speed.
-    const double phase = std::fmod(t, period) / period;
-    const double s = phase < 0.5 ? 2.0 * phase : 2.0 - 2.0 * phase;
-    const Eigen::Vector3d direction = (phase < 0.5 ? 1.0 : -1.0) * (end - start) * 2.0 / period;
-    wp::BodyMotion m;
-    m.position = start + s * (end - start);
-    m.linear_velocity = direction;
-    const double heading = std::atan2(direction.y(), direction.x());
-    m.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()));
-    return m;
-  }
-};
-
 const char* stateName(wp::ContactState s) {
   switch (s) {
     case wp::ContactState::kBegin:
@@ -116,9 +91,9 @@ int main(int argc, char** argv) {
   }());
   const wp::BodyHandle upper =
       add("arm_upper", "robot", wp::BodyGroup::kRobot, wp::Shape::box({0.6, 0.1, 0.1}), 0.05,
-          Scene::armLink(0, 1.2, 0.9, omega));
+          wp_test::turningLink(0, 0.6, 0.9, omega));
   const wp::BodyHandle tool = add("arm_tool", "robot", wp::BodyGroup::kRobot,
-                                  wp::Shape::sphere(0.15), 0.05, Scene::armLink(0, 2.6, 0.9, omega));
+                                  wp::Shape::sphere(0.15), 0.05, wp_test::turningLink(0, 1.3, 0.9, omega));
   const wp::BodyHandle alice = add("person_alice", "person", wp::BodyGroup::kObject,
                                    wp::Shape::box({0.25, 0.25, 0.9}), 0.2, wp::BodyMotion());
   const wp::BodyHandle bob = add("person_bob", "person", wp::BodyGroup::kObject,
@@ -137,13 +112,13 @@ int main(int argc, char** argv) {
   int begins = 0, ends = 0;
   for (int cycle = 0; cycle < opt.cycles; ++cycle) {
     const double t = cycle / opt.rate;
-    world.setMotion(upper, Scene::armLink(t, 1.2, 0.9, omega));
-    world.setMotion(tool, Scene::armLink(t, 2.6, 0.9, omega));
+    world.setMotion(upper, wp_test::turningLink(t, 0.6, 0.9, omega));
+    world.setMotion(tool, wp_test::turningLink(t, 1.3, 0.9, omega));
     // The tool sphere sits at the end of the upper link: radius 1.3 m from the base.
-    world.setMotion(alice, Scene::walker(t, {4.5, 1.0, 0.9}, {1.2, 0.6, 0.9}, 8.0));
-    wp::BodyMotion bob_m = Scene::walker(t, {-1.0, -4.0, 0.9}, {-0.6, -1.2, 0.9}, 6.0);
+    world.setMotion(alice, wp_test::shuttle(t, {4.5, 1.0, 0.9}, {1.2, 0.6, 0.9}, 8.0));
+    wp::BodyMotion bob_m = wp_test::shuttle(t, {-1.0, -4.0, 0.9}, {-0.6, -1.2, 0.9}, 6.0);
     world.setMotion(bob, bob_m);
-    world.setMotion(forklift, Scene::walker(t, {2.0, 6.0, 1.0}, {2.0, -6.0, 1.0}, 10.0));
+    world.setMotion(forklift, wp_test::shuttle(t, {2.0, 6.0, 1.0}, {2.0, -6.0, 1.0}, 10.0));
 
     const std::vector<wp::PairEvent>& events = world.predict(opt.horizon);
     bool header = false;

@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <new>
-#include <random>
+#include <algorithm>
 #include <vector>
 
+#include "random.hpp"
+#include "scenes.hpp"
 #include "workspace_proximity/event_tracker.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 #include "workspace_proximity/sweep_and_prune.hpp"
@@ -38,54 +40,45 @@ namespace wp = workspace_proximity;
 
 namespace {
 
-struct Scene {
-  std::vector<wp::Aabb> boxes;
-  std::vector<Eigen::Vector3d> velocity;
+// Boxes of half extents 0.25 to 0.75 m whose centres walk in a 30 m cube; `step` scales the
+// motion per cycle.
+struct BoxScene {
+  std::vector<wp_test::Walker> centre;
+  std::vector<Eigen::Vector3d> half;
   std::vector<wp::SweepAndPrune::ProxyId> ids;
-};
 
-// Bounces N boxes in a cube; `step` scales the motion per cycle.
-void advance(Scene* s, double step) {
-  for (std::size_t i = 0; i < s->boxes.size(); ++i) {
-    Eigen::Vector3d d = s->velocity[i] * step;
-    wp::Aabb& b = s->boxes[i];
-    for (int k = 0; k < 3; ++k) {
-      if (b.lower[k] + d[k] < 0 || b.upper[k] + d[k] > 30) {
-        s->velocity[i][k] = -s->velocity[i][k];
-        d[k] = -d[k];
-      }
-    }
-    b.lower += d;
-    b.upper += d;
+  wp::Aabb box(std::size_t i) const { return wp::Aabb{centre[i].position - half[i], centre[i].position + half[i]}; }
+  void advance(double step) {
+    for (wp_test::Walker& w : centre) w.step(step, Eigen::Vector3d::Constant(1), Eigen::Vector3d::Constant(29));
   }
-}
+};
 
 }  // namespace
 
 TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> pos(1, 29), half(0.25, 0.75), vel(-1, 1);
+  wp_test::Rng rng(5);
   wp::SweepAndPruneConfig config;
   config.initial_proxy_capacity = 2048;
   config.initial_pair_capacity = 8192;
   wp::SweepAndPrune sap(config);
-  Scene s;
+  BoxScene s;
   for (int i = 0; i < 2000; ++i) {
-    const Eigen::Vector3d c(pos(rng), pos(rng), pos(rng));
-    const Eigen::Vector3d h(half(rng), half(rng), half(rng));
-    s.boxes.push_back({c - h, c + h});
-    s.velocity.emplace_back(vel(rng), vel(rng), vel(rng));
-    s.ids.push_back(sap.createProxy(s.boxes.back(), static_cast<std::uint32_t>(i)));
+    wp_test::Walker w;
+    w.position = rng.vector(1, 29);
+    w.velocity = rng.vector(-1, 1);
+    s.centre.push_back(w);
+    s.half.push_back(rng.vector(0.25, 0.75));
+    s.ids.push_back(sap.createProxy(s.box(s.centre.size() - 1)));
   }
   auto cycle = [&](double step, bool churn) {
-    advance(&s, step);
-    for (std::size_t i = 0; i < s.boxes.size(); ++i) sap.moveProxy(s.ids[i], s.boxes[i]);
+    s.advance(step);
+    for (std::size_t i = 0; i < s.centre.size(); ++i) sap.moveProxy(s.ids[i], s.box(i));
     if (churn) {
       // Tracks appear and disappear: remove and re-create a few per cycle.
       for (int k = 0; k < 5; ++k) {
-        const std::size_t i = rng() % s.boxes.size();
+        const std::size_t i = rng() % s.centre.size();
         sap.destroyProxy(s.ids[i]);
-        s.ids[i] = sap.createProxy(s.boxes[i], static_cast<std::uint32_t>(i));
+        s.ids[i] = sap.createProxy(s.box(i));
       }
     }
     sap.update();
@@ -107,7 +100,7 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
 
 TEST(Allocations, EventTrackerSteadyStateAllocatesNothing) {
   wp::EventTracker tracker(64);
-  std::mt19937 rng(9);
+  wp_test::Rng rng(9);
   auto cycle = [&] {
     tracker.beginCycle();
     const int n = static_cast<int>(rng() % 200);
@@ -138,41 +131,12 @@ TEST(Allocations, WorldPredictAllocatesNothingWhileNothingOverlapsYet) {
   wp::WorldConfig config;
   config.rules = wp::PairRules::allowAll();
   wp::ProximityWorld world(config);
-  // A 6 x 6 x 3 grid of mixed shapes, 1 m between centres, each oscillating along x with
-  // amplitude 0.15 m, neighbours in opposite phase: they close at up to 0.9 m/s, so contact
-  // is predicted within the 1 s horizon, but the gaps (>= 0.6 - 0.3 m) never close.
-  struct Oscillator {
-    wp::BodyHandle handle;
-    Eigen::Vector3d centre;
-    double phase;
-  };
-  std::vector<Oscillator> bodies;
-  int i = 0;
-  for (int x = 0; x < 6; ++x) {
-    for (int y = 0; y < 6; ++y) {
-      for (int z = 0; z < 3; ++z, ++i) {
-        const wp::Shape shape = (i % 3 == 0)   ? wp::Shape::sphere(0.2)
-                                : (i % 3 == 1) ? wp::Shape::box({0.2, 0.15, 0.1})
-                                               : wp::Shape::capsule(0.1, 0.2);
-        Oscillator o{wp::BodyHandle(), Eigen::Vector3d(x, y, z), (x % 2) ? M_PI : 0.0};
-        o.handle = world.addBody(
-            wp::BodyDesc{"b" + std::to_string(i), "thing", wp::BodyGroup::kObject, shape, 0.02},
-            wp::BodyMotion());
-        bodies.push_back(o);
-      }
-    }
-  }
-  const double omega = 3.0, amplitude = 0.15;
+  // A 6 x 6 x 3 grid of mixed shapes: contact is predicted within the 1 s horizon, but the
+  // gaps never close.
+  wp_test::OscillatingGrid grid(&world, 6, 6, 3);
   int predicted = 0;
   auto cycle = [&](int k) {
-    const double t = k / 30.0;
-    for (const Oscillator& o : bodies) {
-      wp::BodyMotion m;
-      m.position = o.centre + Eigen::Vector3d(amplitude * std::sin(omega * t + o.phase), 0, 0);
-      m.linear_velocity = {amplitude * omega * std::cos(omega * t + o.phase), 0, 0};
-      m.angular_velocity = {0, 0, 0.5};
-      world.setMotion(o.handle, m);
-    }
+    grid.pose(k / 30.0);
     world.predict(1.0);
     predicted += world.stats().contacts;
   };
@@ -181,6 +145,36 @@ TEST(Allocations, WorldPredictAllocatesNothingWhileNothingOverlapsYet) {
   for (int k = 100; k < 200; ++k) cycle(k);
   EXPECT_GT(predicted, 0);
   EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+// The world's own pair cache (maintained from the broad phase's began and ended pairs), the
+// contact windows and the event pool while pairs keep beginning and ending: the robot cell of
+// the pipeline benchmark (all upright boxes, so overlaps take the closed form, not FCL's
+// collide), in steady state after a warm-up that reaches its peak pair counts.
+TEST(Allocations, WorldPairCacheAllocatesNothingWhilePairsComeAndGo) {
+  wp::ProximityWorld world;
+  wp_test::RobotCell cell(&world, 30, 200);
+  int began = 0, ended = 0, broad_min = 1 << 30, broad_max = 0;
+  auto cycle = [&](int k) {
+    cell.step(k / 30.0, 1.0 / 30.0);
+    for (const wp::PairEvent& e : world.predict(2.0)) {
+      began += e.state == wp::ContactState::kBegin;
+      ended += e.state == wp::ContactState::kEnd;
+    }
+    broad_min = std::min(broad_min, world.stats().broad_pairs);
+    broad_max = std::max(broad_max, world.stats().broad_pairs);
+  };
+  for (int k = 0; k < 3000; ++k) cycle(k);
+  began = ended = 0;
+  broad_min = 1 << 30;
+  broad_max = 0;
+  const long before = g_allocations.load();
+  for (int k = 3000; k < 3600; ++k) cycle(k);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  // The pair sets did change all along: the cache saw pairs begin and end.
+  EXPECT_GT(began, 100);
+  EXPECT_GT(ended, 100);
+  EXPECT_GT(broad_max - broad_min, 10);
 }
 
 int main(int argc, char** argv) {

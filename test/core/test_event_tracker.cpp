@@ -5,7 +5,9 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <set>
 
+#include "random.hpp"
 #include "workspace_proximity/event_tracker.hpp"
 
 namespace wp = workspace_proximity;
@@ -56,6 +58,50 @@ TEST(EventTracker, BeginOngoingEndOnce) {
   EXPECT_EQ(tracker.events()[0].state, wp::ContactState::kBegin);  // a new contact begins
 }
 
+TEST(EventTracker, PairNumberLastsFromBeginToEndAndIsReusedOnlyAfterIt) {
+  wp::EventTracker tracker(8);
+  auto number = [&](int a, int b) {
+    for (const auto& e : tracker.events()) {
+      if (e.body_a.index == a && e.body_b.index == b) return e.pair;
+    }
+    return -2;
+  };
+  tracker.beginCycle();
+  tracker.report(key(1, 2), prediction(1, 2, 0.5));
+  tracker.report(key(3, 4), prediction(3, 4, 0.6));
+  tracker.endCycle();
+  const std::int32_t p12 = number(1, 2), p34 = number(3, 4);
+  EXPECT_GE(p12, 0);
+  EXPECT_GE(p34, 0);
+  EXPECT_NE(p12, p34);
+  for (int cycle = 0; cycle < 3; ++cycle) {  // ONGOING keeps the number
+    tracker.beginCycle();
+    tracker.report(key(3, 4), prediction(3, 4, 0.6));
+    tracker.report(key(1, 2), prediction(1, 2, 0.5));
+    tracker.endCycle();
+    EXPECT_EQ(number(1, 2), p12);
+    EXPECT_EQ(number(3, 4), p34);
+  }
+  // (1, 2) ends while (5, 6) begins: the new pair cannot take the number yet.
+  tracker.beginCycle();
+  tracker.report(key(3, 4), prediction(3, 4, 0.6));
+  tracker.report(key(5, 6), prediction(5, 6, 0.7));
+  tracker.endCycle();
+  ASSERT_EQ(tracker.events().size(), 3u);
+  EXPECT_EQ(tracker.events().back().state, wp::ContactState::kEnd);
+  EXPECT_EQ(number(1, 2), p12);  // END carries the pair's number
+  EXPECT_NE(number(5, 6), p12);
+  EXPECT_NE(number(5, 6), p34);
+  // After the END the number is free again (the pool hands out the record freed last first).
+  tracker.beginCycle();
+  tracker.report(key(3, 4), prediction(3, 4, 0.6));
+  tracker.report(key(5, 6), prediction(5, 6, 0.7));
+  tracker.report(key(7, 8), prediction(7, 8, 0.8));
+  tracker.endCycle();
+  EXPECT_EQ(number(7, 8), p12);
+  EXPECT_LT(number(7, 8), tracker.poolCapacity());
+}
+
 TEST(EventTracker, EventsAreSortedEarliestFirstWithEndsLast) {
   wp::EventTracker tracker(4);
   tracker.beginCycle();
@@ -77,8 +123,11 @@ TEST(EventTracker, EventsAreSortedEarliestFirstWithEndsLast) {
 // a std::map model, and the pool must stop growing once it has seen the peak.
 TEST(EventTracker, MatchesModelAndRecyclesRecords) {
   wp::EventTracker tracker(16);
-  std::mt19937 rng(7);
+  wp_test::Rng rng(7);
   std::map<std::uint64_t, int> model_active;  // key -> cycles active
+  std::map<std::uint64_t, std::int32_t> model_number;  // live key -> its pair number
+  int reused_numbers = 0;
+  std::set<std::int32_t> ever_numbered;
   int capacity_after_warmup = -1;
   for (int cycle = 0; cycle < 4000; ++cycle) {
     std::map<std::uint64_t, double> reported;
@@ -103,19 +152,43 @@ TEST(EventTracker, MatchesModelAndRecyclesRecords) {
       if (!reported.count(kv.first)) expected[kv.first] = wp::ContactState::kEnd;
     }
     std::map<std::uint64_t, wp::ContactState> got;
+    std::set<std::int32_t> numbers;  // pair numbers of this cycle's events
     for (const auto& e : tracker.events()) {
       const std::uint64_t k = key(e.body_a.index, e.body_b.index);
       ASSERT_EQ(got.count(k), 0u) << "duplicate event";
       got[k] = e.state;
+      // Pair numbers: small, one per live pair, kept from BEGIN through END.
+      ASSERT_GE(e.pair, 0);
+      ASSERT_LT(e.pair, tracker.poolCapacity());
+      ASSERT_TRUE(numbers.insert(e.pair).second) << "two pairs share number " << e.pair;
+      if (e.state == wp::ContactState::kBegin) {
+        ASSERT_EQ(model_number.count(k), 0u);
+      } else {
+        ASSERT_EQ(e.pair, model_number.at(k)) << "pair number changed, cycle " << cycle;
+      }
+      model_number[k] = e.pair;
+      if (e.state == wp::ContactState::kEnd) model_number.erase(k);
     }
     ASSERT_EQ(got, expected) << "cycle " << cycle;
+    for (const auto& kv : model_number) {  // numbers of live pairs are not given to others
+      for (const auto& other : model_number) {
+        if (other.first != kv.first) {
+          ASSERT_NE(other.second, kv.second);
+        }
+      }
+    }
     model_active.clear();
     for (const auto& kv : reported) model_active[kv.first] = 1;
     ASSERT_EQ(tracker.activeCount(), static_cast<int>(model_active.size()));
 
+    for (const auto& e : tracker.events()) {
+      if (e.state == wp::ContactState::kBegin) reused_numbers += !ever_numbered.insert(e.pair).second;
+    }
+
     if (cycle == 1000) capacity_after_warmup = tracker.poolCapacity();
   }
   EXPECT_EQ(tracker.poolCapacity(), capacity_after_warmup);
+  EXPECT_GT(reused_numbers, 1000);  // numbers of ended pairs do get reused
 }
 
 TEST(EventTracker, ClearForgetsWithoutEnds) {

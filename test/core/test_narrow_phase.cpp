@@ -1,6 +1,7 @@
-// Narrow phase tests. Every expectation comes from an independent oracle written here
-// (exact box-box distance, separating-axis overlap, segment distances, closed-form motion),
-// never from the code under test.
+// Narrow phase tests. Every expectation comes from an independent oracle (test/shared/
+// oracles.hpp: exact box-box distance, separating-axis overlap, segment distances, closed-form
+// motion) or an analytic case, never from the code under test. predict() runs as in the
+// pipeline: the window's moving separating-axis step (refineWindow), then the narrow phase.
 
 #include <gtest/gtest.h>
 
@@ -20,6 +21,11 @@
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/distance.h>
 
+#include "fcl_geometry.hpp"  // the narrow phase's private geometry (src/core)
+#include "oracles.hpp"
+#include "random.hpp"
+#include "scenes.hpp"
+#include "workspace_proximity/contact_window.hpp"
 #include "workspace_proximity/narrow_phase.hpp"
 #include "workspace_proximity/upright_box_distance.hpp"
 
@@ -29,177 +35,35 @@ namespace {
 using Eigen::Isometry3d;
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
-using Geometry = std::shared_ptr<fcl::CollisionGeometryd>;
+using oracle::boxBoxDistance;
+using oracle::makePose;
+using oracle::Obb;
+using oracle::pointBoxDepth;
+using oracle::pointBoxDistance;
+using oracle::segmentClosestPoints;
+using oracle::segmentDistance;
+using wp_test::Rng;
 
-// ------------------------------------------------------------------------------------------
-// Oracles.
-
-/// Oriented box: pose of the centre and half extents, m.
-struct Obb {
-  Isometry3d pose = Isometry3d::Identity();
-  Vector3d half = Vector3d::Constant(0.5);
-};
-
-std::array<Vector3d, 8> vertices(const Obb& box) {
-  std::array<Vector3d, 8> v;
-  for (int i = 0; i < 8; ++i) {
-    const Vector3d local((i & 1) ? box.half.x() : -box.half.x(),
-                         (i & 2) ? box.half.y() : -box.half.y(),
-                         (i & 4) ? box.half.z() : -box.half.z());
-    v[i] = box.pose * local;
-  }
-  return v;
-}
-
-/// Exact distance from a point to a solid oriented box (0 inside), m.
-double pointBoxDistance(const Vector3d& p, const Obb& box) {
-  const Vector3d local = box.pose.inverse() * p;
-  const Vector3d clamped = local.cwiseMax(-box.half).cwiseMin(box.half);
-  return (local - clamped).norm();
-}
-
-/// How deep a point is inside a box (<= 0 outside or on the surface), m.
-double pointBoxDepth(const Vector3d& p, const Obb& box) {
-  const Vector3d local = box.pose.inverse() * p;
-  return (box.half - local.cwiseAbs()).minCoeff();
-}
-
-/// Closest points c1 on segment [p1, q1] and c2 on [p2, q2]; degenerate segments allowed.
-void segmentClosestPoints(const Vector3d& p1, const Vector3d& q1, const Vector3d& p2,
-                          const Vector3d& q2, Vector3d* c1, Vector3d* c2) {
-  const Vector3d d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0.0, t = 0.0;
-  if (a <= 1e-300 && e > 1e-300) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else if (a > 1e-300) {
-    const double c = d1.dot(r);
-    if (e <= 1e-300) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      // Closest points of the infinite lines, clamped to segment 1, then to segment 2.
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  *c1 = p1 + d1 * s;
-  *c2 = p2 + d2 * t;
-}
-
-/// Exact distance between segments [p1, q1] and [p2, q2], m.
-double segmentDistance(const Vector3d& p1, const Vector3d& q1, const Vector3d& p2,
-                       const Vector3d& q2) {
-  Vector3d c1, c2;
-  segmentClosestPoints(p1, q1, p2, q2, &c1, &c2);
-  return (c2 - c1).norm();
-}
-
-/// Exact distance between two disjoint boxes: the closest pair is vertex-face, face-vertex or
-/// edge-edge, so the minimum over those features is the answer.
-double boxBoxDistance(const Obb& a, const Obb& b) {
-  static const int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
-                                    {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
-  const auto va = vertices(a), vb = vertices(b);
-  double best = std::numeric_limits<double>::infinity();
-  for (const Vector3d& v : va) best = std::min(best, pointBoxDistance(v, b));
-  for (const Vector3d& v : vb) best = std::min(best, pointBoxDistance(v, a));
-  for (const auto& ea : kEdges) {
-    for (const auto& eb : kEdges) {
-      best = std::min(best, segmentDistance(va[ea[0]], va[ea[1]], vb[eb[0]], vb[eb[1]]));
-    }
-  }
-  return best;
-}
-
-/// Separating axis theorem on the 15 candidate axes; true when the closed boxes intersect.
-bool boxesOverlap(const Obb& a, const Obb& b) {
-  const Eigen::Matrix3d ra = a.pose.linear(), rb = b.pose.linear();
-  const Vector3d d = b.pose.translation() - a.pose.translation();
-  auto separates = [&](const Vector3d& axis) {
-    const double n = axis.norm();
-    if (n < 1e-9) return false;  // parallel edges: the face axes already cover this
-    const Vector3d u = axis / n;
-    double ra_u = 0.0, rb_u = 0.0;
-    for (int i = 0; i < 3; ++i) {
-      ra_u += a.half[i] * std::abs(ra.col(i).dot(u));
-      rb_u += b.half[i] * std::abs(rb.col(i).dot(u));
-    }
-    return std::abs(d.dot(u)) > ra_u + rb_u;
-  };
-  for (int i = 0; i < 3; ++i) {
-    if (separates(ra.col(i)) || separates(rb.col(i))) return false;
-  }
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      if (separates(ra.col(i).cross(rb.col(j)))) return false;
-    }
-  }
-  return true;
-}
-
-/// Pose from a quaternion (w, x, y, z) and a translation.
-Isometry3d makePose(const Vector3d& t, const Quaterniond& q = Quaterniond::Identity()) {
-  Isometry3d pose = Isometry3d::Identity();
-  pose.linear() = q.normalized().toRotationMatrix();
-  pose.translation() = t;
-  return pose;
-}
-
-/// The same motion model as BodyMotion::poseAt, written out independently.
-Isometry3d oraclePoseAt(const BodyMotion& m, double t) {
-  Quaterniond q = m.orientation;
-  const double w = m.angular_velocity.norm();
-  if (w > 0.0) q = Quaterniond(Eigen::AngleAxisd(w * t, m.angular_velocity / w)) * q;
-  return makePose(m.position + m.linear_velocity * t, q);
-}
+bool boxesOverlap(const Obb& a, const Obb& b) { return oracle::overlaps(a, b); }
+Quaterniond yaw(double angle) { return Rng::yaw(angle); }
 
 // ------------------------------------------------------------------------------------------
 // Fixtures and helpers.
 
-class Rng {
- public:
-  explicit Rng(unsigned seed) : engine_(seed) {}
-  double uniform(double lo, double hi) {
-    return std::uniform_real_distribution<double>(lo, hi)(engine_);
-  }
-  Vector3d vector(double lo, double hi) {
-    return Vector3d(uniform(lo, hi), uniform(lo, hi), uniform(lo, hi));
-  }
-  Quaterniond rotation() {
-    std::normal_distribution<double> n(0.0, 1.0);
-    return Quaterniond(n(engine_), n(engine_), n(engine_), n(engine_)).normalized();
-  }
-
- private:
-  std::mt19937 engine_;
-};
-
-Geometry boxGeometry(const Vector3d& half) { return makeGeometry(Shape::box(half)); }
-
-/// A body for predict(): geometry, motion and margin kept alive together.
+/// A body for predict(): shape, motion and margin kept alive together.
 struct MovingBody {
   Shape shape;
-  Geometry geometry;
   BodyMotion motion;
   double margin = 0.0;
 
   MovingBody(const Shape& s, const BodyMotion& m, double margin_m = 0.0)
-      : shape(s), geometry(makeGeometry(s)), motion(m), margin(margin_m) {}
-  NarrowBody narrow() const {
-    NarrowBody n;
-    n.geometry = geometry.get();
-    n.motion = &motion;
-    n.margin = margin;
-    n.bounding_radius = shape.boundingRadius();
-    return n;
+      : shape(s), motion(m), margin(margin_m) {}
+  PairBody body() const {
+    PairBody b;
+    b.shape = &shape;
+    b.motion = &motion;
+    b.margin = margin;
+    return b;  // no cached geometry: the narrow phase builds it for the query
   }
 };
 
@@ -214,56 +78,50 @@ BodyMotion motion(const Vector3d& position, const Vector3d& velocity = Vector3d:
   return m;
 }
 
+/// The pipeline's order for one pair: the window's second step (the moving separating-axis
+/// test for translating boxes) inside [first, last], then the narrow phase inside it.
 ContactPrediction predict(const MovingBody& a, const MovingBody& b, double first, double last,
                           const NarrowPhase& phase = NarrowPhase()) {
-  return phase.predict(a.narrow(), b.narrow(), TimeInterval{first, last});
+  const ContactWindow window = refineWindow(a.body(), b.body(), TimeInterval{first, last});
+  return phase.predict(a.body(), b.body(), window);
 }
 
-/// First and last time in [t0, t1] at which `touching` holds, sampled every `step` seconds
-/// and refined by bisection. Returns false when no sample touches.
-bool oracleContactTimes(const std::function<bool(double)>& touching, double t0, double t1,
-                        double step, double* first, double* last) {
-  const int n = static_cast<int>(std::ceil((t1 - t0) / step));
-  int first_k = -1, last_k = -1;
-  for (int k = 0; k <= n; ++k) {
-    if (touching(std::min(t0 + k * step, t1))) {
-      if (first_k < 0) first_k = k;
-      last_k = k;
-    }
-  }
-  if (first_k < 0) return false;
-  auto bisect = [&](double free_t, double hit_t) {
-    for (int i = 0; i < 60; ++i) {
-      const double mid = 0.5 * (free_t + hit_t);
-      (touching(mid) ? hit_t : free_t) = mid;
-    }
-    return hit_t;
-  };
-  const double hit_first = std::min(t0 + first_k * step, t1);
-  const double hit_last = std::min(t0 + last_k * step, t1);
-  *first = first_k == 0 ? t0 : bisect(t0 + (first_k - 1) * step, hit_first);
-  *last = last_k == n ? t1 : bisect(std::min(t0 + (last_k + 1) * step, t1), hit_last);
-  return true;
+/// Random box: half extents in [min_half, max_half), centre within +-reach of the origin.
+Obb randomBox(Rng& rng, double min_half, double max_half, double reach, const Quaterniond& q) {
+  Obb box;
+  box.half = rng.vector(min_half, max_half);
+  box.pose = makePose(rng.vector(-reach, reach), q);
+  return box;
+}
+
+/// The box grown (or shrunk, by < 0) by `by` m on every side.
+Obb grown(Obb box, double by) {
+  box.half.array() += by;
+  return box;
+}
+
+ShapeDistance boxDistance(const NarrowPhase& phase, const Obb& a, const Obb& b) {
+  return phase.distance(Shape::box(a.half), a.pose, Shape::box(b.half), b.pose);
 }
 
 // ------------------------------------------------------------------------------------------
 // Geometry construction.
 
 TEST(MakeGeometry, DimensionsMatchFclConventions) {
-  const auto box = makeGeometry(Shape::box(Vector3d(0.1, 0.2, 0.3)));
+  const auto box = makeFclGeometry(Shape::box(Vector3d(0.1, 0.2, 0.3)));
   ASSERT_EQ(box->getNodeType(), fcl::GEOM_BOX);
   EXPECT_TRUE(static_cast<const fcl::Boxd&>(*box).side.isApprox(Vector3d(0.2, 0.4, 0.6)));
 
-  const auto sphere = makeGeometry(Shape::sphere(0.7));
+  const auto sphere = makeFclGeometry(Shape::sphere(0.7));
   ASSERT_EQ(sphere->getNodeType(), fcl::GEOM_SPHERE);
   EXPECT_DOUBLE_EQ(static_cast<const fcl::Sphered&>(*sphere).radius, 0.7);
 
-  const auto cylinder = makeGeometry(Shape::cylinder(0.3, 2.0));
+  const auto cylinder = makeFclGeometry(Shape::cylinder(0.3, 2.0));
   ASSERT_EQ(cylinder->getNodeType(), fcl::GEOM_CYLINDER);
   EXPECT_DOUBLE_EQ(static_cast<const fcl::Cylinderd&>(*cylinder).lz, 2.0);
 
   // Capsule: FCL's local AABB must end at length / 2 + radius along z.
-  const auto capsule = makeGeometry(Shape::capsule(0.25, 1.0));
+  const auto capsule = makeFclGeometry(Shape::capsule(0.25, 1.0));
   ASSERT_EQ(capsule->getNodeType(), fcl::GEOM_CAPSULE);
   capsule->computeLocalAABB();
   EXPECT_NEAR(capsule->aabb_local.max_.z(), 0.75, 1e-12);
@@ -273,10 +131,8 @@ TEST(MakeGeometry, DimensionsMatchFclConventions) {
 TEST(MakeGeometry, CapsuleTipIsAtHalfLengthPlusRadius) {
   // A sphere on the capsule axis: distance = centre offset - (length / 2 + r) - r_sphere.
   const NarrowPhase phase;
-  const auto capsule = makeGeometry(Shape::capsule(0.25, 1.0));
-  const auto sphere = makeGeometry(Shape::sphere(0.1));
-  const ShapeDistance d =
-      phase.distance(*capsule, Isometry3d::Identity(), *sphere, makePose(Vector3d(0, 0, 2.0)));
+  const ShapeDistance d = phase.distance(Shape::capsule(0.25, 1.0), Isometry3d::Identity(),
+                                         Shape::sphere(0.1), makePose(Vector3d(0, 0, 2.0)));
   EXPECT_NEAR(d.distance, 2.0 - 0.75 - 0.1, 1e-9);
 }
 
@@ -289,9 +145,8 @@ void expectOnBoxSurface(const Vector3d& p, const Obb& box, const char* which) {
 }
 
 void checkBoxPair(const NarrowPhase& phase, const Obb& a, const Obb& b) {
-  const Geometry ga = boxGeometry(a.half), gb = boxGeometry(b.half);
   const double truth = boxBoxDistance(a, b);
-  const ShapeDistance d = phase.distance(*ga, a.pose, *gb, b.pose);
+  const ShapeDistance d = boxDistance(phase, a, b);
   ASSERT_FALSE(d.overlapping);
   ASSERT_NEAR(d.distance, truth, 1e-6 * std::max(1.0, truth));
   expectOnBoxSurface(d.point_a, a, "a");
@@ -308,15 +163,12 @@ TEST(NarrowPhaseDistance, RandomBoxPairsMatchExactOracle) {
   Rng rng(7);
   int checked = 0;
   for (int i = 0; i < 6000; ++i) {
-    Obb a, b;
-    a.half = rng.vector(0.02, 1.0);
-    b.half = rng.vector(0.02, 1.0);
     // A third of the pairs share one orientation (face-parallel, the degenerate case behind
     // fcl #508), a third are axis aligned, the rest are random.
     const Quaterniond qa = (i % 3 == 2) ? Quaterniond::Identity() : rng.rotation();
     const Quaterniond qb = (i % 3 == 0) ? rng.rotation() : qa;
-    a.pose = makePose(rng.vector(-2.0, 2.0), qa);
-    b.pose = makePose(rng.vector(-2.0, 2.0), qb);
+    const Obb a = randomBox(rng, 0.02, 1.0, 2.0, qa);
+    const Obb b = randomBox(rng, 0.02, 1.0, 2.0, qb);
     if (boxesOverlap(a, b) || boxBoxDistance(a, b) < 1e-6) continue;
     SCOPED_TRACE(i);
     checkBoxPair(phase, a, b);
@@ -360,9 +212,9 @@ TEST(NarrowPhaseDistance, NearestPointsAreInWorldFrame) {
   const NarrowPhase phase;
   const Vector3d centre(100.0, -50.0, 20.0);
   const Quaterniond q(Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitZ()));
-  const auto box = boxGeometry(Vector3d(1.0, 0.5, 0.25));  // world x extent is 0.5 after q
-  const auto sphere = makeGeometry(Shape::sphere(0.2));
-  const ShapeDistance d = phase.distance(*box, makePose(centre, q), *sphere,
+  const Shape box = Shape::box(Vector3d(1.0, 0.5, 0.25));  // world x extent is 0.5 after q
+  const Shape sphere = Shape::sphere(0.2);
+  const ShapeDistance d = phase.distance(box, makePose(centre, q), sphere,
                                          makePose(centre + Vector3d(2.0, 0.3, 0.1)));
   EXPECT_NEAR(d.distance, 2.0 - 0.5 - 0.2, 1e-9);
   EXPECT_TRUE(d.point_a.isApprox(centre + Vector3d(0.5, 0.3, 0.1), 1e-9)) << d.point_a;
@@ -375,10 +227,10 @@ TEST(NarrowPhaseDistance, NearestPointsAreInWorldFrame) {
 
 TEST(NarrowPhaseDistance, SphereSphere) {
   const NarrowPhase phase;
-  const auto a = makeGeometry(Shape::sphere(0.5));
-  const auto b = makeGeometry(Shape::sphere(0.25));
+  const Shape a = Shape::sphere(0.5);
+  const Shape b = Shape::sphere(0.25);
   const Vector3d ca(1.0, 2.0, 3.0), offset(1.2, -0.4, 0.9);
-  const ShapeDistance d = phase.distance(*a, makePose(ca), *b, makePose(ca + offset));
+  const ShapeDistance d = phase.distance(a, makePose(ca), b, makePose(ca + offset));
   const Vector3d n = offset.normalized();
   EXPECT_NEAR(d.distance, offset.norm() - 0.75, 1e-12);
   EXPECT_TRUE(d.point_a.isApprox(ca + 0.5 * n, 1e-9));
@@ -392,15 +244,15 @@ TEST(NarrowPhaseDistance, SphereBoxFacesEdgesCorners) {
   Obb box;
   box.half = Vector3d(0.4, 0.7, 0.2);
   box.pose = makePose(Vector3d(0.3, -0.2, 0.5), rng.rotation());
-  const auto gbox = boxGeometry(box.half);
-  const auto sphere = makeGeometry(Shape::sphere(0.15));
+  const Shape gbox = Shape::box(box.half);
+  const Shape sphere = Shape::sphere(0.15);
   for (int i = 0; i < 500; ++i) {
     // Local centres spread around the box so faces, edges and corners are all nearest.
     const Vector3d local = rng.vector(-1.5, 1.5);
     const Vector3d centre = box.pose * local;
     const double truth = pointBoxDistance(centre, box) - 0.15;
     if (truth < 1e-3) continue;
-    const ShapeDistance d = phase.distance(*gbox, box.pose, *sphere, makePose(centre));
+    const ShapeDistance d = phase.distance(gbox, box.pose, sphere, makePose(centre));
     ASSERT_NEAR(d.distance, truth, 1e-9) << local.transpose();
     EXPECT_NEAR((d.point_b - centre).norm(), 0.15, 1e-9);
     EXPECT_LE(pointBoxDistance(d.point_a, box), 1e-9);
@@ -409,19 +261,19 @@ TEST(NarrowPhaseDistance, SphereBoxFacesEdgesCorners) {
 
 TEST(NarrowPhaseDistance, CapsuleCapsuleParallelAndCrossed) {
   const NarrowPhase phase;
-  const auto a = makeGeometry(Shape::capsule(0.1, 1.0));
-  const auto b = makeGeometry(Shape::capsule(0.2, 2.0));
+  const Shape a = Shape::capsule(0.1, 1.0);
+  const Shape b = Shape::capsule(0.2, 2.0);
   const Quaterniond along_x(Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitY()));
   // Parallel, side by side with overlapping extents: distance between the axes - radii.
   EXPECT_NEAR(
-      phase.distance(*a, Isometry3d::Identity(), *b, makePose(Vector3d(1.0, 0, 0.3))).distance,
+      phase.distance(a, Isometry3d::Identity(), b, makePose(Vector3d(1.0, 0, 0.3))).distance,
       1.0 - 0.3, 1e-9);
   // Parallel and coaxial: end to end.
   EXPECT_NEAR(
-      phase.distance(*a, Isometry3d::Identity(), *b, makePose(Vector3d(0, 0, 3.0))).distance,
+      phase.distance(a, Isometry3d::Identity(), b, makePose(Vector3d(0, 0, 3.0))).distance,
       3.0 - 0.5 - 1.0 - 0.3, 1e-9);
   // Crossed: a along z, b along x, offset along y.
-  EXPECT_NEAR(phase.distance(*a, Isometry3d::Identity(), *b, makePose(Vector3d(0, 0.8, 0), along_x))
+  EXPECT_NEAR(phase.distance(a, Isometry3d::Identity(), b, makePose(Vector3d(0, 0.8, 0), along_x))
                   .distance,
               0.8 - 0.3, 1e-9);
   // Random poses against the segment-distance oracle.
@@ -433,7 +285,7 @@ TEST(NarrowPhaseDistance, CapsuleCapsuleParallelAndCrossed) {
                                          pb * Vector3d(0, 0, -1.0), pb * Vector3d(0, 0, 1.0)) -
                          0.3;
     if (truth < 1e-4) continue;
-    const ShapeDistance d = phase.distance(*a, pa, *b, pb);
+    const ShapeDistance d = phase.distance(a, pa, b, pb);
     ASSERT_NEAR(d.distance, truth, 1e-8);
     EXPECT_NEAR((d.point_b - d.point_a).norm(), truth, 1e-8);
   }
@@ -441,22 +293,22 @@ TEST(NarrowPhaseDistance, CapsuleCapsuleParallelAndCrossed) {
 
 TEST(NarrowPhaseDistance, CylinderBox) {
   const NarrowPhase phase;
-  const auto cylinder = makeGeometry(Shape::cylinder(0.3, 1.0));
-  const auto box = boxGeometry(Vector3d(0.5, 0.5, 0.5));
+  const Shape cylinder = Shape::cylinder(0.3, 1.0);
+  const Shape box = Shape::box(Vector3d(0.5, 0.5, 0.5));
   const Isometry3d at_origin = Isometry3d::Identity();
   // Standing on top of the box with a 0.2 m gap (flat face to flat face).
   EXPECT_NEAR(
-      phase.distance(*box, at_origin, *cylinder, makePose(Vector3d(0.1, 0.2, 1.2))).distance, 0.2,
+      phase.distance(box, at_origin, cylinder, makePose(Vector3d(0.1, 0.2, 1.2))).distance, 0.2,
       1e-7);
   // Lying along x above the box: the curved side faces the top face.
   const Quaterniond lying(Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitY()));
   EXPECT_NEAR(
-      phase.distance(*box, at_origin, *cylinder, makePose(Vector3d(0.2, 0.0, 1.1), lying)).distance,
+      phase.distance(box, at_origin, cylinder, makePose(Vector3d(0.2, 0.0, 1.1), lying)).distance,
       1.1 - 0.5 - 0.3, 1e-7);
   // Standing beside a vertical box edge, diagonally: side of the cylinder to the edge.
   const Vector3d c(1.2, 1.1, 0.1);
   const double truth = Vector3d(c.x() - 0.5, c.y() - 0.5, 0.0).norm() - 0.3;
-  const ShapeDistance d = phase.distance(*box, at_origin, *cylinder, makePose(c));
+  const ShapeDistance d = phase.distance(box, at_origin, cylinder, makePose(c));
   EXPECT_NEAR(d.distance, truth, 1e-6);
   EXPECT_TRUE(d.point_a.head<2>().isApprox(Eigen::Vector2d(0.5, 0.5), 1e-6)) << d.point_a;
 }
@@ -470,10 +322,11 @@ TEST(NarrowPhaseDistance, OverlappingShapesReportZeroAndUnitNormal) {
                                      Shape::cylinder(0.4, 1.0), Shape::capsule(0.3, 0.8)};
   for (const Shape& sa : shapes) {
     for (const Shape& sb : shapes) {
-      const auto ga = makeGeometry(sa), gb = makeGeometry(sb);
+      const Shape& ga = sa;
+      const Shape& gb = sb;
       // b's centre 0.5 m along +x from a's: deep overlap, clearly on a's +x side.
       const ShapeDistance d =
-          phase.distance(*ga, Isometry3d::Identity(), *gb, makePose(Vector3d(0.5, 0.05, -0.05)));
+          phase.distance(ga, Isometry3d::Identity(), gb, makePose(Vector3d(0.5, 0.05, -0.05)));
       SCOPED_TRACE(static_cast<int>(sa.type) * 10 + static_cast<int>(sb.type));
       EXPECT_TRUE(d.overlapping);
       EXPECT_EQ(d.distance, 0.0);
@@ -500,8 +353,8 @@ TEST(NarrowPhaseDistance, OverlappingCapsulesNormalPointsFromAToB) {
                          pb * Vector3d(0, 0, -lb / 2), pb * Vector3d(0, 0, lb / 2), &ca, &cb);
     const double axis_gap = (cb - ca).norm();
     if (axis_gap < 0.05 || axis_gap > ra + rb - 0.01) continue;  // clearly overlapping only
-    const ShapeDistance d = phase.distance(*makeGeometry(Shape::capsule(ra, la)), pa,
-                                           *makeGeometry(Shape::capsule(rb, lb)), pb);
+    const ShapeDistance d = phase.distance((Shape::capsule(ra, la)), pa,
+                                           (Shape::capsule(rb, lb)), pb);
     ASSERT_TRUE(d.overlapping) << i;
     EXPECT_EQ(d.distance, 0.0);
     EXPECT_NEAR(d.normal.norm(), 1.0, 1e-9);
@@ -516,18 +369,12 @@ TEST(NarrowPhaseDistance, RandomOverlappingBoxesAgreeWithSat) {
   Rng rng(13);
   int overlapping = 0;
   for (int i = 0; i < 3000; ++i) {
-    Obb a, b;
-    a.half = rng.vector(0.05, 0.8);
-    b.half = rng.vector(0.05, 0.8);
-    a.pose = makePose(rng.vector(-0.8, 0.8), rng.rotation());
-    b.pose = makePose(rng.vector(-0.8, 0.8), rng.rotation());
+    const Obb a = randomBox(rng, 0.05, 0.8, 0.8, rng.rotation());
+    const Obb b = randomBox(rng, 0.05, 0.8, 0.8, rng.rotation());
     // Skip near-touching pairs whose verdict depends on solver tolerance.
-    Obb a_in = a, a_out = a;
-    a_in.half.array() -= 1e-6;
-    a_out.half.array() += 1e-6;
-    if (boxesOverlap(a_in, b) != boxesOverlap(a_out, b)) continue;
+    if (boxesOverlap(grown(a, -1e-6), b) != boxesOverlap(grown(a, 1e-6), b)) continue;
     const ShapeDistance d =
-        phase.distance(*boxGeometry(a.half), a.pose, *boxGeometry(b.half), b.pose);
+        phase.distance(Shape::box(a.half), a.pose, Shape::box(b.half), b.pose);
     ASSERT_EQ(d.overlapping, boxesOverlap(a, b)) << i;
     if (!d.overlapping) continue;
     ++overlapping;
@@ -542,7 +389,6 @@ TEST(NarrowPhaseDistance, RandomOverlappingBoxesAgreeWithSat) {
 // ------------------------------------------------------------------------------------------
 // Upright boxes (turned about z only): the closed form against the exact oracle and FCL.
 
-Quaterniond yaw(double angle) { return Quaterniond(Eigen::AngleAxisd(angle, Vector3d::UnitZ())); }
 
 /// Random upright box pose: any yaw, a quarter of them also flipped upside down (still
 /// upright: z stays vertical).
@@ -604,12 +450,12 @@ TEST(UprightBoxes, RandomPairsMatchExactOracleAndFcl) {
     // FCL's GJK, straight: agrees within its own tolerance.
     fcl::DistanceRequestd request(true, false, 0.0, 0.0, 1e-9, fcl::GST_INDEP);
     fcl::DistanceResultd result;
-    fcl::distance(boxGeometry(a.half).get(), a.pose, boxGeometry(b.half).get(), b.pose, request,
-                  result);
+    fcl::distance(makeFclGeometry(Shape::box(a.half)).get(), a.pose,
+                  makeFclGeometry(Shape::box(b.half)).get(), b.pose, request, result);
     EXPECT_LE(d.distance, result.min_distance + 1e-7);
     // And the narrow phase answers the same through its public interface.
     const ShapeDistance nd =
-        NarrowPhase().distance(*boxGeometry(a.half), a.pose, *boxGeometry(b.half), b.pose);
+        NarrowPhase().distance(Shape::box(a.half), a.pose, Shape::box(b.half), b.pose);
     EXPECT_EQ(nd.distance, d.distance);
     separated += 1;
     stacked += stack;
@@ -623,15 +469,9 @@ TEST(UprightBoxes, OverlappingPairsGiveAPointInBothAndAWayOut) {
   Rng rng(73);
   int overlapping = 0;
   for (int i = 0; i < 4000; ++i) {
-    Obb a, b;
-    a.half = rng.vector(0.05, 0.8);
-    b.half = rng.vector(0.05, 0.8);
-    a.pose = makePose(rng.vector(-0.8, 0.8), uprightRotation(rng, i));
-    b.pose = makePose(rng.vector(-0.8, 0.8), uprightRotation(rng, i + 2));
-    Obb a_in = a, a_out = a;
-    a_in.half.array() -= 1e-6;
-    a_out.half.array() += 1e-6;
-    if (!boxesOverlap(a_in, b) || !boxesOverlap(a_out, b)) continue;  // clearly overlapping
+    const Obb a = randomBox(rng, 0.05, 0.8, 0.8, uprightRotation(rng, i));
+    const Obb b = randomBox(rng, 0.05, 0.8, 0.8, uprightRotation(rng, i + 2));
+    if (!boxesOverlap(grown(a, -1e-6), b)) continue;  // clearly overlapping
     SCOPED_TRACE(i);
     const UprightBoxDistance d = uprightBoxDistance(a.pose, a.half, b.pose, b.half);
     ASSERT_TRUE(d.solved);
@@ -661,7 +501,7 @@ TEST(UprightBoxes, OverlappingPairsGiveAPointInBothAndAWayOut) {
       EXPECT_GE(projectedOverlap(n), depth - 1e-9);
     }
     const ShapeDistance nd =
-        NarrowPhase().distance(*boxGeometry(a.half), a.pose, *boxGeometry(b.half), b.pose);
+        NarrowPhase().distance(Shape::box(a.half), a.pose, Shape::box(b.half), b.pose);
     EXPECT_TRUE(nd.overlapping);
     EXPECT_EQ(nd.distance, 0.0);
     if (HasFailure()) return;
@@ -790,8 +630,8 @@ TEST(NarrowPhasePredict, ClosingSpeedIncludesRotation) {
 /// Contact oracle for two boxes with margins: SAT overlap, else exact distance <= margins.
 std::function<bool(double)> boxContactOracle(const MovingBody& a, const MovingBody& b) {
   return [&a, &b](double t) {
-    Obb oa{oraclePoseAt(a.motion, t), a.shape.half_extents};
-    Obb ob{oraclePoseAt(b.motion, t), b.shape.half_extents};
+    Obb oa{oracle::poseAt(a.motion, t), a.shape.half_extents};
+    Obb ob{oracle::poseAt(b.motion, t), b.shape.half_extents};
     if (boxesOverlap(oa, ob)) return true;
     return a.margin + b.margin > 0.0 && boxBoxDistance(oa, ob) <= a.margin + b.margin;
   };
@@ -800,7 +640,7 @@ std::function<bool(double)> boxContactOracle(const MovingBody& a, const MovingBo
 void expectMatchesOracle(const MovingBody& a, const MovingBody& b, double t0, double t1,
                          double max_early) {
   double first = 0.0, last = 0.0;
-  ASSERT_TRUE(oracleContactTimes(boxContactOracle(a, b), t0, t1, 1e-4, &first, &last));
+  ASSERT_TRUE(oracle::contactTimes(boxContactOracle(a, b), t0, t1, 1e-4, &first, &last));
   const ContactPrediction p = predict(a, b, t0, t1);
   ASSERT_TRUE(p.contact);
   EXPECT_LE(p.time_to_contact, first);
@@ -851,13 +691,29 @@ TEST(NarrowPhasePredict, TumblingBoxesWithMargins) {
   return ::testing::AssertionSuccess();
 }
 
+/// The pair predicted over [0, 1] against a sampled oracle: every sampled contact covered
+/// (zero false negatives). When the oracle sees contact (`*touches`), `first` and `last` get
+/// its bisected contact times.
+::testing::AssertionResult predictAgainstOracle(const NarrowPhase& phase, const MovingBody& a,
+                                                const MovingBody& b,
+                                                const std::function<bool(double)>& touching,
+                                                ContactPrediction* p, bool* touches,
+                                                double* first, double* last) {
+  *p = predict(a, b, 0.0, 1.0, phase);
+  const ::testing::AssertionResult covered = coversSampledContacts(*p, touching, touches);
+  if (!covered || !*touches) return covered;
+  if (!oracle::contactTimes(touching, 0.0, 1.0, 1e-3, first, last)) {
+    return ::testing::AssertionFailure() << "the oracle's samples and its bisection disagree";
+  }
+  return ::testing::AssertionSuccess();
+}
+
 /// Random moving body: size from `shape_of`, position within 1 m of the origin, speeds up
-/// to ~2.6 m/s and ~5 rad/s.
+/// to ~2.6 m/s and 5 rad/s.
 template <typename ShapeOf>
 MovingBody randomBody(Rng& rng, ShapeOf shape_of, double max_margin) {
   const Shape shape = shape_of(rng);
-  const BodyMotion m =
-      motion(rng.vector(-1.0, 1.0), rng.vector(-1.5, 1.5), rng.vector(-3, 3), rng.rotation());
+  const BodyMotion m = wp_test::randomMotion(rng, 1.0, 1.5, 5.0);
   return MovingBody(shape, m, rng.uniform(0.0, max_margin));
 }
 
@@ -873,17 +729,16 @@ void checkRandomPairs(unsigned seed, int pairs, ShapeOf shape_of, double max_mar
   for (int i = 0; i < pairs; ++i) {
     const MovingBody a = randomBody(rng, shape_of, (i % 2) ? max_margin : 0.0);
     const MovingBody b = randomBody(rng, shape_of, (i % 2) ? max_margin : 0.0);
-    const ContactPrediction p = predict(a, b, 0.0, 1.0, phase);
-    const std::function<bool(double)> touching = make_oracle(a, b);
+    ContactPrediction p;
     bool any = false;
-    ASSERT_TRUE(coversSampledContacts(p, touching, &any)) << "pair " << i;
+    double first = 0.0, last = 0.0;
+    ASSERT_TRUE(predictAgainstOracle(phase, a, b, make_oracle(a, b), &p, &any, &first, &last))
+        << "pair " << i;
     if (!any) {
       false_alarms += p.contact;
       continue;
     }
     ++with_contact;
-    double first = 0.0, last = 0.0;
-    ASSERT_TRUE(oracleContactTimes(touching, 0.0, 1.0, 1e-3, &first, &last));
     EXPECT_LE(p.time_to_contact, first) << "pair " << i;
     EXPECT_GE(p.time_to_separation, last) << "pair " << i;
     tight += p.time_to_contact >= first - 1e-3 && p.time_to_separation <= last + 1e-3;
@@ -911,21 +766,19 @@ TEST(NarrowPhasePredict, RandomTranslatingBoxesHaveNoFalseNegatives) {
   int with_contact = 0, tight_first = 0, exact_both = 0, no_margin = 0;
   for (int i = 0; i < 1500; ++i) {
     auto body = [&](double margin) {
-      const BodyMotion m = motion(rng.vector(-1.0, 1.0), rng.vector(-1.5, 1.5), Vector3d::Zero(),
-                                  rng.rotation());
+      const BodyMotion m = wp_test::randomMotion(rng, 1.0, 1.5, 0.0);
       return MovingBody(Shape::box(rng.vector(0.05, 0.6)), m, margin);
     };
     const bool margins = i % 2 == 1;
     const MovingBody a = body(margins ? rng.uniform(0.0, 0.2) : 0.0);
     const MovingBody b = body(margins ? rng.uniform(0.0, 0.2) : 0.0);
-    const ContactPrediction p = predict(a, b, 0.0, 1.0, phase);
-    const std::function<bool(double)> touching = boxContactOracle(a, b);
+    ContactPrediction p;
     bool any = false;
-    ASSERT_TRUE(coversSampledContacts(p, touching, &any)) << "pair " << i;
+    double first = 0.0, last = 0.0;
+    ASSERT_TRUE(predictAgainstOracle(phase, a, b, boxContactOracle(a, b), &p, &any, &first, &last))
+        << "pair " << i;
     if (!any) continue;
     ++with_contact;
-    double first = 0.0, last = 0.0;
-    ASSERT_TRUE(oracleContactTimes(touching, 0.0, 1.0, 1e-3, &first, &last));
     tight_first += p.time_to_contact >= first - 1e-3;
     if (!margins) {
       ++no_margin;
@@ -943,7 +796,7 @@ TEST(NarrowPhasePredict, RandomCapsuleMotionsHaveNoFalseNegatives) {
   // Capsules are exact against segment distance, so this covers curved shapes too.
   auto oracle = [](const MovingBody& a, const MovingBody& b) {
     return std::function<bool(double)>([&a, &b](double t) {
-      const Isometry3d pa = oraclePoseAt(a.motion, t), pb = oraclePoseAt(b.motion, t);
+      const Isometry3d pa = oracle::poseAt(a.motion, t), pb = oracle::poseAt(b.motion, t);
       const double ha = 0.5 * a.shape.length, hb = 0.5 * b.shape.length;
       return segmentDistance(pa * Vector3d(0, 0, -ha), pa * Vector3d(0, 0, ha),
                              pb * Vector3d(0, 0, -hb), pb * Vector3d(0, 0, hb)) <=
@@ -961,8 +814,7 @@ TEST(UprightBoxes, RandomYawingAndTranslatingPairsHaveNoFalseNegatives) {
   // of the advancement is the closed form; the oracle is the exact box distance.
   auto upright_body = [](Rng& rng, double max_margin) {
     const Shape shape = Shape::box(rng.vector(0.05, 0.6));
-    const BodyMotion m = motion(rng.vector(-1.0, 1.0), rng.vector(-1.5, 1.5),
-                                Vector3d(0, 0, rng.uniform(-3, 3)), yaw(rng.uniform(-M_PI, M_PI)));
+    const BodyMotion m = wp_test::randomMotion(rng, 1.0, 1.5, 3.0, true);
     return MovingBody(shape, m, rng.uniform(0.0, max_margin));
   };
   const NarrowPhase phase;
@@ -974,14 +826,13 @@ TEST(UprightBoxes, RandomYawingAndTranslatingPairsHaveNoFalseNegatives) {
     MovingBody b = upright_body(rng, max_margin);
     if (i % 3 == 0) b.motion.angular_velocity.setZero();  // one translating
     if (i % 6 == 0) a.motion.angular_velocity.setZero();  // both: moving axis test + advancement
-    const ContactPrediction p = predict(a, b, 0.0, 1.0, phase);
-    const std::function<bool(double)> touching = boxContactOracle(a, b);
+    ContactPrediction p;
     bool any = false;
-    ASSERT_TRUE(coversSampledContacts(p, touching, &any)) << "pair " << i;
+    double first = 0.0, last = 0.0;
+    ASSERT_TRUE(predictAgainstOracle(phase, a, b, boxContactOracle(a, b), &p, &any, &first, &last))
+        << "pair " << i;
     if (!any) continue;
     ++with_contact;
-    double first = 0.0, last = 0.0;
-    ASSERT_TRUE(oracleContactTimes(touching, 0.0, 1.0, 1e-3, &first, &last));
     EXPECT_LE(p.time_to_contact, first) << "pair " << i;
     EXPECT_GE(p.time_to_separation, last) << "pair " << i;
     tight += p.time_to_contact >= first - 1e-3;
@@ -1001,8 +852,7 @@ TEST(UprightBoxes, TranslatingWithMarginsFirstContactIsTightAndNeverLate) {
   int with_contact = 0, tight = 0, queries = 0;
   for (int i = 0; i < 2000; ++i) {
     auto body = [&]() {
-      const BodyMotion m = motion(rng.vector(-1.5, 1.5), rng.vector(-1.5, 1.5), Vector3d::Zero(),
-                                  yaw(rng.uniform(-M_PI, M_PI)));
+      const BodyMotion m = wp_test::randomMotion(rng, 1.5, 1.5, 0.0, true);
       return MovingBody(Shape::box(rng.vector(0.05, 0.6)), m, rng.uniform(0.0, 0.3));
     };
     const MovingBody a = body(), b = body();
@@ -1010,7 +860,7 @@ TEST(UprightBoxes, TranslatingWithMarginsFirstContactIsTightAndNeverLate) {
     queries += p.iterations;
     const std::function<bool(double)> touching = boxContactOracle(a, b);
     double first = 0.0, last = 0.0;
-    if (!oracleContactTimes(touching, 0.0, 1.0, 1e-3, &first, &last)) continue;
+    if (!oracle::contactTimes(touching, 0.0, 1.0, 1e-3, &first, &last)) continue;
     ++with_contact;
     ASSERT_TRUE(p.contact) << "pair " << i << " touches at " << first;
     ASSERT_LE(p.time_to_contact, first) << "pair " << i;

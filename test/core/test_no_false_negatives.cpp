@@ -10,25 +10,19 @@
 #include <gtest/gtest.h>
 
 #include <map>
-#include <random>
 
 #include "oracles.hpp"
+#include "random.hpp"
+#include "scenes.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace wp = workspace_proximity;
 
 namespace {
 
-struct TestBody {
-  Eigen::Vector3d half;
-  wp::BodyMotion motion;
-  wp::BodyHandle handle;
-};
+using TestBody = wp_test::BoxBody;
 
-oracle::Obb obbAt(const TestBody& b, double t) {
-  return oracle::obbAt(b.motion.position, b.motion.orientation, b.half, b.motion.linear_velocity,
-                       b.motion.angular_velocity, t);
-}
+oracle::Obb obbAt(const TestBody& b, double t) { return oracle::Obb{oracle::poseAt(b.motion, t), b.half}; }
 
 struct Prediction {
   double first;
@@ -40,9 +34,7 @@ struct Prediction {
 // (the narrow phase's closed-form path); otherwise any orientation and spin axis (FCL).
 void checkScenes(int scenes, int n, bool rotate, unsigned seed, int* contacts_checked,
                  bool upright = false) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> pos(-2.5, 2.5), vel(-2.0, 2.0), size(0.1, 0.8),
-      unit(-1.0, 1.0), spin(0.0, 4.0);
+  wp_test::Rng rng(seed);
   const double horizon = 1.0;
   const double dt = 1e-3;
   const int steps = static_cast<int>(horizon / dt);
@@ -54,17 +46,7 @@ void checkScenes(int scenes, int n, bool rotate, unsigned seed, int* contacts_ch
     std::vector<TestBody> bodies(n);
     for (int i = 0; i < n; ++i) {
       TestBody& b = bodies[i];
-      b.half = {size(rng), size(rng), size(rng)};
-      b.motion.position = {pos(rng), pos(rng), pos(rng)};
-      b.motion.linear_velocity = {vel(rng), vel(rng), vel(rng)};
-      b.motion.orientation =
-          upright ? Eigen::Quaterniond(Eigen::AngleAxisd(M_PI * unit(rng), Eigen::Vector3d::UnitZ()))
-                  : Eigen::Quaterniond::UnitRandom();
-      if (rotate) {
-        b.motion.angular_velocity =
-            upright ? Eigen::Vector3d(0.0, 0.0, unit(rng) * spin(rng))
-                    : Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized() * spin(rng);
-      }
+      b = wp_test::randomBoxBody(rng, rotate, upright);
       b.handle = world.addBody(
           wp::BodyDesc{"b" + std::to_string(i), "box", wp::BodyGroup::kObject,
                        wp::Shape::box(b.half), 0.0},
@@ -120,8 +102,8 @@ void checkScenes(int scenes, int n, bool rotate, unsigned seed, int* contacts_ch
       // Advance the scene by 0.1 s along the same motions (new poses, same velocities).
       for (TestBody& b : bodies) {
         const oracle::Obb o = obbAt(b, 0.1);
-        b.motion.position = o.center;
-        b.motion.orientation = Eigen::Quaterniond(o.rotation);
+        b.motion.position = o.pose.translation();
+        b.motion.orientation = Eigen::Quaterniond(o.pose.linear());
         world.setMotion(b.handle, b.motion);
       }
     }

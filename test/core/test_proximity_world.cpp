@@ -9,6 +9,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "random.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace wp = workspace_proximity;
@@ -28,12 +29,17 @@ wp::BodyDesc object(const std::string& id, const wp::Shape& shape, double margin
 
 const wp::Shape kCube = wp::Shape::box({0.5, 0.5, 0.5});
 
+// Unit cubes "a" and "b" 5 m apart centre to centre, closing head-on at 2 m/s.
+void addHeadOnCubes(wp::ProximityWorld* world) {
+  world->addBody(object("a", kCube), at({0, 0, 0}, {1, 0, 0}));
+  world->addBody(object("b", kCube), at({5, 0, 0}, {-1, 0, 0}));
+}
+
 }  // namespace
 
 TEST(ProximityWorld, HeadOnApproachHasTheAnalyticTimes) {
   wp::ProximityWorld world;
-  world.addBody(object("a", kCube), at({0, 0, 0}, {1, 0, 0}));
-  world.addBody(object("b", kCube), at({5, 0, 0}, {-1, 0, 0}));
+  addHeadOnCubes(&world);
   const auto& events = world.predict(5.0);
   ASSERT_EQ(events.size(), 1u);
   const wp::PairEvent& e = events[0];
@@ -52,8 +58,7 @@ TEST(ProximityWorld, HeadOnApproachHasTheAnalyticTimes) {
 
 TEST(ProximityWorld, SeparationIsTheHorizonWhenContactOutlastsIt) {
   wp::ProximityWorld world;
-  world.addBody(object("a", kCube), at({0, 0, 0}, {1, 0, 0}));
-  world.addBody(object("b", kCube), at({5, 0, 0}, {-1, 0, 0}));
+  addHeadOnCubes(&world);
   const auto& events = world.predict(2.5);
   ASSERT_EQ(events.size(), 1u);
   EXPECT_DOUBLE_EQ(events[0].time_to_separation, 2.5);
@@ -260,13 +265,15 @@ TEST(ProximityWorld, RejectedBodiesLeaveNoTraceAndLimitsHold) {
 }
 
 // Random churn: bodies appear, move and vanish. Every END must follow a BEGIN/ONGOING of the
-// same pair in the previous cycle, and every BEGIN must be new.
+// same pair in the previous cycle, every BEGIN must be new, and every event carries the pair
+// number its BEGIN gave it.
 TEST(ProximityWorld, EventsStayConsistentUnderChurn) {
   wp::ProximityWorld world;
-  std::mt19937 rng(3);
+  wp_test::Rng rng(3);
   std::uniform_real_distribution<double> pos(-4, 4), vel(-2, 2);
   std::vector<wp::BodyHandle> live;
   std::set<std::pair<std::string, std::string>> active;
+  std::map<std::pair<std::string, std::string>, std::int32_t> number;  // of the active pairs
   int id = 0;
   for (int cycle = 0; cycle < 300; ++cycle) {
     const int adds = static_cast<int>(rng() % 4);
@@ -287,9 +294,18 @@ TEST(ProximityWorld, EventsStayConsistentUnderChurn) {
     }
     const auto& events = world.predict(1.0);
     std::set<std::pair<std::string, std::string>> now;
+    std::set<std::int32_t> numbers_now;
     for (const auto& e : events) {
       const auto pair = std::make_pair(world.desc(e.body_a).id, world.desc(e.body_b).id);
       ASSERT_LT(pair.first, pair.second);
+      // A pair keeps its number from BEGIN to END; no two events of a cycle share one.
+      ASSERT_GE(e.pair, 0);
+      ASSERT_TRUE(numbers_now.insert(e.pair).second) << "pair number shared in one cycle";
+      if (e.state == wp::ContactState::kBegin) {
+        number[pair] = e.pair;
+      } else {
+        ASSERT_EQ(number.at(pair), e.pair) << "pair number changed";
+      }
       if (e.state == wp::ContactState::kEnd) {
         ASSERT_TRUE(active.count(pair)) << "END without a prior contact";
       } else {

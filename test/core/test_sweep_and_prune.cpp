@@ -21,16 +21,19 @@
 
 #include <gtest/gtest.h>
 
+#include "oracles.hpp"
+#include "random.hpp"
+#include "scenes.hpp"
 #include "workspace_proximity/sweep_and_prune.hpp"
 
 using workspace_proximity::Aabb;
-using workspace_proximity::ProxyPair;
+using workspace_proximity::BroadPair;
 using workspace_proximity::SweepAndPrune;
 using workspace_proximity::SweepAndPruneConfig;
 
 namespace {
 
-using Rng = std::mt19937_64;
+using wp_test::Rng;
 using PairCode = std::uint64_t;
 
 // Unordered pair of the test's object ids.
@@ -55,25 +58,19 @@ Aabb makeBox(double x0, double y0, double z0, double x1, double y1, double z1) {
   return b;
 }
 
-// The brute-force oracle's predicate (closed intervals, double precision), written out here
-// rather than calling Aabb::overlaps.
-bool bruteOverlap(const Aabb& a, const Aabb& b) {
-  for (int k = 0; k < 3; ++k) {
-    if (a.lower[k] > b.upper[k] || b.lower[k] > a.upper[k]) return false;
-  }
-  return true;
-}
+// The brute-force oracle's predicate (closed intervals, double precision): oracles.hpp.
+bool bruteOverlap(const Aabb& a, const Aabb& b) { return oracle::aabbOverlap(a, b); }
 
 // Drives a SweepAndPrune and checks it after every update() against the brute-force oracle.
-// Each proxy gets user_data = the test's object id; the test keeps its own proxy -> object
-// maps (current and as of the previous update, since proxy ids can be reused).
+// The test keeps its own proxy -> object maps (current and as of the previous update, since
+// proxy ids can be reused).
 class Harness {
  public:
   Harness(const SweepAndPruneConfig& config, bool exact) : sap_(config), exact_(exact) {}
 
   int create(const Aabb& box) {
     int obj = static_cast<int>(objs_.size());
-    int proxy = sap_.createProxy(box, static_cast<std::uint32_t>(obj));
+    int proxy = sap_.createProxy(box);
     EXPECT_GE(proxy, 0);
     if (proxy >= static_cast<int>(proxy_to_obj_.size())) proxy_to_obj_.resize(proxy + 1, -1);
     EXPECT_EQ(proxy_to_obj_[proxy], -1) << "proxy id " << proxy << " handed out while in use";
@@ -110,7 +107,6 @@ class Harness {
     // Stored bounds enclose the given ones (outward rounding), and not by much.
     for (int obj : live_) {
       const Obj& o = objs_[obj];
-      ASSERT_EQ(sap_.userData(o.proxy), static_cast<std::uint32_t>(obj));
       Aabb s = sap_.storedBounds(o.proxy);
       for (int k = 0; k < 3; ++k) {
         ASSERT_LE(s.lower[k], o.box.lower[k]) << "object " << obj << " axis " << k;
@@ -133,9 +129,9 @@ class Harness {
     // Reported pairs, mapped to object ids: ordered, live, no duplicates.
     std::vector<PairCode> reported = mapPairs(sap_.pairs(), proxy_to_obj_, "pairs()");
     if (::testing::Test::HasFatalFailure()) return;
-    for (const ProxyPair& p : sap_.pairs()) {
-      ASSERT_EQ(sap_.findPair(p.proxy_a, p.proxy_b), sap_.findPair(p.proxy_b, p.proxy_a));
-      ASSERT_NE(sap_.findPair(p.proxy_a, p.proxy_b), nullptr);
+    for (const BroadPair& p : sap_.pairs()) {
+      ASSERT_TRUE(sap_.hasPair(p.proxy_a, p.proxy_b));
+      ASSERT_TRUE(sap_.hasPair(p.proxy_b, p.proxy_a));
     }
 
     if (exact_) {
@@ -144,13 +140,13 @@ class Harness {
       ASSERT_TRUE(missing.empty()) << describe(missing, "missing");
       ASSERT_TRUE(extra.empty()) << describe(extra, "extra");
       if (updates_ % 4 == 0) {
-        // findPair must also reject every non-overlapping live pair.
+        // hasPair must also reject every non-overlapping live pair.
         for (std::size_t i = 0; i < live_.size(); ++i) {
           for (std::size_t j = i + 1; j < live_.size(); ++j) {
             const Obj& a = objs_[live_[i]];
             const Obj& b = objs_[live_[j]];
             if (!bruteOverlap(a.box, b.box)) {
-              ASSERT_EQ(sap_.findPair(a.proxy, b.proxy), nullptr);
+              ASSERT_FALSE(sap_.hasPair(a.proxy, b.proxy));
             }
           }
         }
@@ -206,11 +202,11 @@ class Harness {
   };
 
   // Maps proxy pairs to sorted object pairs; checks proxy_a < proxy_b, known ids, no duplicates.
-  std::vector<PairCode> mapPairs(const std::vector<ProxyPair>& pairs, const std::vector<int>& map,
+  std::vector<PairCode> mapPairs(const std::vector<BroadPair>& pairs, const std::vector<int>& map,
                                  const char* what) {
     std::vector<PairCode> out;
     out.reserve(pairs.size());
-    for (const ProxyPair& p : pairs) {
+    for (const BroadPair& p : pairs) {
       EXPECT_LT(p.proxy_a, p.proxy_b) << what;
       bool known = p.proxy_a >= 0 && p.proxy_b >= 0 &&
                    p.proxy_a < static_cast<int>(map.size()) &&
@@ -256,134 +252,6 @@ class Harness {
   std::int64_t ended_total_ = 0;
 };
 
-// Random boxes for one scene. In exact mode every coordinate is a multiple of `quantum`
-// (itself a multiple of 1/64) clamped to +-1000, hence exactly representable in float.
-struct SceneGen {
-  bool exact = true;
-  double quantum = 1.0 / 64.0;
-  double extent = 100.0;     // lower corners in [-extent, extent] (+ offset)
-  double max_size = 10.0;
-  double offset = 0.0;       // arbitrary-double scenes: shift far from the origin
-  double shared = 0.0;       // a coordinate many boxes share
-
-  double q(double x) const {
-    if (!exact) return x;
-    return std::clamp(quantum * std::round(x / quantum), -1000.0, 1000.0);
-  }
-
-  Aabb fresh(Rng& rng) const {
-    std::uniform_real_distribution<double> pos(-extent, extent), size(0.0, max_size);
-    Aabb b;
-    for (int k = 0; k < 3; ++k) {
-      b.lower[k] = q(offset + pos(rng));
-      b.upper[k] = std::max(b.lower[k], q(b.lower[k] + size(rng)));
-    }
-    return b;
-  }
-
-  // A new box with a special relation to `other` (or a fresh one when there is no other).
-  Aabb related(Rng& rng, const Aabb* other) const {
-    std::uniform_int_distribution<int> kind(0, 99), coin(0, 1), axis(0, 2);
-    std::uniform_real_distribution<double> size(0.0, max_size), unit(0.0, 1.0);
-    int k = kind(rng);
-    if (k < 6) {  // zero-size (point) box
-      Aabb b = fresh(rng);
-      b.upper = b.lower;
-      return b;
-    }
-    if (k < 12) {  // many boxes whose lower or upper x is the same coordinate
-      Aabb b = fresh(rng);
-      double w = b.upper.x() - b.lower.x();
-      if (coin(rng)) {
-        b.lower.x() = shared;
-        b.upper.x() = q(shared + w);
-      } else {
-        b.upper.x() = shared;
-        b.lower.x() = q(shared - w);
-      }
-      return b;
-    }
-    if (other == nullptr || k < 45) return fresh(rng);
-    if (k < 55) return *other;  // identical box
-    if (k < 60) {               // point on a corner of the other box
-      Aabb b;
-      for (int a = 0; a < 3; ++a) b.lower[a] = coin(rng) ? other->lower[a] : other->upper[a];
-      b.upper = b.lower;
-      return b;
-    }
-    // Touching the other box on a random nonempty subset of axes (face, edge or corner
-    // contact), overlapping it on the rest. Arbitrary-double scenes also get near-touching
-    // boxes, separated or overlapping by a hair.
-    int touch_mask = 1 + std::uniform_int_distribution<int>(0, 6)(rng);
-    bool nudge = !exact && k >= 85;
-    Aabb b;
-    for (int a = 0; a < 3; ++a) {
-      double w = q(size(rng));
-      if (touch_mask & (1 << a)) {
-        if (coin(rng)) {
-          b.lower[a] = other->upper[a];
-          if (nudge) b.lower[a] += (unit(rng) - 0.5) * 1e-7 * std::max(1.0, std::abs(b.lower[a]));
-          b.upper[a] = std::max(b.lower[a], q(b.lower[a] + w));
-        } else {
-          b.upper[a] = other->lower[a];
-          if (nudge) b.upper[a] += (unit(rng) - 0.5) * 1e-7 * std::max(1.0, std::abs(b.upper[a]));
-          b.lower[a] = std::min(b.upper[a], q(b.upper[a] - w));
-        }
-        if (nudge && coin(rng)) {  // one double ulp apart
-          b.lower[a] = std::nextafter(b.lower[a], 1e300);
-          b.upper[a] = std::max(b.upper[a], b.lower[a]);
-        }
-      } else {
-        double lo = other->lower[a], hi = other->upper[a];
-        b.lower[a] = q(lo - w * unit(rng));
-        b.upper[a] = std::max(b.lower[a], q(std::max(b.lower[a], lo) + (hi - lo) * unit(rng) + w));
-      }
-    }
-    return b;
-  }
-
-  // Small motion: shift by a few quanta (exact) or a small random amount, sometimes resize.
-  Aabb jitter(Rng& rng, const Aabb& b) const {
-    std::uniform_int_distribution<int> steps(-2, 2), pick(0, 9);
-    std::uniform_real_distribution<double> small(-0.02, 0.02);
-    Aabb out = b;
-    for (int a = 0; a < 3; ++a) {
-      double d = exact ? quantum * steps(rng) : small(rng) * max_size;
-      out.lower[a] = q(b.lower[a] + d);
-      out.upper[a] = q(b.upper[a] + d);
-      if (pick(rng) == 0) out.upper[a] = q(out.upper[a] + (exact ? quantum : 0.01 * max_size));
-      if (out.upper[a] < out.lower[a]) out.upper[a] = out.lower[a];
-    }
-    return out;
-  }
-};
-
-SceneGen randomScene(Rng& rng, bool exact) {
-  SceneGen g;
-  g.exact = exact;
-  std::uniform_int_distribution<int> pick(0, 3);
-  const double quanta[] = {1.0 / 64.0, 1.0 / 8.0, 1.0, 4.0};
-  const double extents[] = {4.0, 30.0, 200.0, 600.0};
-  const double size_fraction[] = {0.05, 0.2, 0.5, 1.0};
-  g.extent = extents[pick(rng)];
-  g.max_size = g.extent * size_fraction[pick(rng)];
-  if (exact) {
-    g.quantum = quanta[pick(rng)];
-    g.max_size = std::min(g.max_size, 350.0);
-    g.shared = g.q(std::uniform_real_distribution<double>(-g.extent, g.extent)(rng));
-  } else {
-    const double extents_d[] = {1e-3, 1.0, 100.0, 5000.0};
-    // Far from the origin (relative to the scene size) float keys get coarse; keep the
-    // offset at most 1000 scene sizes so rounding stays a boundary effect.
-    const double offsets[] = {0.0, 0.0, 10.0, 1000.0};
-    g.extent = extents_d[pick(rng)];
-    g.max_size = g.extent * size_fraction[pick(rng)];
-    g.offset = offsets[pick(rng)] * g.extent;
-    g.shared = g.offset + std::uniform_real_distribution<double>(-g.extent, g.extent)(rng);
-  }
-  return g;
-}
-
 // One scene: build, then a run of update cycles mixing jitter, large jumps, insertions and
 // removals (single and batched), create+destroy before update, destroy-all and re-creation.
 struct RunStats {
@@ -396,7 +264,7 @@ struct RunStats {
 
 void runScene(Rng& rng, bool exact, RunStats* stats) {
   std::uniform_int_distribution<int> pct(0, 99);
-  SceneGen gen = randomScene(rng, exact);
+  wp_test::AabbScene gen = wp_test::randomAabbScene(rng, exact);
   SweepAndPruneConfig cfg;
   const int caps[] = {1, 8, 256};
   const double factors[] = {0.0, 0.05, 1.0, 1.0, 1.0, 1e9};
@@ -488,68 +356,7 @@ void runScene(Rng& rng, bool exact, RunStats* stats) {
   stats->ended += h.endedTotal();
 }
 
-// `n` half-unit cubes at random integer corners in [-900, 900]^3: sparse, exact in float.
-std::vector<Aabb> spreadBoxes(Rng& rng, int n) {
-  std::vector<Aabb> out;
-  std::uniform_real_distribution<double> pos(-900.0, 900.0);
-  for (int i = 0; i < n; ++i) {
-    double x = std::round(pos(rng)), y = std::round(pos(rng)), z = std::round(pos(rng));
-    out.push_back(makeBox(x, y, z, x + 0.5, y + 0.5, z + 0.5));
-  }
-  return out;
-}
-
 }  // namespace
-
-// ---------------------------------------------------------------------------------------------
-// Keys: monotone, outward-rounded, lower tag below upper tag.
-
-TEST(SweepAndPruneKeys, MonotoneAndOutwardRounded) {
-  Rng rng(17);
-  std::uniform_real_distribution<double> uni(-1e4, 1e4), expo(-38.0, 38.0), unit(0.0, 1.0);
-  std::uniform_int_distribution<int> kind(0, 5);
-  auto sample = [&]() {
-    switch (kind(rng)) {
-      case 0: return uni(rng);
-      case 1: return (unit(rng) < 0.5 ? -1.0 : 1.0) * std::pow(10.0, expo(rng));
-      case 2: return static_cast<double>(static_cast<float>(uni(rng)));  // exact float
-      case 3: return std::round(uni(rng)) / 64.0;
-      case 4: return (unit(rng) < 0.5 ? -1.0 : 1.0) * 1e-40 * unit(rng);  // float subnormal
-      default: return unit(rng) < 0.5 ? 0.0 : -0.0;
-    }
-  };
-  auto check = [&](double x, double y) {  // requires x <= y
-    SCOPED_TRACE(testing::Message() << std::hexfloat << "x=" << x << " y=" << y);
-    std::uint32_t lx = SweepAndPrune::lowerKey(x), ly = SweepAndPrune::lowerKey(y);
-    std::uint32_t ux = SweepAndPrune::upperKey(x), uy = SweepAndPrune::upperKey(y);
-    ASSERT_LE(lx, ly);
-    ASSERT_LE(ux, uy);
-    ASSERT_LT(lx, ux);
-    ASSERT_LT(lx, uy);  // x <= y: touching or overlapping endpoints always overlap
-    ASSERT_LE(SweepAndPrune::keyValue(lx), x);
-    ASSERT_GE(SweepAndPrune::keyValue(ux), x);
-    // Not looser than a few float ulps.
-    ASSERT_LE(SweepAndPrune::keyValue(ux) - SweepAndPrune::keyValue(lx),
-              1e-6 * std::abs(x) + 1e-37);
-  };
-  for (int i = 0; i < 100000; ++i) {
-    double x = sample(), y = sample();
-    if (y < x) std::swap(x, y);
-    check(x, y);
-    check(x, x);
-    check(x, std::nextafter(x, 1e300));                         // adjacent doubles
-    double f = static_cast<double>(static_cast<float>(x));      // neighbours of a float
-    check(std::nextafter(f, -1e300), f);
-    check(f, std::nextafter(f, 1e300));
-    if (::testing::Test::HasFatalFailure()) return;
-  }
-}
-
-TEST(SweepAndPruneKeys, SignedZeroesAreEqual) {
-  // -0.0 == +0.0 in double, so an upper bound at -0 touches a lower bound at +0 and vice versa.
-  EXPECT_LT(SweepAndPrune::lowerKey(0.0), SweepAndPrune::upperKey(-0.0));
-  EXPECT_LT(SweepAndPrune::lowerKey(-0.0), SweepAndPrune::upperKey(0.0));
-}
 
 // ---------------------------------------------------------------------------------------------
 // Deterministic configurations with known answers.
@@ -590,7 +397,7 @@ TEST(SweepAndPrune, TouchingPairsAtEveryContactKind) {
   h.create(makeBox(3, 3, 3, 4, 4, 4));              // apart from everything
   h.updateAndCheck();
   int with_base = 0;
-  for (const ProxyPair& p : h.sap().pairs()) with_base += (p.proxy_a == 0 || p.proxy_b == 0);
+  for (const BroadPair& p : h.sap().pairs()) with_base += (p.proxy_a == 0 || p.proxy_b == 0);
   EXPECT_EQ(with_base, 7);
 }
 
@@ -665,7 +472,7 @@ TEST(SweepAndPrune, SmallMotionSortsIncrementallyLargeJumpsRebuild) {
   // insertion-sort path; re-scattering every box costs O(n^2) swaps and must rebuild.
   Rng rng(5);
   Harness h(SweepAndPruneConfig(), true);
-  for (const Aabb& b : spreadBoxes(rng, 250)) h.create(b);
+  for (const Aabb& b : wp_test::spreadBoxes(rng, 250)) h.create(b);
   h.updateAndCheck();
   std::uniform_int_distribution<int> step(-1, 1);
   for (int round = 0; round < 3; ++round) {
@@ -679,7 +486,7 @@ TEST(SweepAndPrune, SmallMotionSortsIncrementallyLargeJumpsRebuild) {
     h.updateAndCheck();
     EXPECT_FALSE(h.sap().stats().rebuilt) << "round " << round;
   }
-  std::vector<Aabb> scattered = spreadBoxes(rng, 250);
+  std::vector<Aabb> scattered = wp_test::spreadBoxes(rng, 250);
   for (std::size_t i = 0; i < h.live().size(); ++i) h.move(h.live()[i], scattered[i]);
   h.updateAndCheck();
   EXPECT_TRUE(h.sap().stats().rebuilt);

@@ -178,6 +178,22 @@ Case randomCase(std::mt19937_64& rng) {
   return c;
 }
 
+// A translating case whose world AABB the oracle knows exactly at every instant: boxes and
+// spheres at any orientation, cylinders and capsules at axis-permuting orientations (their
+// local box's rotated AABB is then exact). Position within 10 m of the origin, velocity
+// components up to `speed` m/s.
+Case exactAabbCase(std::mt19937_64& rng, int type, double speed) {
+  std::uniform_real_distribution<double> pos(-10.0, 10.0), vel(-speed, speed);
+  Case c;
+  c.shape = randomShape(rng, type);
+  c.motion.position = Eigen::Vector3d(pos(rng), pos(rng), pos(rng));
+  c.motion.orientation = (c.shape.type == ShapeType::kBox || c.shape.type == ShapeType::kSphere)
+                             ? randomRotation(rng)
+                             : randomAxisPermutation(rng);
+  c.motion.linear_velocity = Eigen::Vector3d(vel(rng), vel(rng), vel(rng));
+  return c;
+}
+
 double scaleOf(const Case& c) {
   return 1.0 + c.motion.position.cwiseAbs().maxCoeff() +
          c.motion.linear_velocity.cwiseAbs().maxCoeff() * c.horizon +
@@ -279,15 +295,9 @@ TEST(SweptBounds, ContainsSurfacePointsWithMargin) {
 // any orientation, spheres, and cylinders/capsules at axis-permuting orientations.
 TEST(SweptBounds, PureTranslationIsUnionOfEndBoxes) {
   std::mt19937_64 rng(31337);
-  std::uniform_real_distribution<double> pos(-10.0, 10.0), vel(-3.0, 3.0), unit(0.0, 1.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int trial = 0; trial < 2000; ++trial) {
-    Case c;
-    c.shape = randomShape(rng, trial % 4);
-    c.motion.position = Eigen::Vector3d(pos(rng), pos(rng), pos(rng));
-    c.motion.orientation = (c.shape.type == ShapeType::kBox || c.shape.type == ShapeType::kSphere)
-                               ? randomRotation(rng)
-                               : randomAxisPermutation(rng);
-    c.motion.linear_velocity = Eigen::Vector3d(vel(rng), vel(rng), vel(rng));
+    Case c = exactAabbCase(rng, trial % 4, 3.0);
     if (trial % 5 == 0) c.motion.linear_velocity[trial % 3] = 0.0;
     c.margin = trial % 3 == 0 ? 0.0 : 0.5 * unit(rng);
     c.horizon = 3.0 * unit(rng);
@@ -312,15 +322,9 @@ TEST(SweptBounds, PureTranslationIsUnionOfEndBoxes) {
 // with large linear and angular velocity.
 TEST(SweptBounds, ZeroHorizonGivesStaticAabb) {
   std::mt19937_64 rng(4242);
-  std::uniform_real_distribution<double> pos(-10.0, 10.0), vel(-30.0, 30.0), unit(0.0, 1.0);
+  std::uniform_real_distribution<double> vel(-30.0, 30.0), unit(0.0, 1.0);
   for (int trial = 0; trial < 1000; ++trial) {
-    Case c;
-    c.shape = randomShape(rng, trial % 4);
-    c.motion.position = Eigen::Vector3d(pos(rng), pos(rng), pos(rng));
-    c.motion.orientation = (c.shape.type == ShapeType::kBox || c.shape.type == ShapeType::kSphere)
-                               ? randomRotation(rng)
-                               : randomAxisPermutation(rng);
-    c.motion.linear_velocity = Eigen::Vector3d(vel(rng), vel(rng), vel(rng));
+    Case c = exactAabbCase(rng, trial % 4, 30.0);
     c.motion.angular_velocity = Eigen::Vector3d(vel(rng), vel(rng), vel(rng));
     c.margin = 0.5 * unit(rng);
     Shape shape = c.shape.make();

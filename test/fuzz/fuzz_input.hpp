@@ -23,6 +23,23 @@ namespace wp_fuzz {
   std::abort();
 }
 
+/// True when the environment variable `name` is "1..." (read once per name by the caller).
+inline bool envFlag(const char* name) {
+  const char* s = std::getenv(name);
+  return s != nullptr && s[0] == '1';
+}
+
+/// A double with all its digits, for failure messages and traces.
+inline std::string str(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+inline std::string str(const Eigen::Vector3d& v) {
+  return str(v.x()) + " " + str(v.y()) + " " + str(v.z());
+}
+
 #define WP_FUZZ_CHECK(cond, detail)                                      \
   do {                                                                   \
     if (!(cond)) ::wp_fuzz::fail(#cond, (detail));                       \

@@ -10,8 +10,7 @@
 //    ones) overlap. Not required: equality with the storedBounds() test, because a stored
 //    bound just below +0 reads back as -0.0, which compares equal to +0.
 // Also checked: began/ended equal the differences with the previous pair set, pairs are
-// stored with proxy_a < proxy_b, findPair() finds them, userData() and proxyCount() match,
-// and the caller's `user` field survives while a pair lasts and is 0 on a new pair.
+// stored with proxy_a < proxy_b, hasPair() agrees with pairs(), and proxyCount() matches.
 
 #include <algorithm>
 #include <cmath>
@@ -25,6 +24,7 @@
 #include <vector>
 
 #include "fuzz_input.hpp"
+#include "oracles.hpp"
 #include "workspace_proximity/sweep_and_prune.hpp"
 
 namespace wp = workspace_proximity;
@@ -38,11 +38,7 @@ namespace {
 constexpr int kMaxProxies = 64;
 constexpr int kMaxOperations = 400;
 
-std::string str(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
+using wp_fuzz::str;
 
 std::string str(const wp::Aabb& b) {
   std::string s = "[";
@@ -52,17 +48,11 @@ std::string str(const wp::Aabb& b) {
 
 std::string str(const Pair& p) { return "(" + std::to_string(p.first) + "," + std::to_string(p.second) + ")"; }
 
-// Closed intervals, in double: touching boxes overlap.
-bool overlap(const wp::Aabb& a, const wp::Aabb& b) {
-  for (int k = 0; k < 3; ++k) {
-    if (!(a.lower[k] <= b.upper[k]) || !(b.lower[k] <= a.upper[k])) return false;
-  }
-  return true;
-}
+// Closed intervals, in double: touching boxes overlap (the brute-force oracle).
+bool overlap(const wp::Aabb& a, const wp::Aabb& b) { return oracle::aabbOverlap(a, b); }
 
 struct ModelProxy {
   wp::Aabb bounds;
-  std::uint32_t user = 0;
   bool inserted = false;         // has been through an update()
   bool pending_remove = false;   // destroyed, update() not yet run
 };
@@ -169,11 +159,11 @@ class Harness {
   void create() {
     if (static_cast<int>(proxies_.size()) >= kMaxProxies) return;
     const wp::Aabb b = bounds();
-    const std::uint32_t user = in_.u32();
-    const ProxyId id = sap_.createProxy(b, user);
+    in_.u32();  // was the proxy's user data: read on, so the seed corpus keeps its meaning
+    const ProxyId id = sap_.createProxy(b);
     if (id < 0) fail("createProxy returned a negative id", std::to_string(id));
     if (proxies_.count(id) != 0) fail("createProxy reused an id still in use", std::to_string(id));
-    proxies_[id] = ModelProxy{b, user, false, false};
+    proxies_[id] = ModelProxy{b, false, false};
   }
 
   void move() {
@@ -242,7 +232,6 @@ class Harness {
     }
     std::map<ProxyId, wp::Aabb> stored;
     for (const auto& kv : proxies_) {
-      if (sap_.userData(kv.first) != kv.second.user) fail("userData() changed", std::to_string(kv.first));
       const wp::Aabb s = sap_.storedBounds(kv.first);
       const wp::Aabb& g = kv.second.bounds;
       for (int k = 0; k < 3; ++k) {
@@ -254,18 +243,17 @@ class Harness {
       stored[kv.first] = s;
     }
 
-    // The structure's pairs, each once, ordered, naming live proxies, found by findPair().
-    std::map<Pair, std::uint32_t> actual;
-    for (const wp::ProxyPair& p : sap_.pairs()) {
+    // The structure's pairs, each once, ordered, naming live proxies, known to hasPair().
+    std::set<Pair> actual;
+    for (const wp::BroadPair& p : sap_.pairs()) {
       const Pair key{p.proxy_a, p.proxy_b};
       if (!(p.proxy_a < p.proxy_b)) fail("pair not stored with proxy_a < proxy_b", str(key));
       if (proxies_.count(p.proxy_a) == 0 || proxies_.count(p.proxy_b) == 0) {
         fail("pair names a proxy that is not live", str(key));
       }
-      if (!actual.emplace(key, p.user).second) fail("pair listed twice", str(key));
-      const wp::ProxyPair* found = sap_.findPair(p.proxy_b, p.proxy_a);
-      if (found == nullptr || found->proxy_a != p.proxy_a || found->proxy_b != p.proxy_b) {
-        fail("findPair() does not find a listed pair", str(key));
+      if (!actual.insert(key).second) fail("pair listed twice", str(key));
+      if (!sap_.hasPair(p.proxy_b, p.proxy_a) || !sap_.hasPair(p.proxy_a, p.proxy_b)) {
+        fail("hasPair() does not know a listed pair", str(key));
       }
     }
 
@@ -286,19 +274,19 @@ class Harness {
         if (exact_ && listed && !given) fail("pair listed but the boxes do not overlap", detail);
         if (listed && !by_stored) fail("pair listed but its storedBounds() do not overlap", detail);
         if (listed) expected.insert(key);
-        if (!listed && sap_.findPair(key.first, key.second) != nullptr) {
-          fail("findPair() finds an unlisted pair", detail);
+        if (!listed && sap_.hasPair(key.first, key.second)) {
+          fail("hasPair() knows an unlisted pair", detail);
         }
       }
     }
 
     // began = now - before, ended = before - now.
     std::set<Pair> began, ended;
-    for (const wp::ProxyPair& p : sap_.beganPairs()) {
+    for (const wp::BroadPair& p : sap_.beganPairs()) {
       const Pair key{std::min(p.proxy_a, p.proxy_b), std::max(p.proxy_a, p.proxy_b)};
       if (!began.insert(key).second) fail("pair began twice", str(key));
     }
-    for (const wp::ProxyPair& p : sap_.endedPairs()) {
+    for (const wp::BroadPair& p : sap_.endedPairs()) {
       const Pair key{std::min(p.proxy_a, p.proxy_b), std::max(p.proxy_a, p.proxy_b)};
       if (!ended.insert(key).second) fail("pair ended twice", str(key));
     }
@@ -307,30 +295,20 @@ class Harness {
       if (!before && began.count(key) == 0) fail("new pair not in beganPairs()", str(key));
       if (before && began.count(key) != 0) fail("lasting pair in beganPairs()", str(key));
       if (before && ended.count(key) != 0) fail("lasting pair in endedPairs()", str(key));
-      // The caller's field: kept while the pair lasts, 0 on a new pair.
-      const std::uint32_t user = actual[key];
-      if (before && user != previous_.at(key)) fail("user field of a lasting pair changed", str(key));
-      if (!before && user != 0) fail("new pair's user field is not 0", str(key));
     }
     for (const Pair& key : began) {
       if (expected.count(key) == 0) fail("beganPairs() lists a pair not in pairs()", str(key));
     }
-    for (const auto& kv : previous_) {
-      const bool now = expected.count(kv.first) != 0;
-      if (!now && ended.count(kv.first) == 0) fail("vanished pair not in endedPairs()", str(kv.first));
+    for (const Pair& key : previous_) {
+      const bool now = expected.count(key) != 0;
+      if (!now && ended.count(key) == 0) fail("vanished pair not in endedPairs()", str(key));
     }
     for (const Pair& key : ended) {
       if (previous_.count(key) == 0 || expected.count(key) != 0) {
         fail("endedPairs() lists a pair that did not end", str(key));
       }
     }
-
-    // Write the caller's field for the next round.
-    previous_.clear();
-    for (wp::ProxyPair& p : sap_.mutablePairs()) {
-      p.user = 1u + static_cast<std::uint32_t>(updates_ * 7919 + p.proxy_a * 31 + p.proxy_b);
-      previous_[Pair{p.proxy_a, p.proxy_b}] = p.user;
-    }
+    previous_ = expected;
   }
 
   Input& in_;
@@ -338,7 +316,7 @@ class Harness {
   wp::SweepAndPrune sap_;
   double anchors_[8] = {};
   std::map<ProxyId, ModelProxy> proxies_;  // created and not yet removed by an update()
-  std::map<Pair, std::uint32_t> previous_;  // pairs after the last update, with their user
+  std::set<Pair> previous_;  // pairs after the last update
   int updates_ = 0;
 };
 

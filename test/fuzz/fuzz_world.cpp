@@ -6,7 +6,9 @@
 //
 // The harness keeps its own model of the world (which handles are live or still nameable,
 // which pairs were active after the last predict, the current pair rules) and checks the
-// world against it. Set WP_FUZZ_STRICT=1 to also report a *valid* input (by the documented
+// world against it: among others, every pair keeps its pair number from BEGIN to END, and two
+// live boxes that overlap now by an independent separating-axis test (test/shared/oracles.hpp)
+// have a contact event at time 0 unless the rules deny the pair. Set WP_FUZZ_STRICT=1 to also report a *valid* input (by the documented
 // rules) that the API rejected, e.g. finite numbers whose bounds overflow to infinity.
 
 #include <algorithm>
@@ -14,6 +16,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <limits>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -21,6 +24,7 @@
 #include <vector>
 
 #include "fuzz_input.hpp"
+#include "oracles.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace wp = workspace_proximity;
@@ -34,30 +38,18 @@ constexpr int kMaxOperations = 160;
 constexpr int kMaxPredicts = 24;
 constexpr double kSlack = 1e-9;
 
+using wp_fuzz::str;
+
 bool strictMode() {
-  static const bool strict = [] {
-    const char* s = std::getenv("WP_FUZZ_STRICT");
-    return s != nullptr && s[0] == '1';
-  }();
+  static const bool strict = wp_fuzz::envFlag("WP_FUZZ_STRICT");
   return strict;
 }
 
 // WP_FUZZ_TRACE=1 prints every operation and its outcome (for replaying a finding).
 bool traceMode() {
-  static const bool trace = [] {
-    const char* s = std::getenv("WP_FUZZ_TRACE");
-    return s != nullptr && s[0] == '1';
-  }();
+  static const bool trace = wp_fuzz::envFlag("WP_FUZZ_TRACE");
   return trace;
 }
-
-std::string str(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
-
-std::string str(const Eigen::Vector3d& v) { return str(v.x()) + " " + str(v.y()) + " " + str(v.z()); }
 
 // Printable form of an id (ids may hold any byte, NUL included).
 std::string printable(const std::string& text) {
@@ -454,6 +446,9 @@ class Harness {
     }
     std::set<PairKey> seen;
     std::set<PairKey> active;
+    std::map<PairKey, double> contact_time;       // non-END events: time_to_contact
+    std::map<PairKey, std::int32_t> numbers;      // non-END events: pair number
+    std::set<std::int32_t> numbers_seen;
     int contacts = 0;
     for (std::size_t i = 0; i < events.size(); ++i) {
       const wp::PairEvent& e = events[i];
@@ -494,7 +489,13 @@ class Harness {
       if (e.body_a == e.body_b) fail("event of a body with itself", where);
       const PairKey key = pairKey(e.body_a, e.body_b);
       if (!seen.insert(key).second) fail("pair reported twice in one predict", where);
-      if (!ended) active.insert(key);
+      if (!ended) {
+        active.insert(key);
+        contact_time[key] = e.time_to_contact;
+        numbers[key] = e.pair;
+      }
+      if (e.pair < 0) fail("negative pair number", where);
+      if (!numbers_seen.insert(e.pair).second) fail("two events share a pair number", where);
 
       // Both bodies are nameable, body_a's id sorts first.
       const wp::BodyDesc* da = nullptr;
@@ -515,6 +516,7 @@ class Harness {
       const bool was_active = active_.count(key) != 0;
       if (ended && !was_active) fail("END for a pair not active at the previous predict", where);
       if (e.state == wp::ContactState::kBegin && was_active) fail("BEGIN for an active pair", where);
+      if (was_active && numbers_.at(key) != e.pair) fail("pair number changed before the END", where);
       if (e.state == wp::ContactState::kOngoing && !was_active) {
         fail("ONGOING for a pair not active at the previous predict", where);
       }
@@ -534,8 +536,36 @@ class Harness {
                str(b.handle) + (b.live ? " live" : " removed"));
         }
       }
+      checkOverlapsNow(contact_time);
     }
     active_ = std::move(active);
+    numbers_ = std::move(numbers);
+  }
+
+  // No false negative now: two live boxes of moderate size and position that clearly overlap
+  // (the oracle's separating-axis test on boxes shrunk by a part in 1e6) must have a contact
+  // event at time 0, unless the rules deny the pair.
+  void checkOverlapsNow(const std::map<PairKey, double>& contact_time) {
+    auto moderate = [](const wp::BodyDesc& d, const wp::BodyMotion& m) {
+      return d.shape.type == wp::ShapeType::kBox && d.shape.half_extents.minCoeff() >= 1e-3 &&
+             d.shape.half_extents.maxCoeff() <= 1e3 && m.position.cwiseAbs().maxCoeff() <= 1e3;
+    };
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      const ModelBody& a = bodies_[i];
+      if (!a.live || !moderate(a.desc, world_.motion(a.handle))) continue;
+      const oracle::Obb oa{oracle::poseAt(world_.motion(a.handle), 0.0), a.desc.shape.half_extents * (1.0 - 1e-6)};
+      for (std::size_t j = i + 1; j < bodies_.size(); ++j) {
+        const ModelBody& b = bodies_[j];
+        if (!b.live || !moderate(b.desc, world_.motion(b.handle))) continue;
+        if (!rules_.allowed(a.desc, b.desc)) continue;
+        const oracle::Obb ob{oracle::poseAt(world_.motion(b.handle), 0.0), b.desc.shape.half_extents * (1.0 - 1e-6)};
+        if (!oracle::overlaps(oa, ob)) continue;
+        const auto it = contact_time.find(pairKey(a.handle, b.handle));
+        const std::string detail = str(a.handle) + "-" + str(b.handle);
+        if (it == contact_time.end()) fail("overlapping boxes without a contact event", detail);
+        if (it->second != 0.0) fail("overlapping boxes with time_to_contact > 0", detail);
+      }
+    }
   }
 
   Input& in_;
@@ -544,6 +574,7 @@ class Harness {
   wp::PairRules rules_;  // the rules the world uses, as the harness set them
   std::vector<ModelBody> bodies_;
   std::set<PairKey> active_;
+  std::map<PairKey, std::int32_t> numbers_;  // pair numbers of the active pairs
   int predicts_ = 0;
   int next_id_ = 0;
   bool tainted_ = false;

@@ -1,0 +1,161 @@
+// The contact-window stage against independent oracles (test/shared/oracles.hpp): every
+// instant at which two random boxes touch, sampled every millisecond with a separating-axis
+// test (or the exact box distance, with margins), lies in the window; for margin-free
+// translating boxes the window is the exact contact interval (within the bisected oracle's
+// 1e-3 s), and it says so.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <functional>
+
+#include "oracles.hpp"
+#include "random.hpp"
+#include "scenes.hpp"
+#include "workspace_proximity/contact_window.hpp"
+#include "workspace_proximity/swept_bounds.hpp"
+
+namespace wp = workspace_proximity;
+
+namespace {
+
+constexpr double kHorizon = 1.0;
+
+struct Body {
+  wp::Shape shape;
+  wp::BodyMotion motion;
+  double margin = 0.0;
+
+  wp::PairBody pair() const {
+    wp::PairBody b;
+    b.shape = &shape;
+    b.motion = &motion;
+    b.margin = margin;
+    b.half = wp::rotationHalfExtents(shape, motion, margin, kHorizon);
+    return b;
+  }
+};
+
+// Box oracle: the boxes overlap (SAT), or with margins their exact distance is within them.
+std::function<bool(double)> touching(const Body& a, const Body& b) {
+  return [&a, &b](double t) {
+    const oracle::Obb oa{oracle::poseAt(a.motion, t), a.shape.half_extents};
+    const oracle::Obb ob{oracle::poseAt(b.motion, t), b.shape.half_extents};
+    if (oracle::overlaps(oa, ob)) return true;
+    return a.margin + b.margin > 0.0 && oracle::boxBoxDistance(oa, ob) <= a.margin + b.margin;
+  };
+}
+
+// Every sampled contact in [0, horizon] lies in `window`; `any` says whether there was one.
+::testing::AssertionResult covers(const wp::TimeInterval& window,
+                                  const std::function<bool(double)>& touch, bool* any) {
+  *any = false;
+  for (int k = 0; k <= 1000; ++k) {
+    const double t = k * kHorizon / 1000;
+    if (!touch(t)) continue;
+    *any = true;
+    if (window.empty() || t < window.first || t > window.last) {
+      return ::testing::AssertionFailure() << "touches at " << t << ", window [" << window.first
+                                           << ", " << window.last << "]";
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+Body randomBox(wp_test::Rng& rng, double spin, double max_margin) {
+  Body b;
+  b.shape = wp::Shape::box(rng.vector(0.05, 0.6));
+  b.motion = wp_test::randomMotion(rng, 1.0, 1.5, spin);
+  b.margin = max_margin > 0.0 ? rng.uniform(0.0, max_margin) : 0.0;
+  return b;
+}
+
+}  // namespace
+
+TEST(ContactWindow, TranslatingBoxesWithoutMarginsGetTheExactInterval) {
+  wp_test::Rng rng(101);
+  int touching_pairs = 0, tight = 0;
+  for (int i = 0; i < 1500; ++i) {
+    const Body a = randomBox(rng, 0.0, 0.0), b = randomBox(rng, 0.0, 0.0);
+    const wp::ContactWindow w = wp::contactWindow(a.pair(), b.pair(), kHorizon);
+    bool any = false;
+    ASSERT_TRUE(covers(w.interval, touching(a, b), &any)) << "pair " << i;
+    if (w.axis.empty()) continue;  // (the axis window must contain the interval)
+    EXPECT_TRUE(w.exact) << "pair " << i;
+    EXPECT_TRUE(w.last_known) << "pair " << i;
+    if (!w.empty()) {
+      EXPECT_GE(w.interval.first, w.axis.first);
+      EXPECT_LE(w.interval.last, w.axis.last);
+    }
+    if (!any) continue;
+    ++touching_pairs;
+    double first = 0.0, last = 0.0;
+    ASSERT_TRUE(oracle::contactTimes(touching(a, b), 0.0, kHorizon, 1e-3, &first, &last));
+    tight += w.interval.first >= first - 1e-3 && w.interval.last <= last + 1e-3;
+  }
+  EXPECT_GT(touching_pairs, 200);
+  EXPECT_GE(tight, touching_pairs * 95 / 100);  // misses only grazes between samples
+  std::printf("  %d touching, %d within 1 ms\n", touching_pairs, tight);
+}
+
+TEST(ContactWindow, RoundedTranslatingBoxesKnowTheirLastContact) {
+  wp_test::Rng rng(103);
+  int touching_pairs = 0;
+  for (int i = 0; i < 500; ++i) {
+    const Body a = randomBox(rng, 0.0, 0.2), b = randomBox(rng, 0.0, 0.2);
+    const wp::ContactWindow w = wp::contactWindow(a.pair(), b.pair(), kHorizon);
+    bool any = false;
+    ASSERT_TRUE(covers(w.interval, touching(a, b), &any)) << "pair " << i;
+    touching_pairs += any;
+    if (w.axis.empty()) continue;
+    EXPECT_EQ(w.exact, a.margin + b.margin == 0.0) << "pair " << i;
+    EXPECT_TRUE(w.last_known) << "pair " << i;
+  }
+  EXPECT_GT(touching_pairs, 100);
+  std::printf("  %d touching\n", touching_pairs);
+}
+
+TEST(ContactWindow, TurningBodiesKeepTheAxisWindowForTheNarrowPhase) {
+  wp_test::Rng rng(107);
+  int touching_pairs = 0;
+  for (int i = 0; i < 500; ++i) {
+    const Body a = randomBox(rng, 4.0, (i % 2) ? 0.1 : 0.0), b = randomBox(rng, 0.0, 0.0);
+    const wp::ContactWindow w = wp::contactWindow(a.pair(), b.pair(), kHorizon);
+    bool any = false;
+    ASSERT_TRUE(covers(w.interval, touching(a, b), &any)) << "pair " << i;
+    touching_pairs += any;
+    EXPECT_FALSE(w.exact);
+    EXPECT_FALSE(w.last_known);
+    if (!w.axis.empty()) {
+      EXPECT_EQ(w.interval.first, w.axis.first);
+      EXPECT_EQ(w.interval.last, w.axis.last);
+    }
+  }
+  EXPECT_GT(touching_pairs, 70);
+  std::printf("  %d touching\n", touching_pairs);
+}
+
+TEST(ContactWindow, OtherShapesKeepTheAxisWindow) {
+  Body a, b;
+  a.shape = wp::Shape::sphere(0.5);
+  a.motion.linear_velocity = {1, 0, 0};
+  b.shape = wp::Shape::box({0.5, 0.5, 0.5});
+  b.motion.position = {2.5, 0, 0};
+  // Faces 1.5 m apart closing at 1 m/s; the axis window is [1.5, horizon 2].
+  const wp::ContactWindow w = wp::contactWindow(a.pair(), b.pair(), 2.0);
+  EXPECT_NEAR(w.axis.first, 1.5, 1e-9);
+  EXPECT_EQ(w.axis.last, 2.0);
+  EXPECT_EQ(w.interval.first, w.axis.first);
+  EXPECT_EQ(w.interval.last, w.axis.last);
+  EXPECT_FALSE(w.exact);
+  EXPECT_FALSE(w.last_known);
+  // Out of reach within the horizon: both steps empty.
+  const wp::ContactWindow none = wp::contactWindow(a.pair(), b.pair(), 1.0);
+  EXPECT_TRUE(none.axis.empty());
+  EXPECT_TRUE(none.empty());
+}
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
