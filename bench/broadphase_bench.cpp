@@ -1491,6 +1491,20 @@ std::string timeText(double us) {
   return fmt("%.3g", us * 1e-3) + " ms";
 }
 
+// A row's name in the headline: the report's header says which rows filter, so "+ exact filter"
+// and the library prefix of Bullet's classes go.
+std::string shortName(std::string name) {
+  for (const char* cut : {" + exact filter", " (scratch)", "Bullet "}) {
+    const std::size_t at = name.find(cut);
+    if (at != std::string::npos) name.erase(at, std::strlen(cut));
+  }
+  const std::size_t refit = name.find("update() refit");
+  if (refit != std::string::npos) name.replace(refit, 14, "refit");
+  const std::size_t dbvt = name.find("btDbvtBroadphase");
+  if (dbvt != std::string::npos) name.replace(dbvt, 16, "btDbvt");
+  return name;
+}
+
 std::string ratioText(const Result* peer, const Result& ours) {
   if (!peer) return "–";
   return fmt("%.2f", peer->median_us / ours.median_us) + "×";
@@ -1503,8 +1517,9 @@ std::string headline(const std::vector<std::pair<ConfigDef, std::vector<Result>>
   o << "## Headline: ours against the best peer of each row\n\n"
        "Medians per cycle from this run. Ratio = peer median / our median: above 1 ours is "
        "faster, below 1 the peer is faster (\"**peer wins**\"). Best peer = the fastest other "
-       "row that delivered exactly the reference pair set (Bullet rows with their exact filter, "
-       "timed). FCL best = FCL's fastest manager in that row.\n\n";
+       "row that delivered exactly the reference pair set (FCL and Bullet rows include their "
+       "exact filter, timed). btDbvt = Bullet's btDbvtBroadphase; FCL best = FCL's fastest "
+       "manager in that row.\n\n";
   o << "| scene | ours | best peer | its median | ratio | btDbvt default + filter | btDbvt margin 0 + filter | FCL best | sort-and-sweep |\n";
   o << "|---|---:|---|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& [c, rs] : all) {
@@ -1515,7 +1530,7 @@ std::string headline(const std::vector<std::pair<ConfigDef, std::vector<Result>>
     o << "| " << c.headline << " | " << timeText(ours->median_us) << " | ";
     if (best) {
       const double ratio = best->median_us / ours->median_us;
-      o << best->peer << " | " << timeText(best->median_us) << " | " << fmt("%.2f", ratio) << "×"
+      o << shortName(best->peer) << " | " << timeText(best->median_us) << " | " << fmt("%.2f", ratio) << "×"
         << (ratio < 1.0 ? " **peer wins**" : "");
     } else {
       o << "– | – | –";
