@@ -614,8 +614,9 @@ class Peer {
 };
 
 // The one place the benchmark calls SweepAndPrune's proxy API. It keeps the proxy -> slot map
-// itself (the structure does not need to store callers' data), so a change of createProxy's
-// signature is a one-line change here.
+// itself (the structure does not need to store callers' data), and its pairs() passes on the
+// structure's pair type, whatever it is called, so a change of createProxy's signature is a
+// one-line change here.
 class OurBroadPhase {
  public:
   using ProxyId = wp::SweepAndPrune::ProxyId;
@@ -631,7 +632,7 @@ class OurBroadPhase {
   void destroy(ProxyId id) { sap_.destroyProxy(id); }
   void move(ProxyId id, const wp::Aabb& bounds) { sap_.moveProxy(id, bounds); }
   void update() { sap_.update(); }
-  const std::vector<wp::ProxyPair>& pairs() const { return sap_.pairs(); }
+  const auto& pairs() const { return sap_.pairs(); }
   std::uint32_t slot(ProxyId id) const { return slot_of_[id]; }
   const wp::SweepAndPruneStats& stats() const { return sap_.stats(); }
 
@@ -656,12 +657,12 @@ class OursPeer : public Peer {
     for (int i : s.created) id_[i] = bp_.create(s.box[i], static_cast<std::uint32_t>(i));
     bp_.update();
     std::uint64_t sum = 0;
-    for (const wp::ProxyPair& p : bp_.pairs())
+    for (const auto& p : bp_.pairs())
       sum += bp_.slot(p.proxy_a) ^ (static_cast<std::uint64_t>(bp_.slot(p.proxy_b)) << 7);
     checksum += sum;
   }
   void collect(std::vector<PairCode>* out) const override {
-    for (const wp::ProxyPair& p : bp_.pairs()) out->push_back(pairCode(bp_.slot(p.proxy_a), bp_.slot(p.proxy_b)));
+    for (const auto& p : bp_.pairs()) out->push_back(pairCode(bp_.slot(p.proxy_a), bp_.slot(p.proxy_b)));
   }
   std::size_t reported() const override { return bp_.pairs().size(); }
   const OurBroadPhase& broadPhase() const { return bp_; }
