@@ -30,36 +30,41 @@ Eigen::Vector3d toVector3(const XmlRpcValue& v, const std::string& name) {
   return Eigen::Vector3d(toDouble(a[0], name), toDouble(a[1], name), toDouble(a[2], name));
 }
 
-void readDouble(const ros::NodeHandle& nh, const std::string& name, double* out) {
-  XmlRpcValue v;
-  if (nh.getParam(name, v)) *out = toDouble(v, name);
+// The parameter `name` of the namespace `root` (a struct), or null when it is not set.
+XmlRpcValue* member(const XmlRpcValue& root, const std::string& name) {
+  if (!root.hasMember(name)) return nullptr;
+  return &root[name];  // XmlRpcValue's struct operator[] is const and returns a reference
 }
 
-void readBool(const ros::NodeHandle& nh, const std::string& name, bool* out) {
-  XmlRpcValue v;
-  if (!nh.getParam(name, v)) return;
-  if (v.getType() != XmlRpcValue::TypeBoolean) fail(name, "must be true or false");
-  *out = static_cast<bool>(v);
+void readDouble(const XmlRpcValue& root, const std::string& name, double* out) {
+  if (const XmlRpcValue* v = member(root, name)) *out = toDouble(*v, name);
 }
 
-void readString(const ros::NodeHandle& nh, const std::string& name, std::string* out) {
-  XmlRpcValue v;
-  if (nh.getParam(name, v)) *out = toString(v, name);
+void readBool(const XmlRpcValue& root, const std::string& name, bool* out) {
+  XmlRpcValue* v = member(root, name);
+  if (v == nullptr) return;
+  if (v->getType() != XmlRpcValue::TypeBoolean) fail(name, "must be true or false");
+  *out = static_cast<bool>(*v);
 }
 
-void readStringList(const ros::NodeHandle& nh, const std::string& name,
+void readString(const XmlRpcValue& root, const std::string& name, std::string* out) {
+  if (const XmlRpcValue* v = member(root, name)) *out = toString(*v, name);
+}
+
+void readStringList(const XmlRpcValue& root, const std::string& name,
                     std::vector<std::string>* out) {
-  XmlRpcValue v;
-  if (!nh.getParam(name, v)) return;
-  if (v.getType() != XmlRpcValue::TypeArray) fail(name, "must be a list of strings");
+  const XmlRpcValue* v = member(root, name);
+  if (v == nullptr) return;
+  if (v->getType() != XmlRpcValue::TypeArray) fail(name, "must be a list of strings");
   out->clear();
-  for (int i = 0; i < v.size(); ++i) out->push_back(toString(v[i], name));
+  for (int i = 0; i < v->size(); ++i) out->push_back(toString((*v)[i], name));
 }
 
-void readPairs(const ros::NodeHandle& nh, const std::string& name,
+void readPairs(const XmlRpcValue& root, const std::string& name,
                std::vector<std::pair<std::string, std::string>>* out) {
-  XmlRpcValue v;
-  if (!nh.getParam(name, v)) return;
+  const XmlRpcValue* p = member(root, name);
+  if (p == nullptr) return;
+  const XmlRpcValue& v = *p;
   if (v.getType() != XmlRpcValue::TypeArray) fail(name, "must be a list of [selector, selector]");
   for (int i = 0; i < v.size(); ++i) {
     if (v[i].getType() != XmlRpcValue::TypeArray || v[i].size() != 2) {
@@ -69,7 +74,7 @@ void readPairs(const ros::NodeHandle& nh, const std::string& name,
   }
 }
 
-LabelSettings readLabel(XmlRpcValue& v, const std::string& name, LabelSettings l) {
+LabelSettings readLabel(const XmlRpcValue& v, const std::string& name, LabelSettings l) {
   if (v.getType() != XmlRpcValue::TypeStruct) fail(name, "must be a dictionary");
   for (auto it = v.begin(); it != v.end(); ++it) {
     const std::string key = it->first;
@@ -85,7 +90,7 @@ LabelSettings readLabel(XmlRpcValue& v, const std::string& name, LabelSettings l
   return l;
 }
 
-RobotBodySpec readRobotBody(XmlRpcValue& v, const std::string& name) {
+RobotBodySpec readRobotBody(const XmlRpcValue& v, const std::string& name) {
   if (v.getType() != XmlRpcValue::TypeStruct) fail(name, "must be a dictionary");
   RobotBodySpec b;
   if (!v.hasMember("name") || !v.hasMember("frame") || !v.hasMember("size")) {
@@ -95,7 +100,7 @@ RobotBodySpec readRobotBody(XmlRpcValue& v, const std::string& name) {
   b.frame = toString(v["frame"], name + "/frame");
   b.shape = Shape::box(0.5 * toVector3(v["size"], name + "/size"));
   if (v.hasMember("offset")) {
-    XmlRpcValue& o = v["offset"];
+    const XmlRpcValue& o = v["offset"];
     if (o.getType() != XmlRpcValue::TypeStruct) fail(name + "/offset", "must be {xyz: [..], rpy: [..]}");
     Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();
     if (o.hasMember("xyz")) xyz = toVector3(o["xyz"], name + "/offset/xyz");
@@ -113,52 +118,62 @@ RobotBodySpec readRobotBody(XmlRpcValue& v, const std::string& name) {
 
 }  // namespace
 
-MonitorParams readParams(const ros::NodeHandle& nh) {
+MonitorParams readParams(const XmlRpcValue& root) {
   MonitorParams p;
-  readString(nh, "fixed_frame", &p.fixed_frame);
-  readDouble(nh, "rate", &p.rate);
-  readDouble(nh, "horizon", &p.horizon);
-  readDouble(nh, "track_timeout", &p.track_timeout);
-  readStringList(nh, "input_topics", &p.input_topics);
-  readDouble(nh, "stale_after", &p.stale_after);
-  readDouble(nh, "source_timeout", &p.source_timeout);
-  readDouble(nh, "max_future", &p.max_future);
-  XmlRpcValue max_tracks;
-  if (nh.getParam("max_tracks", max_tracks)) {
-    if (max_tracks.getType() != XmlRpcValue::TypeInt) fail("max_tracks", "must be an integer");
-    p.max_tracks = static_cast<int>(max_tracks);
+  if (root.getType() != XmlRpcValue::TypeStruct && root.getType() != XmlRpcValue::TypeInvalid) {
+    throw std::runtime_error("~: the node's parameters must be a dictionary");
   }
-  readBool(nh, "use_robot_description", &p.use_robot_description);
-  readString(nh, "robot_description_param", &p.robot_description_param);
-  readDouble(nh, "robot_margin", &p.robot_margin);
-  readDouble(nh, "velocity_window", &p.velocity_window);
-  readDouble(nh, "tf_timeout", &p.tf_timeout);
-  readPairs(nh, "ignore_pairs", &p.ignore_pairs);
-  readPairs(nh, "check_pairs", &p.check_pairs);
-  readBool(nh, "publish_markers", &p.publish_markers);
-  readDouble(nh, "marker_lifetime", &p.marker_lifetime);
-  readDouble(nh, "marker_rate", &p.marker_rate);
+  readString(root, "fixed_frame", &p.fixed_frame);
+  readDouble(root, "rate", &p.rate);
+  readDouble(root, "horizon", &p.horizon);
+  readDouble(root, "track_timeout", &p.track_timeout);
+  readStringList(root, "input_topics", &p.input_topics);
+  readDouble(root, "stale_after", &p.stale_after);
+  readDouble(root, "source_timeout", &p.source_timeout);
+  readDouble(root, "max_future", &p.max_future);
+  if (const XmlRpcValue* max_tracks = member(root, "max_tracks")) {
+    if (max_tracks->getType() != XmlRpcValue::TypeInt) fail("max_tracks", "must be an integer");
+    p.max_tracks = static_cast<int>(const_cast<XmlRpcValue&>(*max_tracks));
+  }
+  readBool(root, "use_robot_description", &p.use_robot_description);
+  readString(root, "robot_description_param", &p.robot_description_param);
+  readDouble(root, "robot_margin", &p.robot_margin);
+  readDouble(root, "velocity_window", &p.velocity_window);
+  readDouble(root, "tf_timeout", &p.tf_timeout);
+  readPairs(root, "ignore_pairs", &p.ignore_pairs);
+  readPairs(root, "check_pairs", &p.check_pairs);
+  readBool(root, "publish_markers", &p.publish_markers);
+  readDouble(root, "marker_lifetime", &p.marker_lifetime);
+  readDouble(root, "marker_rate", &p.marker_rate);
 
-  XmlRpcValue v;
-  if (nh.getParam("robot_bodies", v)) {
-    if (v.getType() != XmlRpcValue::TypeArray) fail("robot_bodies", "must be a list");
-    for (int i = 0; i < v.size(); ++i) {
-      p.robot_bodies.push_back(readRobotBody(v[i], "robot_bodies[" + std::to_string(i) + "]"));
+  if (const XmlRpcValue* v = member(root, "robot_bodies")) {
+    if (v->getType() != XmlRpcValue::TypeArray) fail("robot_bodies", "must be a list");
+    for (int i = 0; i < v->size(); ++i) {
+      p.robot_bodies.push_back(readRobotBody((*v)[i], "robot_bodies[" + std::to_string(i) + "]"));
     }
   }
-  if (nh.getParam("labels", v)) {
-    if (v.getType() != XmlRpcValue::TypeStruct) fail("labels", "must be a dictionary of labels");
+  if (const XmlRpcValue* v = member(root, "labels")) {
+    if (v->getType() != XmlRpcValue::TypeStruct) fail("labels", "must be a dictionary of labels");
     // "default" first, so other labels inherit from it.
-    if (v.hasMember("default")) p.labels["default"] = readLabel(v["default"], "labels/default", LabelSettings());
-    for (auto it = v.begin(); it != v.end(); ++it) {
+    if (v->hasMember("default")) {
+      p.labels["default"] = readLabel((*v)["default"], "labels/default", LabelSettings());
+    }
+    for (auto it = v->begin(); it != v->end(); ++it) {
       if (it->first == "default") continue;
       p.labels[it->first] = readLabel(it->second, "labels/" + it->first, p.labels["default"]);
     }
   }
-  if (nh.getParam("robot_thresholds", v)) {
-    p.robot_thresholds = readLabel(v, "robot_thresholds", p.robot_thresholds);
+  if (const XmlRpcValue* v = member(root, "robot_thresholds")) {
+    p.robot_thresholds = readLabel(*v, "robot_thresholds", p.robot_thresholds);
   }
   return p;
+}
+
+MonitorParams readParams(const ros::NodeHandle& nh) {
+  // The whole private namespace in one call: a dictionary of every parameter set under it.
+  XmlRpcValue root;
+  if (!nh.getParam(nh.getNamespace(), root)) return readParams(XmlRpcValue());
+  return readParams(root);
 }
 
 }  // namespace workspace_proximity

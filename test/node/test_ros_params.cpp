@@ -1,0 +1,293 @@
+// The parameter reader on a parameter tree (the node's private namespace as one XmlRpcValue):
+// every type and nesting level, defaults kept for what is not set, and each wrong type or
+// structure rejected with a message naming the parameter.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+
+#include "workspace_proximity/ros/ros_params.hpp"
+
+namespace wp = workspace_proximity;
+using XmlRpc::XmlRpcValue;
+
+namespace {
+
+XmlRpcValue dict() {
+  XmlRpcValue v;
+  v.begin();  // an empty dictionary
+  return v;
+}
+
+XmlRpcValue list(std::initializer_list<XmlRpcValue> items) {
+  XmlRpcValue v;
+  v.setSize(static_cast<int>(items.size()));
+  int i = 0;
+  for (const XmlRpcValue& item : items) v[i++] = item;
+  return v;
+}
+
+XmlRpcValue str(const char* s) { return XmlRpcValue(std::string(s)); }
+
+// The message readParams throws for `root`, or "" when it does not throw.
+std::string errorOf(const XmlRpcValue& root) {
+  try {
+    wp::readParams(root);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+XmlRpcValue labelDict(double margin) {
+  XmlRpcValue l = dict();
+  l["margin"] = margin;
+  return l;
+}
+
+}  // namespace
+
+TEST(RosParams, NothingSetGivesTheDefaults) {
+  const wp::MonitorParams defaults;
+  for (const XmlRpcValue& root : {XmlRpcValue(), dict()}) {
+    const wp::MonitorParams p = wp::readParams(root);
+    EXPECT_EQ(p.fixed_frame, defaults.fixed_frame);
+    EXPECT_EQ(p.rate, defaults.rate);
+    EXPECT_EQ(p.horizon, defaults.horizon);
+    EXPECT_EQ(p.max_tracks, defaults.max_tracks);
+    EXPECT_EQ(p.use_robot_description, defaults.use_robot_description);
+    EXPECT_TRUE(p.input_topics.empty());
+    EXPECT_TRUE(p.robot_bodies.empty());
+    EXPECT_EQ(p.labels.size(), 1u);
+    EXPECT_EQ(p.labels.at("default").margin, defaults.labels.at("default").margin);
+    EXPECT_TRUE(wp::validate(p).empty());
+  }
+}
+
+TEST(RosParams, ScalarsOfEachType) {
+  XmlRpcValue root = dict();
+  root["fixed_frame"] = str("map");
+  root["rate"] = 20;            // an integer where a number is expected
+  root["horizon"] = 1.5;
+  root["track_timeout"] = 2;
+  root["stale_after"] = 0.3;
+  root["source_timeout"] = 0.7;
+  root["max_future"] = 0.25;
+  root["max_tracks"] = 55;
+  root["use_robot_description"] = false;
+  root["robot_description_param"] = str("arm_description");
+  root["robot_margin"] = 0.05;
+  root["velocity_window"] = 0.2;
+  root["tf_timeout"] = 0.4;
+  root["publish_markers"] = false;
+  root["marker_lifetime"] = 1.0;
+  root["marker_rate"] = 5;
+  root["unrelated_key"] = str("ignored");  // other keys of the namespace are not ours
+  const wp::MonitorParams p = wp::readParams(root);
+  EXPECT_EQ(p.fixed_frame, "map");
+  EXPECT_EQ(p.rate, 20.0);
+  EXPECT_EQ(p.horizon, 1.5);
+  EXPECT_EQ(p.track_timeout, 2.0);
+  EXPECT_EQ(p.stale_after, 0.3);
+  EXPECT_EQ(p.source_timeout, 0.7);
+  EXPECT_EQ(p.max_future, 0.25);
+  EXPECT_EQ(p.max_tracks, 55);
+  EXPECT_FALSE(p.use_robot_description);
+  EXPECT_EQ(p.robot_description_param, "arm_description");
+  EXPECT_EQ(p.robot_margin, 0.05);
+  EXPECT_EQ(p.velocity_window, 0.2);
+  EXPECT_EQ(p.tf_timeout, 0.4);
+  EXPECT_FALSE(p.publish_markers);
+  EXPECT_EQ(p.marker_lifetime, 1.0);
+  EXPECT_EQ(p.marker_rate, 5.0);
+}
+
+TEST(RosParams, ListsAndPairs) {
+  XmlRpcValue root = dict();
+  root["input_topics"] = list({str("/a/boxes"), str("b")});
+  root["ignore_pairs"] = list({list({str("label:person"), str("label:person")})});
+  root["check_pairs"] = list({list({str("id:gripper"), str("id:base_link")}),
+                              list({str("*"), str("group:robot")})});
+  const wp::MonitorParams p = wp::readParams(root);
+  ASSERT_EQ(p.input_topics.size(), 2u);
+  EXPECT_EQ(p.input_topics[0], "/a/boxes");
+  EXPECT_EQ(p.input_topics[1], "b");
+  ASSERT_EQ(p.ignore_pairs.size(), 1u);
+  EXPECT_EQ(p.ignore_pairs[0].first, "label:person");
+  EXPECT_EQ(p.ignore_pairs[0].second, "label:person");
+  ASSERT_EQ(p.check_pairs.size(), 2u);
+  EXPECT_EQ(p.check_pairs[1].first, "*");
+  EXPECT_EQ(p.check_pairs[1].second, "group:robot");
+}
+
+TEST(RosParams, LabelsInheritFromDefaultWhateverTheirOrder) {
+  XmlRpcValue labels = dict();
+  XmlRpcValue person = dict();  // "a..." sorts before "default": read after it all the same
+  person["warning_time"] = 2.0;
+  labels["a_person"] = person;
+  XmlRpcValue def = dict();
+  def["margin"] = 0.3;
+  def["critical_distance"] = 0.1;
+  labels["default"] = def;
+  labels["forklift"] = labelDict(0.5);
+  XmlRpcValue robot = dict();
+  robot["warning_distance"] = 0.6;
+  XmlRpcValue root = dict();
+  root["labels"] = labels;
+  root["robot_thresholds"] = robot;
+
+  const wp::MonitorParams p = wp::readParams(root);
+  const wp::LabelSettings builtin;
+  EXPECT_EQ(p.label("default").margin, 0.3);
+  EXPECT_EQ(p.label("default").critical_distance, 0.1);
+  EXPECT_EQ(p.label("a_person").margin, 0.3);  // inherited
+  EXPECT_EQ(p.label("a_person").critical_distance, 0.1);
+  EXPECT_EQ(p.label("a_person").warning_time, 2.0);
+  EXPECT_EQ(p.label("a_person").critical_time, builtin.critical_time);
+  EXPECT_EQ(p.label("forklift").margin, 0.5);
+  EXPECT_EQ(p.label("unlisted").margin, 0.3);  // falls back to default
+  EXPECT_EQ(p.robot_thresholds.warning_distance, 0.6);
+  EXPECT_EQ(p.robot_thresholds.warning_time, builtin.warning_time);
+}
+
+TEST(RosParams, RobotBodiesWithOffsets) {
+  XmlRpcValue offset = dict();
+  offset["xyz"] = list({XmlRpcValue(0.1), XmlRpcValue(0), XmlRpcValue(-0.2)});
+  offset["rpy"] = list({XmlRpcValue(0), XmlRpcValue(0), XmlRpcValue(M_PI / 2)});
+  XmlRpcValue gripper = dict();
+  gripper["name"] = str("gripper");
+  gripper["frame"] = str("tool0");
+  gripper["size"] = list({XmlRpcValue(0.2), XmlRpcValue(0.4), XmlRpcValue(1)});
+  gripper["offset"] = offset;
+  XmlRpcValue plain = dict();
+  plain["name"] = str("post");
+  plain["frame"] = str("base");
+  plain["size"] = list({XmlRpcValue(1), XmlRpcValue(1), XmlRpcValue(2)});
+  XmlRpcValue root = dict();
+  root["robot_bodies"] = list({gripper, plain});
+
+  const wp::MonitorParams p = wp::readParams(root);
+  ASSERT_EQ(p.robot_bodies.size(), 2u);
+  const wp::RobotBodySpec& g = p.robot_bodies[0];
+  EXPECT_EQ(g.name, "gripper");
+  EXPECT_EQ(g.frame, "tool0");
+  EXPECT_TRUE(g.shape.half_extents.isApprox(Eigen::Vector3d(0.1, 0.2, 0.5)));
+  EXPECT_TRUE(g.offset.translation().isApprox(Eigen::Vector3d(0.1, 0, -0.2)));
+  // Yaw a quarter turn: x goes to y, y to -x, z stays.
+  EXPECT_TRUE((g.offset.linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY()));
+  EXPECT_TRUE((g.offset.linear() * Eigen::Vector3d::UnitY()).isApprox(-Eigen::Vector3d::UnitX()));
+  EXPECT_TRUE((g.offset.linear() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitZ()));
+  EXPECT_TRUE(p.robot_bodies[1].offset.isApprox(Eigen::Isometry3d::Identity()));
+}
+
+TEST(RosParams, EachWrongTypeOrStructureIsNamed) {
+  struct Case {
+    const char* expected;  // the message must contain this
+    std::function<void(XmlRpcValue&)> set;
+  };
+  const Case cases[] = {
+      {"~rate: must be a number", [](XmlRpcValue& r) { r["rate"] = str("fast"); }},
+      {"~horizon: must be a number", [](XmlRpcValue& r) { r["horizon"] = true; }},
+      {"~fixed_frame: must be a string", [](XmlRpcValue& r) { r["fixed_frame"] = 3; }},
+      {"~use_robot_description: must be true or false",
+       [](XmlRpcValue& r) { r["use_robot_description"] = 1; }},
+      {"~publish_markers: must be true or false",
+       [](XmlRpcValue& r) { r["publish_markers"] = str("yes"); }},
+      {"~max_tracks: must be an integer", [](XmlRpcValue& r) { r["max_tracks"] = 2.5; }},
+      {"~input_topics: must be a list of strings",
+       [](XmlRpcValue& r) { r["input_topics"] = str("/boxes"); }},
+      {"~input_topics: must be a string",
+       [](XmlRpcValue& r) { r["input_topics"] = list({XmlRpcValue(1)}); }},
+      {"~ignore_pairs: must be a list of [selector, selector]",
+       [](XmlRpcValue& r) { r["ignore_pairs"] = str("*"); }},
+      {"~check_pairs: entry 1 must be a list of two selectors",
+       [](XmlRpcValue& r) {
+         r["check_pairs"] = list({list({str("*"), str("*")}), list({str("*")})});
+       }},
+      {"~labels: must be a dictionary of labels", [](XmlRpcValue& r) { r["labels"] = str("x"); }},
+      {"~labels/person: must be a dictionary",
+       [](XmlRpcValue& r) {
+         XmlRpcValue l = dict();
+         l["person"] = 0.2;
+         r["labels"] = l;
+       }},
+      {"~labels/person/margin: must be a number",
+       [](XmlRpcValue& r) {
+         XmlRpcValue person = dict();
+         person["margin"] = str("big");
+         XmlRpcValue l = dict();
+         l["person"] = person;
+         r["labels"] = l;
+       }},
+      {"~labels/default/colour: unknown setting",
+       [](XmlRpcValue& r) {
+         XmlRpcValue def = dict();
+         def["colour"] = 1.0;
+         XmlRpcValue l = dict();
+         l["default"] = def;
+         r["labels"] = l;
+       }},
+      {"~robot_thresholds/critical_time: must be a number",
+       [](XmlRpcValue& r) {
+         XmlRpcValue t = dict();
+         t["critical_time"] = list({});
+         r["robot_thresholds"] = t;
+       }},
+      {"~robot_bodies: must be a list", [](XmlRpcValue& r) { r["robot_bodies"] = dict(); }},
+      {"~robot_bodies[0]: must be a dictionary",
+       [](XmlRpcValue& r) { r["robot_bodies"] = list({str("gripper")}); }},
+      {"~robot_bodies[0]: needs name, frame and size",
+       [](XmlRpcValue& r) {
+         XmlRpcValue b = dict();
+         b["name"] = str("g");
+         b["frame"] = str("f");
+         r["robot_bodies"] = list({b});
+       }},
+      {"~robot_bodies[0]/size: must be a list of 3 numbers",
+       [](XmlRpcValue& r) {
+         XmlRpcValue b = dict();
+         b["name"] = str("g");
+         b["frame"] = str("f");
+         b["size"] = list({XmlRpcValue(1), XmlRpcValue(2)});
+         r["robot_bodies"] = list({b});
+       }},
+      {"~robot_bodies[0]/name: must be a string",
+       [](XmlRpcValue& r) {
+         XmlRpcValue b = dict();
+         b["name"] = 7;
+         b["frame"] = str("f");
+         b["size"] = list({XmlRpcValue(1), XmlRpcValue(2), XmlRpcValue(3)});
+         r["robot_bodies"] = list({b});
+       }},
+      {"~robot_bodies[0]/offset/rpy: must be a list of 3 numbers",
+       [](XmlRpcValue& r) {
+         XmlRpcValue o = dict();
+         o["rpy"] = list({XmlRpcValue(0), XmlRpcValue(0)});
+         XmlRpcValue b = dict();
+         b["name"] = str("g");
+         b["frame"] = str("f");
+         b["size"] = list({XmlRpcValue(1), XmlRpcValue(2), XmlRpcValue(3)});
+         b["offset"] = o;
+         r["robot_bodies"] = list({b});
+       }},
+  };
+  for (const Case& c : cases) {
+    XmlRpcValue root = dict();
+    c.set(root);
+    const std::string error = errorOf(root);
+    EXPECT_NE(error.find(c.expected), std::string::npos)
+        << "expected '" << c.expected << "', got '" << error << "'";
+  }
+}
+
+TEST(RosParams, TheNamespaceMustBeADictionary) {
+  EXPECT_NE(errorOf(XmlRpcValue(3)).find("must be a dictionary"), std::string::npos);
+  EXPECT_NE(errorOf(list({XmlRpcValue(1)})).find("must be a dictionary"), std::string::npos);
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
