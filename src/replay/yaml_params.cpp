@@ -109,8 +109,12 @@ XmlRpcValue floatValue(const std::string& text) {
   return XmlRpcValue(sign * std::strtod(s.c_str(), nullptr));
 }
 
-std::string where(const YAML::Node& node, const std::string& file) {
-  const YAML::Mark mark = node.Mark();
+// "file line N" of `node`, or of `context` (its key, or its list) when the node has no mark
+// of its own (an empty value has none).
+std::string where(const YAML::Node& node, const std::string& file,
+                  const YAML::Mark& context = YAML::Mark::null_mark()) {
+  YAML::Mark mark = node.Mark();
+  if (mark.is_null()) mark = context;
   if (mark.is_null()) return file;
   return file + " line " + std::to_string(mark.line + 1);
 }
@@ -139,7 +143,8 @@ XmlRpcValue scalar(const YAML::Node& node, const std::string& name, const std::s
   return XmlRpcValue(text);
 }
 
-XmlRpcValue convert(const YAML::Node& node, const std::string& name, const std::string& file) {
+XmlRpcValue convert(const YAML::Node& node, const std::string& name, const std::string& file,
+                    const YAML::Mark& context) {
   switch (node.Type()) {
     case YAML::NodeType::Scalar:
       return scalar(node, name, file);
@@ -147,7 +152,8 @@ XmlRpcValue convert(const YAML::Node& node, const std::string& name, const std::
       XmlRpcValue array;
       array.setSize(static_cast<int>(node.size()));
       for (std::size_t i = 0; i < node.size(); ++i) {
-        array[static_cast<int>(i)] = convert(node[i], name + "[" + std::to_string(i) + "]", file);
+        array[static_cast<int>(i)] =
+            convert(node[i], name + "[" + std::to_string(i) + "]", file, node.Mark());
       }
       return array;
     }
@@ -157,16 +163,17 @@ XmlRpcValue convert(const YAML::Node& node, const std::string& name, const std::
       for (const auto& kv : node) {
         if (!kv.first.IsScalar()) fail(name, "keys must be names (" + where(kv.first, file) + ")");
         const std::string key = kv.first.Scalar();
-        dict[key] = convert(kv.second, name.empty() ? key : name + "/" + key, file);
+        dict[key] = convert(kv.second, name.empty() ? key : name + "/" + key, file, kv.first.Mark());
       }
       return dict;
     }
     case YAML::NodeType::Null:
-      fail(name, "has no value (" + where(node, file) + ")");
+      // An empty value's own mark is where the next token starts: name its key's line.
+      fail(name, "has no value (" + where(context.is_null() ? node : YAML::Node(), file, context) + ")");
     case YAML::NodeType::Undefined:
       break;
   }
-  fail(name, "undefined value (" + where(node, file) + ")");
+  fail(name, "undefined value (" + where(node, file, context) + ")");
 }
 
 }  // namespace
@@ -190,7 +197,7 @@ XmlRpcValue yamlToParams(const std::string& yaml_text, const std::string& file) 
   if (!root.IsMap()) {
     throw std::runtime_error(file + ": must be a dictionary of parameters (name: value)");
   }
-  return convert(root, "", file);
+  return convert(root, "", file, root.Mark());
 }
 
 XmlRpcValue loadYamlParams(const std::vector<std::string>& files) {
