@@ -146,9 +146,10 @@ ReplayWriter::~ReplayWriter() {
 
 void ReplayWriter::onCycle(const CycleReport& report, const ContactEventArray& contacts,
                            const Monitor& monitor) {
+  // Rows are built in reused strings: steady cycles write without allocating.
   std::string& l = line_;
-  // The stamp and t columns, shared by both rows.
-  std::string stamp_t;
+  std::string& stamp_t = stamp_t_;  // the stamp and t columns, shared by all rows of the cycle
+  stamp_t.clear();
   appendStamp(&stamp_t, report.stamp);
   stamp_t.push_back(',');
   appendNumber(&stamp_t, secondsBetween(begin_, report.stamp), "%.9f");
@@ -180,10 +181,12 @@ void ReplayWriter::onCycle(const CycleReport& report, const ContactEventArray& c
 
   l = stamp_t;
   l += contacts.status == ContactEventArray::OK ? ",OK," : ",DEGRADED,";
-  l += std::to_string(contacts.events.size()) + "," + std::to_string(monitor.tracks().size()) +
-       "," + std::to_string(monitor.robot().size()) + "," +
-       std::to_string(monitor.robot().unknownCount()) + ",";
-  std::string details;
+  char counts[96];
+  std::snprintf(counts, sizeof(counts), "%zu,%d,%d,%d,", contacts.events.size(),
+                monitor.tracks().size(), monitor.robot().size(), monitor.robot().unknownCount());
+  l += counts;
+  std::string& details = details_;
+  details.clear();
   for (const std::string& d : contacts.status_details) {
     if (!details.empty()) details += " | ";
     details += d;

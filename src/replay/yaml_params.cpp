@@ -5,7 +5,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
 
@@ -17,32 +16,108 @@ namespace {
 using XmlRpc::XmlRpcValue;
 
 // PyYAML's implicit resolvers (yaml/resolver.py, YAML 1.1), which decide the type roslaunch
-// gives a plain scalar. Matched in PyYAML's order: bool, float, int, null; else a string.
-const std::regex& boolPattern() {
-  static const std::regex r("yes|Yes|YES|no|No|NO|true|True|TRUE|false|False|FALSE|on|On|ON|off|Off|OFF");
-  return r;
+// gives a plain scalar, written out as small matchers (std::regex would do, but GCC 12's
+// <regex> trips -Wmaybe-uninitialized in the sanitizer build). In PyYAML's order: bool, float,
+// int, null; anything else is a string.
+//   bool   yes|Yes|YES|no|No|NO|true|True|TRUE|false|False|FALSE|on|On|ON|off|Off|OFF
+//   float  [-+]?[0-9][0-9_]*\.[0-9_]*([eE][-+][0-9]+)?  |  \.[0-9_]+([eE][-+][0-9]+)?
+//          | [-+]?[0-9][0-9_]*(:[0-5]?[0-9])+\.[0-9_]*  |  [-+]?\.(inf|Inf|INF)  |  \.(nan|NaN|NAN)
+//   int    [-+]?0b[0-1_]+  |  [-+]?0[0-7_]+  |  [-+]?(0|[1-9][0-9_]*)  |  [-+]?0x[0-9a-fA-F_]+
+//          | [-+]?[1-9][0-9_]*(:[0-5]?[0-9])+
+//   null   ~|null|Null|NULL|(empty)
+bool oneOf(const std::string& s, std::initializer_list<const char*> words) {
+  for (const char* w : words) {
+    if (s == w) return true;
+  }
+  return false;
 }
-const std::regex& floatPattern() {
-  static const std::regex r(
-      "[-+]?(?:[0-9][0-9_]*)\\.[0-9_]*(?:[eE][-+][0-9]+)?"
-      "|\\.[0-9_]+(?:[eE][-+][0-9]+)?"
-      "|[-+]?[0-9][0-9_]*(?::[0-5]?[0-9])+\\.[0-9_]*"
-      "|[-+]?\\.(?:inf|Inf|INF)"
-      "|\\.(?:nan|NaN|NAN)");
-  return r;
+
+bool isBool(const std::string& s) {
+  return oneOf(s, {"yes", "Yes", "YES", "no", "No", "NO", "true", "True", "TRUE", "false",
+                   "False", "FALSE", "on", "On", "ON", "off", "Off", "OFF"});
 }
-const std::regex& intPattern() {
-  static const std::regex r(
-      "[-+]?0b[0-1_]+"
-      "|[-+]?0[0-7_]+"
-      "|[-+]?(?:0|[1-9][0-9_]*)"
-      "|[-+]?0x[0-9a-fA-F_]+"
-      "|[-+]?[1-9][0-9_]*(?::[0-5]?[0-9])+");
-  return r;
+
+bool boolValue(const std::string& s) {
+  return oneOf(s, {"yes", "Yes", "YES", "true", "True", "TRUE", "on", "On", "ON"});
 }
-const std::regex& nullPattern() {
-  static const std::regex r("~|null|Null|NULL|");
-  return r;
+
+bool isNull(const std::string& s) { return oneOf(s, {"~", "null", "Null", "NULL", ""}); }
+
+bool isDigit(char c) { return c >= '0' && c <= '9'; }
+
+// Characters from `i` on that satisfy `ok`; returns the index after them.
+template <typename Ok>
+std::size_t skip(const std::string& s, std::size_t i, Ok ok) {
+  while (i < s.size() && ok(s[i])) ++i;
+  return i;
+}
+
+std::size_t skipSign(const std::string& s) {
+  return !s.empty() && (s[0] == '-' || s[0] == '+') ? 1 : 0;
+}
+
+// One or more ":" [0-5]?[0-9] groups from `i`; returns the index after them (`i` when none).
+std::size_t skipSexagesimal(const std::string& s, std::size_t i) {
+  std::size_t at = i;
+  while (at < s.size() && s[at] == ':') {
+    const std::size_t digits_end = skip(s, at + 1, isDigit);
+    const std::size_t n = digits_end - (at + 1);
+    if (n == 1 || (n == 2 && s[at + 1] <= '5')) {
+      at = digits_end;
+    } else {
+      return i;
+    }
+  }
+  return at;
+}
+
+// An optional exponent [eE][-+][0-9]+ at `i`; returns the index after it, or npos when one is
+// started but malformed.
+std::size_t skipExponent(const std::string& s, std::size_t i) {
+  if (i == s.size() || (s[i] != 'e' && s[i] != 'E')) return i;
+  if (i + 1 == s.size() || (s[i + 1] != '-' && s[i + 1] != '+')) return std::string::npos;
+  const std::size_t end = skip(s, i + 2, isDigit);
+  return end == i + 2 ? std::string::npos : end;
+}
+
+bool isFloat(const std::string& s) {
+  if (oneOf(s, {".nan", ".NaN", ".NAN"})) return true;
+  const std::size_t sign = skipSign(s);
+  const std::string rest = s.substr(sign);
+  if (oneOf(rest, {".inf", ".Inf", ".INF"})) return true;
+  auto digitOrUnderscore = [](char c) { return isDigit(c) || c == '_'; };
+  if (sign == 0 && !s.empty() && s[0] == '.') {  // .[0-9_]+ exponent?
+    const std::size_t end = skip(s, 1, digitOrUnderscore);
+    return end > 1 && skipExponent(s, end) == s.size();
+  }
+  if (sign == s.size() || !isDigit(s[sign])) return false;
+  std::size_t at = skip(s, sign + 1, digitOrUnderscore);
+  const std::size_t after_groups = skipSexagesimal(s, at);
+  if (after_groups != at) {  // base 60: a fraction but no exponent
+    if (after_groups == s.size() || s[after_groups] != '.') return false;
+    return skip(s, after_groups + 1, digitOrUnderscore) == s.size();
+  }
+  if (at == s.size() || s[at] != '.') return false;
+  at = skip(s, at + 1, digitOrUnderscore);
+  return skipExponent(s, at) == s.size();
+}
+
+bool isInt(const std::string& s) {
+  const std::size_t sign = skipSign(s);
+  const std::string p = s.substr(sign);
+  if (p.empty()) return false;
+  auto all = [&](std::size_t from, auto ok) { return from < p.size() && skip(p, from, ok) == p.size(); };
+  if (p.compare(0, 2, "0b") == 0) return all(2, [](char c) { return c == '0' || c == '1' || c == '_'; });
+  if (p.compare(0, 2, "0x") == 0) {
+    return all(2, [](char c) {
+      return isDigit(c) || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F') || c == '_';
+    });
+  }
+  if (p == "0") return true;
+  if (p[0] == '0') return all(1, [](char c) { return (c >= '0' && c <= '7') || c == '_'; });
+  if (p[0] < '1' || p[0] > '9') return false;
+  const std::size_t at = skip(p, 1, [](char c) { return isDigit(c) || c == '_'; });
+  return at == p.size() || skipSexagesimal(p, at) == p.size();
 }
 
 [[noreturn]] void fail(const std::string& name, const std::string& what) {
@@ -126,20 +201,14 @@ XmlRpcValue scalar(const YAML::Node& node, const std::string& name, const std::s
   if (tag == "tag:yaml.org,2002:float") return floatValue(text);
   if (tag == "tag:yaml.org,2002:int") return intValue(text, name);
   if (tag == "tag:yaml.org,2002:bool") {
-    if (!std::regex_match(text, boolPattern())) fail(name, "'" + text + "' is not a boolean");
-    return XmlRpcValue(text[0] == 'y' || text[0] == 'Y' || text[0] == 't' || text[0] == 'T' ||
-                       text == "on" || text == "On" || text == "ON");
+    if (!isBool(text)) fail(name, "'" + text + "' is not a boolean");
+    return XmlRpcValue(boolValue(text));
   }
   if (tag != "?") fail(name, "unsupported tag " + tag + " (" + where(node, file) + ")");
-  if (std::regex_match(text, boolPattern())) {
-    return XmlRpcValue(text[0] == 'y' || text[0] == 'Y' || text[0] == 't' || text[0] == 'T' ||
-                       text == "on" || text == "On" || text == "ON");
-  }
-  if (std::regex_match(text, floatPattern())) return floatValue(text);
-  if (std::regex_match(text, intPattern())) return intValue(text, name);
-  if (std::regex_match(text, nullPattern())) {
-    fail(name, "has no value (" + where(node, file) + ")");
-  }
+  if (isBool(text)) return XmlRpcValue(boolValue(text));
+  if (isFloat(text)) return floatValue(text);
+  if (isInt(text)) return intValue(text, name);
+  if (isNull(text)) fail(name, "has no value (" + where(node, file) + ")");
   return XmlRpcValue(text);
 }
 

@@ -37,7 +37,9 @@ TEST(YamlParams, PlainScalarsAreTypedAsRoslaunchTypesThem) {
   struct Int { const char* text; int value; };
   for (const Int& c : {Int{"1", 1}, Int{"-1", -1}, Int{"+1", 1}, Int{"0x1F", 31}, Int{"017", 15},
                        Int{"0b101", 5}, Int{"1_000", 1000}, Int{"0", 0}, Int{"00", 0},
-                       Int{"1:30", 90}, Int{"2147483647", 2147483647}}) {
+                       Int{"1:30", 90}, Int{"2147483647", 2147483647}, Int{"1:5", 65},
+                       Int{"+0x1F", 31}, Int{"-0b11", -3}, Int{"1__0", 10}, Int{"0_7", 7},
+                       Int{"-0", 0}, Int{"12:30:45", 45045}, Int{"-1:30", -90}, Int{"010", 8}}) {
     const XmlRpcValue v = value(c.text);
     ASSERT_EQ(v.getType(), XmlRpcValue::TypeInt) << c.text;
     EXPECT_EQ(static_cast<int>(const_cast<XmlRpcValue&>(v)), c.value) << c.text;
@@ -45,15 +47,23 @@ TEST(YamlParams, PlainScalarsAreTypedAsRoslaunchTypesThem) {
   struct Double { const char* text; double value; };
   for (const Double& c : {Double{"1.0e-3", 0.001}, Double{"1.0e+3", 1000.0}, Double{".5", 0.5},
                           Double{"1.", 1.0}, Double{"3.", 3.0}, Double{"30.0", 30.0},
-                          Double{"-2.5", -2.5}, Double{"1.5_0", 1.5}, Double{"1_0.5", 10.5}}) {
+                          Double{"-2.5", -2.5}, Double{"1.5_0", 1.5}, Double{"1_0.5", 10.5},
+                          Double{"1:30.5", 90.5}, Double{"1.0E+3", 1000.0}, Double{".5e-3", 0.0005},
+                          Double{"0.", 0.0}}) {
     const XmlRpcValue v = value(c.text);
     ASSERT_EQ(v.getType(), XmlRpcValue::TypeDouble) << c.text;
     EXPECT_DOUBLE_EQ(static_cast<double>(const_cast<XmlRpcValue&>(v)), c.value) << c.text;
   }
-  const XmlRpcValue inf = value(".inf"), minus_inf = value("-.inf"), nan = value(".nan");
-  EXPECT_EQ(static_cast<double>(const_cast<XmlRpcValue&>(inf)), INFINITY);
-  EXPECT_EQ(static_cast<double>(const_cast<XmlRpcValue&>(minus_inf)), -INFINITY);
-  EXPECT_TRUE(std::isnan(static_cast<double>(const_cast<XmlRpcValue&>(nan))));
+  for (const char* text : {".inf", "+.inf", "-.Inf", ".NaN", ".nan"}) {
+    const XmlRpcValue v = value(text);
+    ASSERT_EQ(v.getType(), XmlRpcValue::TypeDouble) << text;
+    const double d = static_cast<double>(const_cast<XmlRpcValue&>(v));
+    if (text[1] == 'n' || text[1] == 'N') {
+      EXPECT_TRUE(std::isnan(d)) << text;
+    } else {
+      EXPECT_EQ(d, text[0] == '-' ? -INFINITY : INFINITY) << text;
+    }
+  }
   struct Bool { const char* text; bool value; };
   for (const Bool& c : {Bool{"true", true}, Bool{"True", true}, Bool{"TRUE", true}, Bool{"yes", true},
                         Bool{"on", true}, Bool{"No", false}, Bool{"OFF", false}, Bool{"false", false}}) {
@@ -63,7 +73,8 @@ TEST(YamlParams, PlainScalarsAreTypedAsRoslaunchTypesThem) {
   }
   // YAML 1.1 as PyYAML reads it: these are strings, not numbers or booleans.
   for (const char* text : {"1e-3", "1.e3", "-.5", "+.5", "inf", "NaN", "tRue", "y", "n", "abc", "09",
-                           "0o17", "world"}) {
+                           "0o17", "world", "1:60", "0b", "0x", "1e+3", "1.0e3", "_1", "-.nan",
+                           ".5e3", "1.2.3", "0:30", "1:030"}) {
     const XmlRpcValue v = value(text);
     ASSERT_EQ(v.getType(), XmlRpcValue::TypeString) << text;
     EXPECT_EQ(static_cast<std::string>(const_cast<XmlRpcValue&>(v)), text);

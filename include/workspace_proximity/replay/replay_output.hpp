@@ -51,7 +51,9 @@ class ReplayWriter : public ReplaySink {
   Stamp begin_;
   std::FILE* events_ = nullptr;
   std::FILE* cycles_ = nullptr;
-  std::string line_;  // reused row
+  std::string line_;     // reused row
+  std::string stamp_t_;  // reused: a cycle's stamp and t columns
+  std::string details_;  // reused: a cycle's DEGRADED lines
 };
 
 /// The short text summary of a replay (printed on stdout by replay_bag).
