@@ -135,7 +135,9 @@ def fmt(v, unit=""):
 
 
 def table(headers, rows, classes=None):
-    out = ["<table><tr>%s</tr>" % "".join("<th>%s</th>" % html.escape(h) for h in headers)]
+    out = ["<table>"]
+    if headers:
+        out.append("<tr>%s</tr>" % "".join("<th>%s</th>" % html.escape(h) for h in headers))
     for i, r in enumerate(rows):
         cls = ' class="%s"' % classes[i] if classes and classes[i] else ""
         out.append("<tr%s>%s</tr>" % (cls, "".join("<td>%s</td>" % html.escape(str(c)) for c in r)))
@@ -226,7 +228,7 @@ img { max-width: 100%%; border: 1px solid #ddd; }
 </style></head><body>
 <h1>Replay of %s</h1>""" % (html.escape(os.path.basename(summary["bag"])), html.escape(summary["bag"]))]
     parts.append("<h2>Summary</h2>")
-    parts.append(table(("", ""), summary_rows))
+    parts.append(table(None, summary_rows))
     parts.append("<h2>DEGRADED intervals</h2>")
     if intervals:
         parts.append(table(("start (s)", "end (s)", "reasons"),

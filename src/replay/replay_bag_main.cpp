@@ -65,6 +65,12 @@ int runReport(const std::string& out_dir) {
   const pid_t pid = ::fork();
   if (pid < 0) return 127;
   if (pid == 0) {
+    // Debian's interpreter, which has matplotlib, whatever python3 comes first on PATH (a
+    // virtual environment's may not); the script's own line otherwise.
+    const char* python = "/usr/bin/python3";
+    if (::access(python, X_OK) == 0) {
+      ::execl(python, python, script.c_str(), out_dir.c_str(), static_cast<char*>(nullptr));
+    }
     ::execl(script.c_str(), script.c_str(), out_dir.c_str(), static_cast<char*>(nullptr));
     std::perror("replay_bag: cannot run replay_report.py");
     ::_exit(127);
