@@ -203,6 +203,9 @@ def main(argv):
         ("replay", "%.3f s of wall time (%.0fx real time)" % (
             summary["wall_seconds"], summary["speed_factor"])),
     ]
+    for g in summary.get("skipped_gaps", []):
+        summary_rows.append(("gap", "no input from %.3f s to %.3f s: %d cycles skipped" % (
+            g["from"], g["to"], g["cycles"])))
     for m in summary["missing_frames"]:
         summary_rows.append(("MISSING", m))
     for w in summary["warnings"]:

@@ -1,8 +1,6 @@
 #include "workspace_proximity/replay/bag_input.hpp"
 
 #include <algorithm>
-#include <cstring>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -11,6 +9,7 @@
 #include <rosbag/query.h>
 #include <rosbag/view.h>
 
+#include "workspace_proximity/replay/bag_check.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
 
 namespace workspace_proximity {
@@ -20,56 +19,6 @@ constexpr char kArrayType[] = "workspace_proximity/TrackedBoxArray";
 
 ReplayError bagError(const std::string& path, const std::string& what) {
   return ReplayError(ReplayError::kBag, "bag " + path + ": " + what);
-}
-
-// Reads the bag's file header record ("#ROSBAG V2.0\n", then op = 0x03 with index_pos,
-// conn_count, chunk_count) so that the commonest damages get a message of their own before
-// rosbag meets them: a recording that was never closed has index_pos = 0 (the recorder writes
-// the index at the end), a copy cut short has index_pos beyond the end of the file.
-void checkFileHeader(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw bagError(path, "cannot open the file (no such file, or not readable)");
-  f.seekg(0, std::ios::end);
-  const std::uint64_t size = static_cast<std::uint64_t>(f.tellg());
-  f.seekg(0);
-  char magic[13] = {};
-  f.read(magic, sizeof(magic));
-  const std::string version(magic, static_cast<std::size_t>(f.gcount()));
-  if (version.compare(0, 9, "#ROSBAG V") != 0) {
-    throw bagError(path, "not a ROS bag (it does not start with #ROSBAG)");
-  }
-  if (version != "#ROSBAG V2.0\n") return;  // older formats: rosbag itself says what it can do
-  std::uint32_t header_len = 0;
-  f.read(reinterpret_cast<char*>(&header_len), 4);
-  if (!f || header_len > 4096) throw bagError(path, "truncated or damaged file header");
-  std::string header(header_len, '\0');
-  f.read(&header[0], header_len);
-  if (!f) throw bagError(path, "truncated file header");
-  std::uint64_t index_pos = 0;
-  bool found = false;
-  for (std::size_t at = 0; at + 4 <= header.size();) {
-    std::uint32_t field_len = 0;
-    std::memcpy(&field_len, header.data() + at, 4);
-    at += 4;
-    if (field_len > header.size() - at) break;
-    const std::string field = header.substr(at, field_len);
-    at += field_len;
-    if (field.compare(0, 10, "index_pos=") == 0 && field.size() == 18) {
-      std::memcpy(&index_pos, field.data() + 10, 8);
-      found = true;
-    }
-  }
-  if (!found) throw bagError(path, "damaged file header (no index position)");
-  if (index_pos == 0) {
-    throw bagError(path, "not indexed: the recording was not closed (interrupted recorder); "
-                         "`rosbag reindex " + path + "` rebuilds the index");
-  }
-  if (index_pos >= size) {
-    std::ostringstream s;
-    s << "truncated: its index should start at byte " << index_pos << " but the file has only "
-      << size << " bytes (an incomplete copy?); `rosbag reindex` may recover the complete part";
-    throw bagError(path, s.str());
-  }
 }
 
 BagTopicKind kindOf(const std::string& topic, const std::string& type,
@@ -102,13 +51,14 @@ std::string topicList(const std::vector<BagTopic>& topics) {
 
 BagInput::BagInput(const std::string& path, const std::vector<std::string>& input_topics)
     : path_(path), array_pool_(input_topics.size()) {
-  checkFileHeader(path);
+  // rosbag trusts the file's lengths and offsets: check them first (bag_check.hpp).
+  checkBagStructure(path);
   try {
     bag_.open(path, rosbag::bagmode::Read);
   } catch (const rosbag::BagUnindexedException&) {
     throw bagError(path, "not indexed (interrupted recording); `rosbag reindex " + path +
                              "` rebuilds the index");
-  } catch (const rosbag::BagException& e) {
+  } catch (const std::exception& e) {  // rosbag's exceptions, and bad_alloc on damaged sizes
     throw bagError(path, std::string("cannot be read: ") + e.what() + " (truncated or damaged?)");
   }
 
@@ -169,7 +119,9 @@ BagInput::BagInput(const std::string& path, const std::vector<std::string>& inpu
         replayed_messages_ += t.messages;
       }
     }
-  } catch (const rosbag::BagException& e) {
+  } catch (const ReplayError&) {
+    throw;
+  } catch (const std::exception& e) {
     throw bagError(path, std::string("cannot be read: ") + e.what());
   }
 }
@@ -199,7 +151,7 @@ void BagInput::stream(BagVisitor* visitor) {
   try {
     view = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(replayed_));
     it = view->begin();
-  } catch (const ros::Exception& e) {
+  } catch (const std::exception& e) {
     throw damaged(e.what());
   }
 
@@ -235,7 +187,7 @@ void BagInput::stream(BagVisitor* visitor) {
       } else {
         ros::serialization::deserialize(in, tf_);
       }
-    } catch (const ros::Exception& e) {  // rosbag's and the deserialiser's exceptions
+    } catch (const std::exception& e) {  // rosbag's and the deserialiser's (or bad_alloc)
       throw damaged(e.what());
     }
 
@@ -248,7 +200,7 @@ void BagInput::stream(BagVisitor* visitor) {
 
     try {
       ++it;
-    } catch (const ros::Exception& e) {
+    } catch (const std::exception& e) {
       throw damaged(e.what());
     }
   }

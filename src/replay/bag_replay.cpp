@@ -17,6 +17,11 @@ BagReplay::BagReplay(const ReplaySetup& setup)
       tf_(ros::Duration(std::max(10.0, 4.0 * setup.params.velocity_window))),
       pipeline_(setup_.params, setup_.robot, setup_.topics, setup_.qualify, &tf_, &rejection_log_),
       period_(nanoseconds(1.0 / setup.params.rate)),
+      // Every timeout of the monitor has run out: tracks dropped (their pairs ended), sources
+      // silent, robot links stale; a second more for good measure.
+      settle_(nanoseconds(std::max({setup.params.track_timeout, setup.params.source_timeout,
+                                    setup.params.tf_timeout, setup.params.stale_after,
+                                    setup.params.velocity_window}) + 1.0)),
       robot_posed_(setup.robot.size(), 0) {}
 
 ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) {
@@ -48,6 +53,8 @@ ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) 
   ros::Time::setNow(toTime(stats_.begin));
   wall_start_ = std::chrono::steady_clock::now();
   next_cycle_ = stats_.begin + period_;
+  last_input_ = stats_.begin;
+  skipped_ = 0;
 
   bag->stream(this);
   // Cycles up to the last message, inclusive.
@@ -68,6 +75,7 @@ ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) 
 void BagReplay::onTf(const tf2_msgs::TFMessage& msg, bool is_static, Stamp received) {
   cyclesBefore(received);
   advanceClock(received);
+  last_input_ = received;
   ++(is_static ? stats_.tf_static_messages : stats_.tf_messages);
   for (const geometry_msgs::TransformStamped& t : msg.transforms) {
     // Invalid transforms (empty or equal frames, NaN) are refused by tf2 with its own error,
@@ -81,6 +89,7 @@ void BagReplay::onTf(const tf2_msgs::TFMessage& msg, bool is_static, Stamp recei
 void BagReplay::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp received) {
   cyclesBefore(received);
   advanceClock(received);
+  last_input_ = received;
   ++stats_.arrays;
   const std::string& frame = msg->header.frame_id;
   if (std::find(array_frames_.begin(), array_frames_.end(), frame) == array_frames_.end()) {
@@ -90,7 +99,18 @@ void BagReplay::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp 
 }
 
 void BagReplay::cyclesBefore(Stamp t) {
+  const bool long_gap = t - last_input_ > nanoseconds(kSkipGap);
   while (next_cycle_ < t) {
+    if (long_gap && next_cycle_ > last_input_ + settle_) {
+      // Nothing changes until the next message but the stamps: resume a cycle or two before it,
+      // on the same grid.
+      const Stamp resume = next_cycle_ + ((t - next_cycle_) / period_ - 1) * period_;
+      if (resume > next_cycle_) {
+        stats_.gaps.push_back({next_cycle_, resume, static_cast<std::uint64_t>((resume - next_cycle_) / period_)});
+        skipped_ += resume - next_cycle_;
+        next_cycle_ = resume;
+      }
+    }
     runCycle(next_cycle_);
     next_cycle_ += period_;
   }
@@ -101,7 +121,7 @@ void BagReplay::advanceClock(Stamp t) {
   if (rate_factor_ <= 0.0) return;
   const auto due = wall_start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                      std::chrono::duration<double>(
-                                         secondsBetween(stats_.begin, t) / rate_factor_));
+                                         secondsBetween(stats_.begin + skipped_, t) / rate_factor_));
   std::this_thread::sleep_until(due);
 }
 

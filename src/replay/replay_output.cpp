@@ -268,6 +268,13 @@ std::string summaryJson(const ReplayStats& s, const ReplayInfo& info) {
   j << "  \"speed_factor\": "
     << jsonNumber(s.wall_seconds > 0.0 ? s.bagSeconds() / s.wall_seconds : 0.0) << ",\n";
   j << "  \"missing_frames\": " << jsonStrings(s.missing_frames) << ",\n";
+  j << "  \"skipped_gaps\": [";
+  for (std::size_t i = 0; i < s.gaps.size(); ++i) {
+    j << (i ? ", " : "") << "{\"from\": " << jsonNumber(secondsBetween(s.begin, s.gaps[i].from))
+      << ", \"to\": " << jsonNumber(secondsBetween(s.begin, s.gaps[i].to))
+      << ", \"cycles\": " << s.gaps[i].cycles << "}";
+  }
+  j << "],\n";
   j << "  \"warnings\": " << jsonStrings(info.warnings) << "\n";
   j << "}\n";
   return j.str();
@@ -301,6 +308,10 @@ std::string summaryText(const ReplayStats& s, const ReplayInfo& info) {
              std::to_string(s.drops.count(reason));
   }
   t << "  dropped: " << (drops.empty() ? "nothing" : drops) << "\n";
+  for (const SkippedGap& g : s.gaps) {
+    t << "  gap:    no input from " << secondsBetween(s.begin, g.from) << " s to "
+      << secondsBetween(s.begin, g.to) << " s: " << g.cycles << " cycles skipped\n";
+  }
   for (const std::string& w : info.warnings) t << "  warning: " << w << "\n";
   for (const std::string& m : s.missing_frames) t << "  MISSING: " << m << "\n";
   return t.str();

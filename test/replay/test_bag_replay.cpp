@@ -79,16 +79,15 @@ struct SceneOptions {
 };
 
 // The analytic scene: /tf_static once (world -> post), /tf world -> sensor at 20 Hz from t0,
-// arrays at 20 Hz from t0 + 25 ms stamped kLatency before their receipt.
-void writeScene(const std::string& path, const SceneOptions& o) {
-  rosbag::Bag bag;
-  bag.open(path, rosbag::bagmode::Write);
+// arrays at 20 Hz from t0 + 25 ms stamped kLatency before their receipt; everything `shift` ns
+// later (the walker too).
+void writeSceneInto(rosbag::Bag& bag, const SceneOptions& o, std::int64_t shift) {
   tf2_msgs::TFMessage statics;
-  statics.transforms.push_back(transform("world", "post", 0.0, 0.5, kT0));
-  bag.write("/tf_static", wp::toTime(kT0), statics);
+  statics.transforms.push_back(transform("world", "post", 0.0, 0.5, kT0 + shift));
+  bag.write("/tf_static", wp::toTime(kT0 + shift), statics);
   const std::int64_t step = kSecond / 20;
-  const std::int64_t end = kT0 + static_cast<std::int64_t>(o.seconds * kSecond);
-  for (std::int64_t t = kT0; t <= end; t += step) {
+  const std::int64_t end = kT0 + shift + static_cast<std::int64_t>(o.seconds * kSecond);
+  for (std::int64_t t = kT0 + shift; t <= end; t += step) {
     tf2_msgs::TFMessage tf;
     tf.transforms.push_back(transform("world", "sensor", kSensorX, 0.0, t));
     bag.write("/tf", wp::toTime(t), tf);
@@ -98,7 +97,7 @@ void writeScene(const std::string& path, const SceneOptions& o) {
       const std::int64_t stamp = received - static_cast<std::int64_t>(kLatency * kSecond);
       a.header.stamp = wp::toTime(stamp);
       a.header.frame_id = o.array_frame;
-      a.boxes.push_back(box("walker", walkerX(stamp), stamp));
+      a.boxes.push_back(box("walker", walkerX(stamp - shift), stamp));
       bag.write("/tracked_objects", wp::toTime(received), a);
     }
     if (o.marker_on_cycle && t == kT0 + 3 * kSecond) {
@@ -111,6 +110,12 @@ void writeScene(const std::string& path, const SceneOptions& o) {
       bag.write("/tracked_objects", wp::toTime(t), a);
     }
   }
+}
+
+void writeScene(const std::string& path, const SceneOptions& o) {
+  rosbag::Bag bag;
+  bag.open(path, rosbag::bagmode::Write);
+  writeSceneInto(bag, o, 0);
   bag.close();
 }
 
@@ -309,6 +314,60 @@ TEST_F(BagReplayTest, WritesOneRowPerEventAndPerCycle) {
   json << summary.rdbuf();
   EXPECT_NE(json.str().find("\"cycles\": 60"), std::string::npos) << json.str();
   EXPECT_NE(json.str().find("\"BEGIN\": 1"), std::string::npos) << json.str();
+}
+
+TEST_F(BagReplayTest, ALongStretchWithoutInputIsSkippedAndReported) {
+  // The scene twice, the second 500 s after the first: the cycles run until every input has
+  // timed out, skip, and resume on the same grid a cycle or two before the second part.
+  const std::string path = dir_ + "/gap.bag";
+  SceneOptions o;
+  o.seconds = 3.0;
+  o.marker_on_cycle = false;
+  const std::int64_t shift = 500 * kSecond;
+  {
+    rosbag::Bag bag;
+    bag.open(path, rosbag::bagmode::Write);
+    writeSceneInto(bag, o, 0);
+    writeSceneInto(bag, o, shift);
+    bag.close();
+  }
+  wp::ReplaySetup s = setup();
+  wp::BagInput bag(path, s.topics);
+  Recorder rec;
+  const wp::ReplayStats stats = wp::BagReplay(s).run(&bag, &rec, 0.0);
+  ASSERT_EQ(stats.gaps.size(), 1u);
+  const wp::SkippedGap& gap = stats.gaps[0];
+  const std::int64_t period = kSecond / 10;
+  const std::int64_t last_input = kT0 + 3 * kSecond;  // the first part's last tf message
+  // Settled: every timeout (here ~source_timeout, 1 s) plus a second after the last input.
+  EXPECT_GT(gap.from, last_input + 2 * kSecond);
+  EXPECT_LE(gap.from, last_input + 2 * kSecond + period);
+  EXPECT_GE(gap.to, kT0 + shift - 2 * period);
+  EXPECT_LT(gap.to, kT0 + shift);
+  EXPECT_EQ(gap.cycles, static_cast<std::uint64_t>((gap.to - gap.from) / period));
+  // Every cycle on the grid, none inside the gap, every grid point outside it run once.
+  std::int64_t expected = kT0 + period;
+  for (const SeenCycle& c : rec.cycles) {
+    if (expected == gap.from) expected = gap.to;
+    ASSERT_EQ(c.stamp, expected);
+    expected += period;
+  }
+  EXPECT_EQ(rec.cycles.size(), stats.cycles);
+  EXPECT_EQ(stats.cycles + gap.cycles, static_cast<std::uint64_t>((kT0 + shift + 3 * kSecond - kT0) / period));
+  // Before the gap the scene has settled: DEGRADED (the tracker and tf are silent), no event.
+  const SeenCycle& before = rec.cycles[static_cast<std::size_t>((gap.from - kT0) / period) - 2];
+  EXPECT_FALSE(before.ok);
+  EXPECT_TRUE(before.events.empty());
+  // The second part predicts like the first: BEGIN 2.5 s after its start.
+  int begins = 0;
+  for (const SeenCycle& c : rec.cycles) {
+    for (const SeenEvent& e : c.events) {
+      if (e.state != wp::ContactEvent::BEGIN) continue;
+      ++begins;
+      EXPECT_TRUE(c.stamp == kT0 + 25 * period || c.stamp == kT0 + shift + 25 * period) << c.stamp;
+    }
+  }
+  EXPECT_EQ(begins, 2);
 }
 
 TEST_F(BagReplayTest, FramesWithoutTfAreNamed) {

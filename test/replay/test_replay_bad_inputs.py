@@ -5,13 +5,15 @@ exception). The bad bags are made from the shipped demo bag with the Python rosb
 
   missing input topic, no tf at all, a robot frame never on tf, the boxes' frame never on tf,
   an unindexed bag (a recording whose writer died before closing it), a bag truncated before
-  its index, one cut inside its index, a chunk overwritten with garbage, a file that is not a
-  bag, no file; and configurations with a value out of range (the node's validate() message),
-  a value of the wrong type, a YAML syntax error, a URDF that does not parse.
+  its index, one cut inside its index, a chunk overwritten with garbage, an index entry
+  pointing outside its chunk, 60 reproducible random damages (plain and lz4), a file that is
+  not a bag, no file; and configurations with a value out of range (the node's validate()
+  message), a value of the wrong type, a YAML syntax error, a URDF that does not parse.
 
     test_replay_bad_inputs.py REPLAY_BAG [unittest args]
 """
 import os
+import random
 import subprocess
 import sys
 import tempfile
@@ -31,9 +33,9 @@ REPLAY_BAG = None
 CONFIG, BAG_PROBLEM, INCOMPLETE = 3, 4, 5
 
 
-def copy_bag(src, dst, keep=lambda topic, msg: msg):
+def copy_bag(src, dst, keep=lambda topic, msg: msg, compression="none"):
     """Writes the messages of `src` that `keep` returns (possibly changed) into `dst`."""
-    with rosbag.Bag(src) as inp, rosbag.Bag(dst, "w") as out:
+    with rosbag.Bag(src) as inp, rosbag.Bag(dst, "w", compression=compression) as out:
         for topic, msg, t in inp.read_messages():
             msg = keep(topic, msg)
             if msg is not None:
@@ -133,11 +135,12 @@ class BadInputsTest(unittest.TestCase):
         with open(half, "wb") as f:
             f.write(data[:len(data) // 2])
         self.assertFails(self.replay(half), BAG_PROBLEM, "truncated", "index should start at byte")
-        # Cut inside the index (at the end of the file): rosbag's own reading error, named.
+        # Cut inside the index (at the end of the file): the record that runs past the end.
         tail = self.path("tail.bag")
         with open(tail, "wb") as f:
             f.write(data[:-10])
-        self.assertFails(self.replay(tail), BAG_PROBLEM, "cannot be read")
+        self.assertFails(self.replay(tail), BAG_PROBLEM, "truncated or damaged at byte",
+                         "chunk info record of the index")
 
     def test_damaged_chunk(self):
         with open(BAG, "rb") as f:
@@ -147,7 +150,55 @@ class BadInputsTest(unittest.TestCase):
         bag = self.path("damaged.bag")
         with open(bag, "wb") as f:
             f.write(bytes(data))
-        self.assertFails(self.replay(bag), BAG_PROBLEM, "damaged", "s after its start")
+        self.assertFails(self.replay(bag), BAG_PROBLEM, "damaged at byte", "chunk 1 of 1: a record at offset")
+
+    def test_damaged_index_entry(self):
+        # An index entry (after the chunk) pointing elsewhere: rosbag would read outside its
+        # chunk buffer (it crashed on such bags); the check names the entry.
+        with rosbag.Bag(BAG) as b:
+            index_pos = b._index_data_pos
+        with open(BAG, "rb") as f:
+            data = bytearray(f.read())
+        # The last index record before the bag's index: its last entry's offset is its last 4 bytes.
+        data[index_pos - 4:index_pos] = (0x7FFFFFF0).to_bytes(4, "little")
+        bag = self.path("bad_index.bag")
+        with open(bag, "wb") as f:
+            f.write(bytes(data))
+        self.assertFails(self.replay(bag), BAG_PROBLEM, "does not point at its message")
+
+    def test_random_damage_never_crashes(self):
+        # Reproducible random damage to the bag, plain and lz4-compressed: bytes overwritten,
+        # blocks overwritten, the file cut anywhere. Each run ends with a status (0 when only
+        # message contents were hit: the monitor rejects or uses them), never a signal or hang.
+        lz4 = self.path("lz4.bag")
+        copy_bag(BAG, lz4, compression="lz4")
+        sources = []
+        for path in (BAG, lz4):
+            with open(path, "rb") as f:
+                sources.append(f.read())
+        rng = random.Random(2026)
+        statuses = {}
+        for i in range(60):
+            data = bytearray(sources[i % 2])
+            kind = rng.randrange(3)
+            if kind == 0:
+                for _ in range(rng.randrange(1, 40)):
+                    data[rng.randrange(len(data))] = rng.randrange(256)
+            elif kind == 1:
+                data = data[:rng.randrange(len(data))]
+            else:
+                at = rng.randrange(len(data))
+                n = min(rng.randrange(1, 2000), len(data) - at)
+                data[at:at + n] = bytes(rng.randrange(256) for _ in range(n))
+            bag = self.path("random.bag")
+            with open(bag, "wb") as f:
+                f.write(bytes(data))
+            run = self.replay(bag)
+            err = run.stderr.decode(errors="replace")
+            self.assertIn(run.returncode, (0, BAG_PROBLEM, INCOMPLETE),
+                          "damage %d (kind %d): status %d: %s" % (i, kind, run.returncode, err[-500:]))
+            statuses[run.returncode] = statuses.get(run.returncode, 0) + 1
+        self.assertGreater(statuses.get(BAG_PROBLEM, 0), 30, statuses)
 
     def test_not_a_bag_and_no_file(self):
         text = self.path("notes.bag")

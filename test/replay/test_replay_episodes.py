@@ -13,7 +13,8 @@ replay_bag as a user runs it (configuration files, URDF, report), checked agains
      chain, interpolated to the cycle instant) to each tracked box (5 mm: the monitor
      extrapolates the newest transform with a finite-difference velocity instead);
   4. the bag itself read with the Python rosbag API: message counts and the cycle instants;
-  5. the report: report.html self-contained with its two plots, one table row per episode.
+  5. the report: report.html self-contained with its two plots, one table row per episode;
+  6. lz4- and bz2-compressed copies of the bag: the same events.csv, byte for byte.
 
     test_replay_episodes.py REPLAY_BAG [unittest args]
     test_replay_episodes.py REPLAY_BAG --print-episodes   (the episodes, in the file's format)
@@ -57,8 +58,8 @@ ROBOT_MARGIN = 0.02
 TIP_RADIUS = 0.06  # config/demo_arm.urdf, link tool_tip
 
 
-def run_replay(out_dir, report=True):
-    cmd = [REPLAY_BAG, BAG, "--urdf", URDF, "--out", out_dir]
+def run_replay(out_dir, report=True, bag=BAG):
+    cmd = [REPLAY_BAG, bag, "--urdf", URDF, "--out", out_dir]
     for c in CONFIGS:
         cmd += ["--config", c]
     if not report:
@@ -248,6 +249,20 @@ class ReplayEpisodesTest(unittest.TestCase):
         self.assertEqual(s["cycles"], len(self.cycles))
         self.assertEqual(s["missing_frames"], [])
         self.assertGreaterEqual(s["speed_factor"], 1.0)  # sanity only; speed is measured in scripts/bench
+
+    def test_compressed_copies_replay_identically(self):
+        with open(os.path.join(self.out, "events.csv"), "rb") as f:
+            plain = f.read()
+        for compression in ("lz4", "bz2"):
+            copy = os.path.join(self.tmp.name, "%s.bag" % compression)
+            with rosbag.Bag(BAG) as inp, rosbag.Bag(copy, "w", compression=compression) as out:
+                for topic, msg, t in inp.read_messages():
+                    out.write(topic, msg, t)
+            out_dir = os.path.join(self.tmp.name, "out-" + compression)
+            run = run_replay(out_dir, report=False, bag=copy)
+            self.assertEqual(run.returncode, 0, run.stderr.decode(errors="replace"))
+            with open(os.path.join(out_dir, "events.csv"), "rb") as f:
+                self.assertEqual(f.read(), plain, compression)
 
     def test_report(self):
         stdout = self.replay.stdout.decode()

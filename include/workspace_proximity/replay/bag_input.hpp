@@ -70,8 +70,8 @@ class BagInput {
  public:
   /// Opens `path` and checks it; `input_topics` are resolved names ("/tracked_objects").
   /// Throws ReplayError (kBag) naming the problem: no such file, not a ROS bag, not indexed
-  /// (an interrupted recording: `rosbag reindex`), truncated, an input topic missing or of
-  /// another type or message definition.
+  /// (an interrupted recording: `rosbag reindex`), truncated or damaged (checkBagStructure,
+  /// before rosbag reads it), an input topic missing or of another type or definition.
   BagInput(const std::string& path, const std::vector<std::string>& input_topics);
   ~BagInput();
   BagInput(const BagInput&) = delete;

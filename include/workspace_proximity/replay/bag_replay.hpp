@@ -7,7 +7,11 @@
 ///   - a cycle runs every 1 / ~rate seconds of bag time, from the bag's first message (the
 ///     first cycle one period after it); a message received exactly at a cycle's instant is
 ///     delivered before that cycle;
-///   - each cycle's report is rendered with fillContacts, as the node publishes it.
+///   - each cycle's report is rendered with fillContacts, as the node publishes it;
+///   - a stretch of more than kSkipGap seconds without any message (bags merged from two
+///     sessions, or one message with a wrong time) is not cycled through: cycles run until
+///     every input has timed out (the monitor's state no longer changes but for the stamps),
+///     then resume shortly before the next message; the skipped stretches are reported.
 /// The node's time is the bag's: while the replay runs, ros::Time::now() is set to the bag
 /// time (so rosconsole's throttled warnings count bag seconds).
 
@@ -44,6 +48,13 @@ class ReplaySink {
                        const Monitor& monitor) = 0;
 };
 
+/// A stretch of bag time without input whose cycles were skipped.
+struct SkippedGap {
+  Stamp from = 0;  ///< first cycle instant not run
+  Stamp to = 0;    ///< first cycle instant run again
+  std::uint64_t cycles = 0;
+};
+
 /// What a whole replay saw and did.
 struct ReplayStats {
   Stamp begin = 0;  ///< the bag's first and last receive time, ns
@@ -64,12 +75,16 @@ struct ReplayStats {
   /// One line per frame the prediction needed but the bag's tf never gave (a robot body's
   /// frame, or a tracker array's frame); non-empty means the replay is incomplete.
   std::vector<std::string> missing_frames;
+  std::vector<SkippedGap> gaps;  ///< stretches without input whose cycles were skipped
 
   double bagSeconds() const { return secondsBetween(begin, end); }
 };
 
 class BagReplay : private BagVisitor {
  public:
+  /// s without any message after which cycles are skipped (see above).
+  static constexpr double kSkipGap = 60.0;
+
   explicit BagReplay(const ReplaySetup& setup);
 
   /// Replays `bag` from its first to its last message. `rate_factor` > 0 paces the replay at
@@ -83,7 +98,7 @@ class BagReplay : private BagVisitor {
  private:
   void onTf(const tf2_msgs::TFMessage& msg, bool is_static, Stamp received) override;
   void onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp received) override;
-  void cyclesBefore(Stamp t);  // every cycle due before t
+  void cyclesBefore(Stamp t);  // every cycle due before t (skipping a long stretch without input)
   void runCycle(Stamp now);
   void advanceClock(Stamp t);  // ROS time and pacing
   void checkFrames();
@@ -99,6 +114,9 @@ class BagReplay : private BagVisitor {
   Stamp next_cycle_ = 0;
   double rate_factor_ = 0.0;
   std::chrono::steady_clock::time_point wall_start_;
+  Stamp last_input_ = 0;  // receive time of the last message
+  Stamp settle_ = 0;      // after this long without input nothing changes but the stamps
+  Stamp skipped_ = 0;     // bag time skipped so far (not paced)
 
   // Frames: those tf gave (parents and children), those the arrays came in, bodies ever posed.
   std::unordered_set<std::string> tf_frames_;
