@@ -1,6 +1,7 @@
 #include "workspace_proximity/replay/bag_input.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <map>
 #include <sstream>
 
@@ -37,6 +38,33 @@ BagTopicKind kindOf(const std::string& topic, const std::string& type,
   return BagTopicKind::kOther;
 }
 
+// The count of the message's top-level list (TFMessage.transforms, TrackedBoxArray.boxes) must
+// fit in the bytes that follow it. ROS's deserialiser resizes a list to its count before
+// reading any element, so a damaged count would allocate and construct up to 4 billion
+// elements; the elements themselves hold no lists, and their strings are checked against the
+// bytes left before they are allocated.
+bool plausibleCount(const std::vector<std::uint8_t>& bytes, std::size_t count_at, std::uint32_t min_element,
+                    std::string* why) {
+  if (count_at > bytes.size() || bytes.size() - count_at < 4) {
+    *why = "a message is shorter than its own header";
+    return false;
+  }
+  std::uint32_t count = 0;
+  std::memcpy(&count, bytes.data() + count_at, 4);
+  const std::uint64_t left = bytes.size() - count_at - 4;
+  if (std::uint64_t{count} * min_element <= left) return true;
+  *why = "a message claims " + std::to_string(count) + " elements in " + std::to_string(left) + " bytes";
+  return false;
+}
+
+// Where TrackedBoxArray's box count is: after the header (seq, stamp, frame_id).
+std::size_t boxCountOffset(const std::vector<std::uint8_t>& bytes) {
+  if (bytes.size() < 16) return bytes.size();
+  std::uint32_t frame_len = 0;
+  std::memcpy(&frame_len, bytes.data() + 12, 4);
+  return std::uint64_t{frame_len} > bytes.size() - 16 ? bytes.size() : 16 + std::size_t{frame_len};
+}
+
 std::string topicList(const std::vector<BagTopic>& topics) {
   if (topics.empty()) return "none";
   std::string s;
@@ -50,7 +78,10 @@ std::string topicList(const std::vector<BagTopic>& topics) {
 }  // namespace
 
 BagInput::BagInput(const std::string& path, const std::vector<std::string>& input_topics)
-    : path_(path), array_pool_(input_topics.size()) {
+    : path_(path),
+      min_box_bytes_(ros::serialization::serializationLength(TrackedBox())),
+      min_transform_bytes_(ros::serialization::serializationLength(geometry_msgs::TransformStamped())),
+      array_pool_(input_topics.size()) {
   // rosbag trusts the file's lengths and offsets: check them first (bag_check.hpp).
   checkBagStructure(path);
   try {
@@ -172,6 +203,12 @@ void BagInput::stream(BagVisitor* visitor) {
       ros::serialization::OStream out(buffer_.data(), size);
       m.write(out);
       ros::serialization::IStream in(buffer_.data(), size);
+      std::string why;
+      const bool plausible =
+          topic->kind == BagTopicKind::kArray
+              ? plausibleCount(buffer_, boxCountOffset(buffer_), min_box_bytes_, &why)
+              : plausibleCount(buffer_, 0, min_transform_bytes_, &why);
+      if (!plausible) throw damaged(why + " (on " + topic->name + ")");
       if (topic->kind == BagTopicKind::kArray) {
         auto& pool = array_pool_[static_cast<std::size_t>(topic->source)];
         boost::shared_ptr<TrackedBoxArray>* free_slot = nullptr;
@@ -187,6 +224,8 @@ void BagInput::stream(BagVisitor* visitor) {
       } else {
         ros::serialization::deserialize(in, tf_);
       }
+    } catch (const ReplayError&) {
+      throw;
     } catch (const std::exception& e) {  // rosbag's and the deserialiser's (or bad_alloc)
       throw damaged(e.what());
     }

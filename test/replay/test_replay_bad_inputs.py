@@ -6,12 +6,13 @@ exception). The bad bags are made from the shipped demo bag with the Python rosb
   missing input topic, no tf at all, a robot frame never on tf, the boxes' frame never on tf,
   an unindexed bag (a recording whose writer died before closing it), a bag truncated before
   its index, one cut inside its index, a chunk overwritten with garbage, an index entry
-  pointing outside its chunk, 60 reproducible random damages (plain and lz4), a file that is
-  not a bag, no file; and configurations with a value out of range (the node's validate()
+  pointing outside its chunk, a message whose list claims ten million entries, 60 reproducible
+  random damages (plain and lz4), a file that is not a bag, no file; and configurations with a value out of range (the node's validate()
   message), a value of the wrong type, a YAML syntax error, a URDF that does not parse.
 
     test_replay_bad_inputs.py REPLAY_BAG [unittest args]
 """
+import io
 import os
 import random
 import subprocess
@@ -165,6 +166,23 @@ class BadInputsTest(unittest.TestCase):
         with open(bag, "wb") as f:
             f.write(bytes(data))
         self.assertFails(self.replay(bag), BAG_PROBLEM, "does not point at its message")
+
+    def test_damaged_list_count(self):
+        # A /tf message whose list of transforms claims ten million entries: ROS's deserialiser
+        # would allocate and construct them all before finding the bytes missing.
+        bag = self.path("bad_count.bag")
+        with rosbag.Bag(BAG) as inp, rosbag.Bag(bag, "w") as out:
+            for i, (topic, msg, t) in enumerate(inp.read_messages()):
+                if topic == "/tf" and i > 100 and not getattr(self, "_patched", False):
+                    buf = io.BytesIO()
+                    msg.serialize(buf)
+                    data = bytearray(buf.getvalue())
+                    data[0:4] = (10 ** 7).to_bytes(4, "little")
+                    out.write(topic, (msg._type, bytes(data), msg._md5sum, None, type(msg)), t, raw=True)
+                    self._patched = True
+                else:
+                    out.write(topic, msg, t)
+        self.assertFails(self.replay(bag), BAG_PROBLEM, "claims 10000000 elements", "on /tf")
 
     def test_random_damage_never_crashes(self):
         # Reproducible random damage to the bag, plain and lz4-compressed: bytes overwritten,

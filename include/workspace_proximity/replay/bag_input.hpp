@@ -98,6 +98,8 @@ class BagInput {
   Stamp begin_ = 0;
   Stamp end_ = 0;
   std::uint64_t replayed_messages_ = 0;
+  std::uint32_t min_box_bytes_;        // serialised size of an empty TrackedBox
+  std::uint32_t min_transform_bytes_;  // ... of an empty TransformStamped
 
   // Reused for every message: the serialised bytes and the decoded tf message, and a small
   // pool of arrays per source recycled once the monitor has let go of them.
