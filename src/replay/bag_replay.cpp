@@ -22,7 +22,9 @@ BagReplay::BagReplay(const ReplaySetup& setup)
       settle_(nanoseconds(std::max({setup.params.track_timeout, setup.params.source_timeout,
                                     setup.params.tf_timeout, setup.params.stale_after,
                                     setup.params.velocity_window}) + 1.0)),
-      robot_posed_(setup.robot.size(), 0) {}
+      robot_posed_(setup.robot.size(), 0) {
+  for (const std::string& line : setup_.permanent_issues) pipeline_.monitor().addPermanentIssue(line);
+}
 
 ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) {
   sink_ = sink;

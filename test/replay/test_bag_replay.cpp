@@ -370,6 +370,29 @@ TEST_F(BagReplayTest, ALongStretchWithoutInputIsSkippedAndReported) {
   EXPECT_EQ(begins, 2);
 }
 
+TEST_F(BagReplayTest, PermanentIssuesDegradeEveryCycle) {
+  const std::string path = dir_ + "/scene.bag";
+  SceneOptions o;
+  o.seconds = 1.0;
+  writeScene(path, o);
+  wp::ReplaySetup s = setup();
+  s.permanent_issues = {"robot link 'gripper': mesh cannot be modelled"};
+  wp::BagInput bag(path, s.topics);
+  struct Lines : wp::ReplaySink {
+    std::vector<std::vector<std::string>> lines;
+    void onCycle(const wp::CycleReport&, const wp::ContactEventArray& c, const wp::Monitor&) override {
+      lines.push_back(c.status == wp::ContactEventArray::DEGRADED ? c.status_details
+                                                                  : std::vector<std::string>());
+    }
+  } rec;
+  wp::BagReplay(s).run(&bag, &rec, 0.0);
+  ASSERT_EQ(rec.lines.size(), 10u);
+  for (const auto& l : rec.lines) {
+    ASSERT_FALSE(l.empty());
+    EXPECT_EQ(l.back(), "robot link 'gripper': mesh cannot be modelled");
+  }
+}
+
 TEST_F(BagReplayTest, FramesWithoutTfAreNamed) {
   const std::string path = dir_ + "/scene.bag";
   SceneOptions o;

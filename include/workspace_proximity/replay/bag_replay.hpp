@@ -37,6 +37,9 @@ struct ReplaySetup {
   std::vector<RobotBodySpec> robot;     ///< robotBodiesFromFile
   std::vector<std::string> topics;      ///< resolved input topics ("/tracked_objects")
   bool qualify = false;                 ///< ids prefixed by their topic (several inputs)
+  /// Problems lasting the whole run (Monitor::addPermanentIssue), e.g. a robot link the URDF
+  /// model cannot represent: every cycle is DEGRADED with these lines, as in the node.
+  std::vector<std::string> permanent_issues;
 };
 
 /// Told of every cycle, in order.
