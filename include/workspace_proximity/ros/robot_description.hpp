@@ -20,6 +20,14 @@ struct RobotDescription {
   std::vector<std::string> unmodelled;
 };
 
+/// `params.robot_bodies` then the bodies of `urdf_xml` (none when null or when
+/// `!params.use_robot_description`), each name once (a name declared twice keeps the first, with
+/// a line in `warnings`), and a line per collision element that cannot be modelled. Throws
+/// std::runtime_error when the URDF does not parse. Needs no master: the node and the offline
+/// replay both use it.
+RobotDescription robotDescription(const std::string* urdf_xml, const MonitorParams& params,
+                                  std::vector<std::string>* warnings);
+
 /// Reads the URDF from `nh`'s parameter `params.robot_description_param` and merges its bodies
 /// with `params.robot_bodies` (those first; a name declared twice keeps the first, with a
 /// warning). Throws std::runtime_error when the URDF does not parse.

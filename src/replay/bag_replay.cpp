@@ -1,0 +1,193 @@
+#include "workspace_proximity/replay/bag_replay.hpp"
+
+#include <algorithm>
+#include <thread>
+
+#include <ros/console.h>
+#include <ros/time.h>
+
+#include "workspace_proximity/ros/contact_publisher.hpp"
+#include "workspace_proximity/ros/conversions.hpp"
+
+namespace workspace_proximity {
+
+BagReplay::BagReplay(const ReplaySetup& setup)
+    : setup_(setup),
+      // The node's tf cache (ProximityMonitor): ten seconds, or four velocity windows.
+      tf_(ros::Duration(std::max(10.0, 4.0 * setup.params.velocity_window))),
+      pipeline_(setup_.params, setup_.robot, setup_.topics, setup_.qualify, &tf_, &rejection_log_),
+      period_(nanoseconds(1.0 / setup.params.rate)),
+      // Every timeout of the monitor has run out: tracks dropped (their pairs ended), sources
+      // silent, robot links stale; a second more for good measure.
+      settle_(nanoseconds(std::max({setup.params.track_timeout, setup.params.source_timeout,
+                                    setup.params.tf_timeout, setup.params.stale_after,
+                                    setup.params.velocity_window}) + 1.0)),
+      robot_posed_(setup.robot.size(), 0) {
+  for (const std::string& line : setup_.permanent_issues) pipeline_.monitor().addPermanentIssue(line);
+}
+
+ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) {
+  sink_ = sink;
+  rate_factor_ = rate_factor;
+  stats_ = ReplayStats();
+  stats_.begin = bag->begin();
+  stats_.end = bag->end();
+
+  bool has_tf = false;
+  for (const BagTopic& t : bag->topics()) {
+    if ((t.kind == BagTopicKind::kTf || t.kind == BagTopicKind::kTfStatic) && t.messages > 0) {
+      has_tf = true;
+    }
+  }
+  if (!has_tf && !setup_.robot.empty()) {
+    std::string frames;
+    for (const RobotBodySpec& b : setup_.robot) {
+      if (frames.find("'" + b.frame + "'") != std::string::npos) continue;
+      frames += (frames.empty() ? "'" : ", '") + b.frame + "'";
+    }
+    throw ReplayError(ReplayError::kBag,
+                      "bag " + bag->path() + ": has no /tf or /tf_static, so the robot's frames (" +
+                          frames + ") can never be posed");
+  }
+
+  // Simulated time: ROS time follows the bag from here on.
+  ros::Time::init();
+  ros::Time::setNow(toTime(stats_.begin));
+  wall_start_ = std::chrono::steady_clock::now();
+  next_cycle_ = stats_.begin + period_;
+  last_input_ = stats_.begin;
+  skipped_ = 0;
+
+  bag->stream(this);
+  // Cycles up to the last message, inclusive.
+  while (next_cycle_ <= stats_.end) {
+    runCycle(next_cycle_);
+    next_cycle_ += period_;
+  }
+
+  stats_.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+  stats_.drops = monitor().drops();
+  stats_.resets = monitor().resets();
+  stats_.distinct_tracks = track_keys_.size();
+  checkFrames();
+  return stats_;
+}
+
+void BagReplay::onTf(const tf2_msgs::TFMessage& msg, bool is_static, Stamp received) {
+  cyclesBefore(received);
+  advanceClock(received);
+  last_input_ = received;
+  ++(is_static ? stats_.tf_static_messages : stats_.tf_messages);
+  for (const geometry_msgs::TransformStamped& t : msg.transforms) {
+    // Invalid transforms (empty or equal frames, NaN) are refused by tf2 with its own error,
+    // as in the node.
+    tf_.setTransform(t, "bag", is_static);
+    tf_frames_.insert(t.header.frame_id);
+    tf_frames_.insert(t.child_frame_id);
+  }
+}
+
+void BagReplay::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp received) {
+  cyclesBefore(received);
+  advanceClock(received);
+  last_input_ = received;
+  ++stats_.arrays;
+  const std::string& frame = msg->header.frame_id;
+  if (std::find(array_frames_.begin(), array_frames_.end(), frame) == array_frames_.end()) {
+    array_frames_.push_back(frame);
+  }
+  pipeline_.onArray(source, msg, received);
+}
+
+void BagReplay::cyclesBefore(Stamp t) {
+  const bool long_gap = t - last_input_ > nanoseconds(kSkipGap);
+  while (next_cycle_ < t) {
+    if (long_gap && next_cycle_ > last_input_ + settle_) {
+      // Nothing changes until the next message but the stamps: resume a cycle or two before it,
+      // on the same grid.
+      const Stamp resume = next_cycle_ + ((t - next_cycle_) / period_ - 1) * period_;
+      if (resume > next_cycle_) {
+        stats_.gaps.push_back({next_cycle_, resume, static_cast<std::uint64_t>((resume - next_cycle_) / period_)});
+        skipped_ += resume - next_cycle_;
+        next_cycle_ = resume;
+      }
+    }
+    runCycle(next_cycle_);
+    next_cycle_ += period_;
+  }
+}
+
+void BagReplay::advanceClock(Stamp t) {
+  ros::Time::setNow(toTime(t));
+  if (rate_factor_ <= 0.0) return;
+  const auto due = wall_start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                     std::chrono::duration<double>(
+                                         secondsBetween(stats_.begin + skipped_, t) / rate_factor_));
+  std::this_thread::sleep_until(due);
+}
+
+void BagReplay::runCycle(Stamp now) {
+  advanceClock(now);
+  Monitor& monitor = pipeline_.monitor();
+  // As the node's cycle (ProximityMonitor::cycle and runCycle): nothing stops the cycle, a
+  // failed one still reports, saying the prediction is missing.
+  const auto start = std::chrono::steady_clock::now();
+  StageClock clock(&monitor.timing(), start);
+  try {
+    bool reset = false;
+    pipeline_.cycle(now, &clock, &reset);
+  } catch (const std::exception& e) {
+    ROS_ERROR_THROTTLE(1.0, "proximity_monitor: cycle failed: %s", e.what());
+    monitor.cycleFailed(now, e.what());
+  }
+  fillContacts(monitor.report(), monitor.world(), setup_.params.fixed_frame, &contacts_);
+  clock.lap(CycleStage::kContacts);
+  monitor.noteCycleTime(
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+
+  const CycleReport& report = monitor.report();
+  ++stats_.cycles;
+  if (report.degraded) ++stats_.degraded_cycles;
+  for (const ContactEvent& e : contacts_.events) {
+    if (e.state == ContactEvent::BEGIN) ++stats_.events_begin;
+    else if (e.state == ContactEvent::ONGOING) ++stats_.events_ongoing;
+    else ++stats_.events_end;
+  }
+  const TrackTable& tracks = monitor.tracks();
+  stats_.max_tracks = std::max(stats_.max_tracks, tracks.size());
+  for (int i = 0; i < tracks.size(); ++i) {
+    const std::string& key = tracks.track(i).key;
+    if (track_keys_.count(key) == 0) track_keys_.insert(key);
+  }
+  const RobotBodies& robot = monitor.robot();
+  for (int i = 0; i < robot.size(); ++i) {
+    if (robot.present(i) && !robot.stale(i)) robot_posed_[static_cast<std::size_t>(i)] = 1;
+  }
+  if (sink_ != nullptr) sink_->onCycle(report, contacts_, monitor);
+}
+
+void BagReplay::checkFrames() {
+  const std::string& fixed = setup_.params.fixed_frame;
+  auto known = [&](const std::string& frame) { return frame == fixed || tf_frames_.count(frame) > 0; };
+  for (std::size_t i = 0; i < setup_.robot.size(); ++i) {
+    const RobotBodySpec& b = setup_.robot[i];
+    if (!known(b.frame)) {
+      stats_.missing_frames.push_back("no tf for frame '" + b.frame + "' (robot body '" + b.name +
+                                      "') anywhere in the bag: the body was never posed");
+    } else if (robot_posed_[i] == 0) {
+      stats_.missing_frames.push_back("robot body '" + b.name + "' was never posed: tf in the bag "
+                                      "never connected its frame '" + b.frame + "' to '" + fixed +
+                                      "' in time");
+    }
+  }
+  for (const std::string& frame : array_frames_) {
+    if (frame.empty()) continue;  // dropped and counted by the monitor (kFrame)
+    if (!known(frame)) {
+      stats_.missing_frames.push_back("no tf for frame '" + frame + "' (the tracked boxes' frame) "
+                                      "anywhere in the bag: its arrays were dropped");
+    }
+  }
+}
+
+}  // namespace workspace_proximity

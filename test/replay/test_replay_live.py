@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""The live node and the offline replay agree on a recorded bag.
+
+The node (started by replay_live.test with the demo's configuration and use_sim_time) hears
+`rosbag play --clock` of the bag through a real master; every ContactEventArray it publishes is
+turned into events.csv rows (replay_data.contact_rows) and grouped into episodes. replay_bag
+replays the same bag with the same configuration files and URDF; its events.csv gives its
+episodes. Both use one episode definition (tools/replay_data.py).
+
+Tolerance: per pair, the same number of episodes, each starting and ending within two cycles
+(2 / ~rate, plus the 1 ms steps of the played clock) of the other path's, with the same peak
+level. Why two: the live node's cycles run when the played clock passes them (up to a clock
+step late), on a grid whose phase against the bag's differs by up to a cycle; and the node
+hears each message when rosbag's publication reaches it, which can be after the played clock
+passed the message's instant, so a cycle may still predict from the previous array (seen: an
+episode end 35 ms off at 30 Hz). Both paths predict from the same data, at most two cycles
+apart. No wall-clock time is
+asserted: the waits below only bound how long the test may take.
+"""
+import os
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import rosgraph
+import rospy
+import rostest
+from roslib.packages import find_node
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "tools"))
+sys.path.insert(0, os.path.join(HERE, "..", "node"))
+
+import replay_data  # noqa: E402
+from wp_node_testlib import ContactEventArray  # noqa: E402  (message import with the devel fallback)
+
+CLOCK_HZ = 1000.0  # the played clock's steps (rosbag play --hz)
+
+
+def wait_for(condition, timeout, what):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if condition():
+            return
+        time.sleep(0.1)
+    raise AssertionError("timed out waiting for %s" % what)
+
+
+class ReplayLiveTest(unittest.TestCase):
+    def setUp(self):
+        self.bag = rospy.get_param("~bag")
+        self.configs = rospy.get_param("~config").split()
+        self.urdf = rospy.get_param("~urdf")
+        self.rate = float(rospy.get_param("/proximity_monitor/rate", 30.0))
+        self.arrays = []
+        self.sub = rospy.Subscriber("/contacts", ContactEventArray, self.arrays.append, queue_size=1000)
+
+    def node_listens(self):
+        state = rosgraph.Master("/test_replay_live").getSystemState()
+        subs = {topic: nodes for topic, nodes in state[1]}
+        pubs = {topic: nodes for topic, nodes in state[0]}
+        return ("/proximity_monitor" in subs.get("/tracked_objects", []) and
+                "/proximity_monitor" in subs.get("/tf", []) and
+                "/proximity_monitor" in pubs.get("/contacts", []) and
+                self.sub.get_num_connections() > 0)
+
+    def replay_offline(self, out_dir):
+        found = find_node("workspace_proximity", "replay_bag")
+        self.assertTrue(found, "replay_bag not built")
+        cmd = [found[0], self.bag, "--urdf", self.urdf, "--out", out_dir, "--no-report"]
+        for c in self.configs:
+            cmd += ["--config", c]
+        run = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        self.assertEqual(run.returncode, 0, run.stderr.decode(errors="replace"))
+        summary = replay_data.read_summary(out_dir)
+        return summary, replay_data.episodes(replay_data.read_events(os.path.join(out_dir, "events.csv")))
+
+    def test_live_node_matches_offline_replay(self):
+        wait_for(self.node_listens, 30.0, "the node to subscribe and advertise /contacts")
+        play = subprocess.run(["rosbag", "play", "--clock", "--hz=%g" % CLOCK_HZ, "--quiet", self.bag],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        self.assertEqual(play.returncode, 0, play.stderr.decode(errors="replace"))
+        time.sleep(1.0)  # the last arrays in flight
+        self.sub.unregister()
+
+        with tempfile.TemporaryDirectory() as out_dir:
+            summary, offline = self.replay_offline(out_dir)
+        begin = summary["bag_begin"]
+        # Only arrays of this playback: the node may have cycled before the clock started
+        # (stamp 0) -- nothing else publishes /contacts here.
+        live_arrays = [a for a in self.arrays if a.header.stamp.to_sec() >= begin]
+        self.assertGreater(len(live_arrays), 0.8 * summary["cycles"],
+                           "the live node published %d arrays for the bag's %d cycles"
+                           % (len(live_arrays), summary["cycles"]))
+        rows = [r for a in live_arrays for r in replay_data.contact_rows(a, begin)]
+        live = replay_data.episodes(rows)
+
+        tolerance = 2.0 / self.rate + 1.0 / CLOCK_HZ + 1e-6
+        expected = [(ep.pair[0], ep.pair[1], ep.start, ep.end, ep.peak_level) for ep in offline]
+        problems = replay_data.compare_episodes(live, expected, tolerance)
+        report = "\n".join(["live episodes:"] + ["  %r" % ep for ep in live] +
+                           ["offline episodes:"] + ["  %r" % ep for ep in offline])
+        print(report)
+        self.assertGreater(len(offline), 0, "the bag gives no episode at all")
+        self.assertEqual(problems, [], "\n".join(problems) + "\n" + report)
+
+
+if __name__ == "__main__":
+    rospy.init_node("test_replay_live")
+    rostest.rosrun("workspace_proximity", "replay_live", ReplayLiveTest, sys.argv)
