@@ -27,7 +27,7 @@ bool Monitor::acceptStamp(int source, Stamp stamp, Stamp now) {
   const Drop why =
       sources_.checkStamp(source, stamp, now, params_.max_future, params_.track_timeout, &detail_);
   if (why == Drop::kCount) return true;
-  drop(why, sources_.source(source).name, detail_);
+  drop(why, source, detail_);
   return false;
 }
 
@@ -41,7 +41,11 @@ void Monitor::ingest(int source, Stamp stamp, const Eigen::Isometry3d& fixed_fro
   array.stamp = stamp;
   array.fixed_from_frame = fixed_from_frame;
   array.robot_centre = robot_.centre();
-  tracks_.ingest(array, boxes);
+  Drop last_drop = Drop::kCount;
+  const int used = tracks_.ingest(array, boxes, &last_drop);
+  if (last_drop != Drop::kCount) sources_.noteDrop(source, last_drop);
+  // Data from this source: at least one box, or an empty scene (nothing there is news too).
+  if (used > 0 || boxes.empty()) sources_.markUsed(source, s.last_receipt);
 }
 
 void Monitor::setParams(const MonitorParams& params) {
@@ -58,9 +62,13 @@ void Monitor::setParams(const MonitorParams& params) {
   world_.setRules(makePairRules(params_));
 }
 
-void Monitor::drop(Drop reason, std::string_view source, std::string detail) {
+void Monitor::drop(Drop reason, int source, std::string detail) {
   drops_.add(reason);
-  if (sink_ != nullptr) sink_->onRejection(Rejection{reason, source, std::string_view(), std::move(detail)});
+  if (reason != Drop::kSuperseded) sources_.noteDrop(source, reason);
+  if (sink_ != nullptr) {
+    sink_->onRejection(
+        Rejection{reason, sources_.source(source).name, std::string_view(), std::move(detail)});
+  }
 }
 
 void Monitor::reset() {

@@ -59,6 +59,16 @@ void SourceTable::silentLines(Stamp now, double silent_after, std::vector<std::s
     } else if (secondsBetween(s.last_receipt, now) > silent_after) {
       lines->push_back("source " + s.name +
                        format(": no data for %.2f s", secondsBetween(s.last_receipt, now)));
+    } else if (s.last_used == 0 || secondsBetween(s.last_used, now) > silent_after) {
+      // Arrays arrive but none is used (an unreachable frame, bad stamps, only bad boxes):
+      // as unknown as silence.
+      const std::string why = s.last_drop == Drop::kCount ? std::string("?") : dropName(s.last_drop);
+      lines->push_back("source " + s.name +
+                       (s.last_used == 0
+                            ? std::string(": arrays arrive but none could be used yet")
+                            : format(": arrays arrive but none used for %.2f s",
+                                     secondsBetween(s.last_used, now))) +
+                       " (dropped: " + why + ")");
     }
   }
 }
@@ -67,6 +77,7 @@ void SourceTable::reset() {
   for (Source& s : sources_) {
     s.last_receipt = 0;
     s.last_stamp = 0;
+    s.last_used = 0;
     s.rate = 0.0;
   }
 }

@@ -25,6 +25,7 @@ TrackTable::TrackTable(ProximityWorld* world, const LabelTable* labels, int max_
 void TrackTable::reject(const ArrayContext& array, std::string_view id, Drop reason,
                         std::string detail) {
   drops_->add(reason);
+  last_reject_ = reason;
   if (sink_ != nullptr) sink_->onRejection(Rejection{reason, array.source, id, std::move(detail)});
 }
 
@@ -56,7 +57,10 @@ void TrackTable::selectNearest(const ArrayContext& array, const std::vector<BoxO
   nearest_.resize(room);
 }
 
-void TrackTable::ingest(const ArrayContext& array, const std::vector<BoxObservation>& boxes) {
+int TrackTable::ingest(const ArrayContext& array, const std::vector<BoxObservation>& boxes,
+                       Drop* last_drop) {
+  last_reject_ = Drop::kCount;
+  int used = 0;
   selectNearest(array, boxes);
   // Every track updated from this array is marked with its serial: a second box with the
   // same id finds the mark (duplicate) without a per-array set of ids.
@@ -85,12 +89,15 @@ void TrackTable::ingest(const ArrayContext& array, const std::vector<BoxObservat
     }
     try {
       update(array, index, box);
+      ++used;
     } catch (const std::exception& e) {
       // The core's own limits (e.g. a pose that the frame's transform carries past them):
       // drop the box, never the array or the node.
       reject(array, box.id, Drop::kCoreLimits, std::string("rejected by the core: ") + e.what());
     }
   }
+  if (last_drop != nullptr) *last_drop = last_reject_;
+  return used;
 }
 
 bool TrackTable::evictFarther(const ArrayContext& array, double squared_distance) {

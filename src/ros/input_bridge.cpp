@@ -21,8 +21,7 @@ void InputBridge::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stam
   monitor_->noteReceipt(source, now);
   Waiting& w = waiting_[static_cast<std::size_t>(source)];
   if (w.msg) {
-    monitor_->drop(Drop::kSuperseded, monitor_->sources().source(source).name,
-                   "a newer array arrived before it was used");
+    monitor_->drop(Drop::kSuperseded, source, "a newer array arrived before it was used");
   }
   w.msg = msg;
   // Work ahead while the cycle waits: at most one array per source between cycles (a flood
@@ -54,7 +53,7 @@ bool InputBridge::take(int source, Stamp now, bool at_cycle) {
     if (!use(source, *w.msg, now, at_cycle)) return false;
   } catch (const std::exception& e) {
     // Never out of a callback or the cycle: the array is lost, counted and logged.
-    monitor_->drop(Drop::kArrayFailure, monitor_->sources().source(source).name, e.what());
+    monitor_->drop(Drop::kArrayFailure, source, e.what());
   }
   w.msg.reset();
   return true;
@@ -63,7 +62,7 @@ bool InputBridge::take(int source, Stamp now, bool at_cycle) {
 bool InputBridge::use(int source, const TrackedBoxArray& msg, Stamp now, bool at_cycle) {
   const std::string& name = monitor_->sources().source(source).name;
   if (msg.header.frame_id.empty()) {
-    monitor_->drop(Drop::kFrame, name, "the array has an empty frame_id");
+    monitor_->drop(Drop::kFrame, source, "the array has an empty frame_id");
     return true;
   }
   Stamp stamp = toStamp(msg.header.stamp);
@@ -106,7 +105,7 @@ bool InputBridge::lookup(int source, const std::string& frame, Stamp stamp, bool
       return true;
     } catch (const tf2::TransformException& e) {
       ++tf_failures_;
-      monitor_->drop(Drop::kFrame, name,
+      monitor_->drop(Drop::kFrame, source,
                      "cannot transform '" + frame + "' to '" + fixed_frame_ + "': " + e.what());
       return false;
     }

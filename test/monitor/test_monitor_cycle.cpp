@@ -128,6 +128,50 @@ TEST(MonitorCycle, StatusIsDegradedForEveryUnknownInputAndOkWhenAllIsFresh) {
   EXPECT_TRUE(f.monitor.world().motion(f.monitor.robot().handle(0)).linear_velocity.isZero());
 }
 
+TEST(MonitorCycle, ASourceWhoseArraysAreAllDroppedIsAsUnknownAsASilentOne) {
+  Fixture f;
+  f.posePost();
+  // Arrays keep arriving every 0.1 s, but each is dropped (its frame is unreachable, as the
+  // input bridge reports it): DEGRADED naming the reason, not OK with an empty scene.
+  for (int k = 0; k <= 10; ++k) {
+    const wp::Stamp now = kT0 + k * kSecond / 10;
+    f.monitor.noteReceipt(0, now);
+    f.monitor.drop(wp::Drop::kFrame, 0, "cannot transform 'nowhere' to 'world'");
+    f.posePost();
+    const wp::CycleReport& r = f.cycle(now);
+    EXPECT_TRUE(r.degraded) << k;
+    EXPECT_TRUE(mentions(r.status_lines, "source /boxes: arrays arrive but none could be used yet "
+                                         "(dropped: frame)")) << k;
+  }
+  // One usable array: OK. Then only boxes the checks refuse, for more than 0.5 s: DEGRADED.
+  f.person(5.0, 0.0, kT0 + kSecond, kT0 + kSecond);
+  f.posePost();
+  EXPECT_FALSE(f.cycle(kT0 + kSecond).degraded);
+  wp::BoxObservation bad;
+  bad.id = "p1";
+  bad.dimensions = {0, 1, 1};
+  for (int k = 1; k <= 7; ++k) {
+    const wp::Stamp now = kT0 + kSecond + k * kSecond / 10;
+    f.monitor.noteReceipt(0, now);
+    ASSERT_TRUE(f.monitor.acceptStamp(0, now, now));
+    f.monitor.ingest(0, now, Eigen::Isometry3d::Identity(), {bad});
+    f.posePost();
+    const wp::CycleReport& r = f.cycle(now);
+    const bool stale = k > 5;  // last used at 1.0 s; silent after 0.5 s
+    EXPECT_EQ(r.degraded, stale) << k;
+    if (stale) {
+      EXPECT_TRUE(mentions(r.status_lines, "arrays arrive but none used for")) << k;
+      EXPECT_TRUE(mentions(r.status_lines, "(dropped: dimensions)")) << k;
+    }
+  }
+  // An empty array is data (nothing there): OK again.
+  f.monitor.noteReceipt(0, kT0 + 2 * kSecond);
+  ASSERT_TRUE(f.monitor.acceptStamp(0, kT0 + 2 * kSecond, kT0 + 2 * kSecond));
+  f.monitor.ingest(0, kT0 + 2 * kSecond, Eigen::Isometry3d::Identity(), {});
+  f.posePost();
+  EXPECT_FALSE(f.cycle(kT0 + 2 * kSecond).degraded);
+}
+
 TEST(MonitorCycle, APermanentIssueKeepsTheStatusDegraded) {
   Fixture f;
   f.monitor.addPermanentIssue("robot link arm: mesh cannot be read");

@@ -42,8 +42,9 @@ class Monitor {
   /// `stamp`. Call acceptStamp first.
   void ingest(int source, Stamp stamp, const Eigen::Isometry3d& fixed_from_frame,
               const std::vector<BoxObservation>& boxes);
-  /// Counts (and reports) a drop decided outside the monitor (frame, superseded, failures).
-  void drop(Drop reason, std::string_view source, std::string detail);
+  /// Counts (and reports) a drop of source `source`'s data decided outside the monitor (frame,
+  /// superseded, failures).
+  void drop(Drop reason, int source, std::string detail);
   /// A problem that lasts as long as the node runs (e.g. a robot link that cannot be
   /// modelled): every cycle's status is DEGRADED with this line.
   void addPermanentIssue(const std::string& line) { permanent_issues_.push_back(line); }

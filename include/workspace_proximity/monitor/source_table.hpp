@@ -18,6 +18,11 @@ struct Source {
   Stamp last_stamp = 0;   ///< header stamp of the last array used (0: none yet)
   double rate = 0.0;      ///< Hz, smoothed over the intervals between arrivals
   std::uint64_t arrays = 0;  ///< arrays received
+  /// Clock when an array of this source last gave the monitor data (at least one box used, or
+  /// an empty scene); 0: never. A source whose arrays all get dropped is as silent as one that
+  /// sends nothing.
+  Stamp last_used = 0;
+  Drop last_drop = Drop::kCount;  ///< why its last dropped array or box was dropped
 };
 
 class SourceTable {
@@ -38,9 +43,14 @@ class SourceTable {
                   std::string* detail) const;
   /// The array stamped `stamp` is being used.
   void accept(int i, Stamp stamp) { sources_[static_cast<std::size_t>(i)].last_stamp = stamp; }
+  /// An array of source i gave data at `when` (its receipt).
+  void markUsed(int i, Stamp when) { sources_[static_cast<std::size_t>(i)].last_used = when; }
+  /// Something of source i was dropped for `reason`.
+  void noteDrop(int i, Drop reason) { sources_[static_cast<std::size_t>(i)].last_drop = reason; }
 
-  /// One status line per source that never sent anything or has been silent for more than
-  /// `silent_after` seconds at `now`, appended to `lines`.
+  /// One status line per source that never sent anything, has been silent for more than
+  /// `silent_after` seconds at `now`, or whose arrays have all been dropped for that long,
+  /// appended to `lines`.
   void silentLines(Stamp now, double silent_after, std::vector<std::string>* lines) const;
 
   /// Forgets receipts, stamps and rates (after the clock went back).

@@ -46,8 +46,11 @@ class TrackTable {
 
   /// Turns one array's boxes into tracks. Beyond ~max_tracks the boxes farthest from the
   /// robot are ignored; a new box evicts a farther track when the table is full. Rejected
-  /// boxes are counted and reported; the rest are used. Allocation-free for known tracks.
-  void ingest(const ArrayContext& array, const std::vector<BoxObservation>& boxes);
+  /// boxes are counted and reported; the rest are used. Returns the number of boxes used;
+  /// `last_drop` (may be null) receives the reason of the last box dropped, if any.
+  /// Allocation-free for known tracks.
+  int ingest(const ArrayContext& array, const std::vector<BoxObservation>& boxes,
+             Drop* last_drop = nullptr);
   /// Drops tracks whose stamp is older than `timeout` seconds at `now` (their pairs END).
   void expire(Stamp now, double timeout);
   /// Latency compensation: every track's body is moved from its own stamp to `now`.
@@ -96,6 +99,7 @@ class TrackTable {
   std::string key_;                                      // qualified id
   std::string detail_;                                   // rejection text
   std::uint64_t array_serial_ = 0;
+  Drop last_reject_ = Drop::kCount;  // reason of the last rejection (ingest reports it)
 };
 
 }  // namespace workspace_proximity
