@@ -1,17 +1,8 @@
 #include "workspace_proximity/monitor/source_table.hpp"
 
-#include <cstdio>
+#include "workspace_proximity/monitor/format.hpp"
 
 namespace workspace_proximity {
-namespace {
-
-std::string format(const char* fmt, double value) {
-  char buffer[128];
-  std::snprintf(buffer, sizeof buffer, fmt, value);
-  return buffer;
-}
-
-}  // namespace
 
 SourceTable::SourceTable(const std::vector<std::string>& names, bool qualify) {
   sources_.resize(names.size());

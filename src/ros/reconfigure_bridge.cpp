@@ -3,6 +3,63 @@
 namespace workspace_proximity {
 namespace {
 
+using Config = ProximityMonitorConfig;
+
+// The config's scalars and the parameters they set, one table for both directions.
+struct ScalarField {
+  double Config::*config;
+  double MonitorParams::*param;
+};
+constexpr ScalarField kScalars[] = {
+    {&Config::rate, &MonitorParams::rate},
+    {&Config::horizon, &MonitorParams::horizon},
+    {&Config::track_timeout, &MonitorParams::track_timeout},
+    {&Config::stale_after, &MonitorParams::stale_after},
+    {&Config::source_timeout, &MonitorParams::source_timeout},
+    {&Config::robot_margin, &MonitorParams::robot_margin},
+    {&Config::marker_rate, &MonitorParams::marker_rate},
+    {&Config::marker_lifetime, &MonitorParams::marker_lifetime},
+};
+
+// A label group of the config: its five settings (no margin for the robot's thresholds, whose
+// margin is robot_margin).
+struct LabelFields {
+  double Config::*margin;
+  double Config::*warning_time;
+  double Config::*critical_time;
+  double Config::*warning_distance;
+  double Config::*critical_distance;
+};
+constexpr LabelFields kDefaultLabel{&Config::default_margin, &Config::default_warning_time,
+                                    &Config::default_critical_time,
+                                    &Config::default_warning_distance,
+                                    &Config::default_critical_distance};
+constexpr LabelFields kPersonLabel{&Config::person_margin, &Config::person_warning_time,
+                                   &Config::person_critical_time,
+                                   &Config::person_warning_distance,
+                                   &Config::person_critical_distance};
+constexpr LabelFields kRobotThresholds{nullptr, &Config::robot_warning_time,
+                                       &Config::robot_critical_time,
+                                       &Config::robot_warning_distance,
+                                       &Config::robot_critical_distance};
+
+void put(const LabelSettings& l, const LabelFields& f, Config* c) {
+  if (f.margin != nullptr) c->*f.margin = l.margin;
+  c->*f.warning_time = l.warning_time;
+  c->*f.critical_time = l.critical_time;
+  c->*f.warning_distance = l.warning_distance;
+  c->*f.critical_distance = l.critical_distance;
+}
+
+LabelSettings get(const Config& c, const LabelFields& f, LabelSettings l) {
+  if (f.margin != nullptr) l.margin = c.*f.margin;
+  l.warning_time = c.*f.warning_time;
+  l.critical_time = c.*f.critical_time;
+  l.warning_distance = c.*f.warning_distance;
+  l.critical_distance = c.*f.critical_distance;
+  return l;
+}
+
 bool sameSettings(const LabelSettings& a, const LabelSettings& b) {
   return a.margin == b.margin && a.warning_time == b.warning_time &&
          a.critical_time == b.critical_time && a.warning_distance == b.warning_distance &&
@@ -12,56 +69,23 @@ bool sameSettings(const LabelSettings& a, const LabelSettings& b) {
 }  // namespace
 
 ProximityMonitorConfig toConfig(const MonitorParams& p) {
-  ProximityMonitorConfig c = ProximityMonitorConfig::__getDefault__();
-  c.rate = p.rate;
-  c.horizon = p.horizon;
-  c.track_timeout = p.track_timeout;
-  c.stale_after = p.stale_after;
-  c.source_timeout = p.source_timeout;
-  c.robot_margin = p.robot_margin;
-  const LabelSettings& d = p.label("default");
-  c.default_margin = d.margin;
-  c.default_warning_time = d.warning_time;
-  c.default_critical_time = d.critical_time;
-  c.default_warning_distance = d.warning_distance;
-  c.default_critical_distance = d.critical_distance;
-  const LabelSettings& person = p.label("person");  // the default's when not listed
-  c.person_margin = person.margin;
-  c.person_warning_time = person.warning_time;
-  c.person_critical_time = person.critical_time;
-  c.person_warning_distance = person.warning_distance;
-  c.person_critical_distance = person.critical_distance;
-  const LabelSettings& r = p.robot_thresholds;
-  c.robot_warning_time = r.warning_time;
-  c.robot_critical_time = r.critical_time;
-  c.robot_warning_distance = r.warning_distance;
-  c.robot_critical_distance = r.critical_distance;
+  Config c = Config::__getDefault__();
+  for (const ScalarField& f : kScalars) c.*f.config = p.*f.param;
+  put(p.label("default"), kDefaultLabel, &c);
+  put(p.label("person"), kPersonLabel, &c);  // the default's when not listed
+  put(p.robot_thresholds, kRobotThresholds, &c);
   c.publish_markers = p.publish_markers;
-  c.marker_rate = p.marker_rate;
-  c.marker_lifetime = p.marker_lifetime;
   return c;
 }
 
 MonitorParams applyConfig(MonitorParams p, const ProximityMonitorConfig& c) {
-  p.rate = c.rate;
-  p.horizon = c.horizon;
-  p.track_timeout = c.track_timeout;
-  p.stale_after = c.stale_after;
-  p.source_timeout = c.source_timeout;
-  p.robot_margin = c.robot_margin;
+  for (const ScalarField& f : kScalars) p.*f.param = c.*f.config;
   LabelSettings& d = p.labels["default"];
-  d = LabelSettings{c.default_margin, c.default_warning_time, c.default_critical_time,
-                    c.default_warning_distance, c.default_critical_distance};
-  const LabelSettings person{c.person_margin, c.person_warning_time, c.person_critical_time,
-                             c.person_warning_distance, c.person_critical_distance};
+  d = get(c, kDefaultLabel, d);
+  const LabelSettings person = get(c, kPersonLabel, d);
   if (p.labels.count("person") != 0 || !sameSettings(person, d)) p.labels["person"] = person;
-  p.robot_thresholds.warning_time = c.robot_warning_time;
-  p.robot_thresholds.critical_time = c.robot_critical_time;
-  p.robot_thresholds.warning_distance = c.robot_warning_distance;
-  p.robot_thresholds.critical_distance = c.robot_critical_distance;
+  p.robot_thresholds = get(c, kRobotThresholds, p.robot_thresholds);
   p.publish_markers = c.publish_markers;
-  p.marker_rate = c.marker_rate;
-  p.marker_lifetime = c.marker_lifetime;
   return p;
 }
 

@@ -1,23 +1,13 @@
 #include "workspace_proximity/ros/robot_tf_bridge.hpp"
 
-#include <cstdio>
-
 #include <ros/console.h>
 #include <tf2/exceptions.h>
 #include <tf2_eigen/tf2_eigen.h>
 
+#include "workspace_proximity/monitor/format.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
 
 namespace workspace_proximity {
-namespace {
-
-std::string format(const char* fmt, double value) {
-  char buffer[128];
-  std::snprintf(buffer, sizeof buffer, fmt, value);
-  return buffer;
-}
-
-}  // namespace
 
 RobotTfBridge::RobotTfBridge(Monitor* monitor, tf2::BufferCore* tf)
     : monitor_(monitor), tf_(tf), params_(monitor->params()) {}

@@ -62,6 +62,20 @@ def start(binary, name, args, params):
                             env=dict(os.environ))
 
 
+def run_for(proc, seconds):
+    """Lets the node run for `seconds`, then stops it. Returns (was still running, output)."""
+    time.sleep(seconds)
+    running = proc.poll() is None
+    if running:
+        proc.send_signal(signal.SIGINT)
+    try:
+        out, err = proc.communicate(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        out, err = proc.communicate()
+    return running, out.decode(errors="replace") + err.decode(errors="replace")
+
+
 class InvalidParamsTest(unittest.TestCase):
     def setUp(self):
         self.binary = find_node_binary()
@@ -69,30 +83,13 @@ class InvalidParamsTest(unittest.TestCase):
 
     def test_valid_parameters_keep_running(self):
         proc = start(self.binary, "valid_control", [], {})
-        time.sleep(3.0)
-        running = proc.poll() is None
-        if running:
-            proc.send_signal(signal.SIGINT)
-        try:
-            out, err = proc.communicate(timeout=10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            out, err = proc.communicate()
+        running, text = run_for(proc, 3.0)
         self.assertTrue(running, "the node exited with valid parameters (status %s): %s" % (
-            proc.returncode, err.decode(errors="replace")[-2000:]))
+            proc.returncode, text[-2000:]))
 
     def test_unknown_keys_are_named_and_the_node_keeps_running(self):
         proc = start(self.binary, "misspelled", ["_horizen:=3.0"], {"trak_timeout": 1.0})
-        time.sleep(3.0)
-        running = proc.poll() is None
-        if running:
-            proc.send_signal(signal.SIGINT)
-        try:
-            out, err = proc.communicate(timeout=10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            out, err = proc.communicate()
-        text = out.decode(errors="replace") + err.decode(errors="replace")
+        running, text = run_for(proc, 3.0)
         self.assertTrue(running, "an unknown key stopped the node: " + text[-2000:])
         self.assertIn("~horizen: unknown parameter, not used (did you mean ~horizon?)", text)
         self.assertIn("~trak_timeout: unknown parameter, not used (did you mean ~track_timeout?)",
