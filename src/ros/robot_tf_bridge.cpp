@@ -25,7 +25,9 @@ void RobotTfBridge::update(Stamp now) {
                         spec.name.c_str(), spec.frame.c_str(), robot.why(i).c_str());
       continue;
     }
-    const bool was_stale = robot.present(i) && robot.stale(i);
+    // "Posed again" after an outage, not after the start-up wait for a velocity.
+    const bool was_stale = robot.present(i) && robot.stale(i) &&
+                           robot.why(i).rfind("velocity not known", 0) != 0;
     if (!robot.pose(i, motion, stale)) {
       ROS_WARN_THROTTLE(5.0, "proximity_monitor: robot body '%s': %s", spec.name.c_str(),
                         robot.why(i).c_str());
