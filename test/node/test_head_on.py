@@ -21,11 +21,10 @@ import rostest  # noqa: E402
 from wp_node_testlib import (BEGIN, END, TIME_TOL, Collector, ContactEventArray,  # noqa: E402
                              ScenePublisher, Track,
                              aabb_prediction, check_array_basics, check_face_contact,
-                             events_for, expected_level, fmt_event, state_sequence)
+                             events_for, expected_level, fmt_event, node_labels,
+                             state_sequence)
 
 HORIZON = 10.0
-THRESHOLDS = {"warning_time": 1.0, "critical_time": 0.4, "warning_distance": 0.5,
-              "critical_distance": 0.2}
 
 
 class HeadOnTest(unittest.TestCase):
@@ -33,6 +32,7 @@ class HeadOnTest(unittest.TestCase):
         col = Collector()
         self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
         half = (0.5, 0.5, 0.5)
+        thresholds = node_labels()["default"]
         a = Track("a", "default", (-2.5, 0.3, 1.0), (1, 1, 1), (1.0, 0.0, 0.0))
         b = Track("b", "default", (2.5, 0.3, 1.0), (1, 1, 1), (-1.0, 0.0, 0.0))
         scene = ScenePublisher("tracked_objects", [a, b], latency=0.1)
@@ -84,7 +84,7 @@ class HeadOnTest(unittest.TestCase):
                     overlap += 1
                     self.assertLessEqual(ev.time_to_contact, TIME_TOL, fmt_event(ev))
                     self.assertLessEqual(ev.distance, 1e-4, fmt_event(ev))
-                lvl = expected_level(exp["ttc"], exp["distance"], THRESHOLDS)
+                lvl = expected_level(exp["ttc"], exp["distance"], thresholds)
                 if lvl is not None:
                     self.assertEqual(ev.level, lvl, "level of " + fmt_event(ev))
         self.assertGreaterEqual(approach, 20, "too few approach-phase events checked")

@@ -20,30 +20,18 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (Collector, ScenePublisher, StaticBody, Track,  # noqa: E402
-                             broadcast_static, check_array_basics, check_scene_events)
+from wp_node_testlib import (Collector, StaticBody, Track, broadcast_static,  # noqa: E402
+                             check_array_basics, check_scene_events, node_labels, run_scene)
 
 HORIZON = 5.0
-MARGIN = {"default": 0.1, "person": 0.2, "forklift": 0.3, "alien": 0.1, "robot": 0.05}
-THRESHOLDS = {
-    "default": {"warning_time": 1.0, "critical_time": 0.4, "warning_distance": 0.5,
-                "critical_distance": 0.2},
-    "person": {"warning_time": 1.5, "critical_time": 0.6, "warning_distance": 0.8,
-               "critical_distance": 0.3},
-    "forklift": {"warning_time": 2.0, "critical_time": 1.0, "warning_distance": 1.0,
-                 "critical_distance": 0.5},
-    "robot": {"warning_time": 1.0, "critical_time": 0.4, "warning_distance": 0.3,
-              "critical_distance": 0.1},
-}
-THRESHOLDS["alien"] = THRESHOLDS["default"]
 
 
 class Inflated(object):
     """A body as the node should see it: half extents grown by its label's margin."""
 
-    def __init__(self, body):
+    def __init__(self, body, labels):
         self.body, self.id, self.label = body, body.id, body.label
-        self.half = tuple(h + MARGIN[body.label] for h in body.half)
+        self.half = tuple(h + labels[body.label]["margin"] for h in body.half)
 
     def state(self, stamp):
         return self.body.state(stamp)
@@ -62,19 +50,16 @@ class MarginsTest(unittest.TestCase):
             Track("alien_a", "alien", (20.0, 0.0, 0.5), (1, 1, 1)),
             Track("alien_b", "alien", (22.5, 0.0, 0.5), (1, 1, 1), (-1.0, 0.0, 0.0)),
         ]
-        scene = ScenePublisher("tracked_objects", tracks, latency=0.05)
-        t0 = scene.start()
-        rospy.sleep(1.4)
-        scene.stop()
-        msgs = col.contact_msgs(since=t0 + rospy.Duration(0.3))
-        bodies = [Inflated(b) for b in [pillar] + tracks]
+        labels = node_labels()
+        t0, msgs = run_scene(col, tracks, 1.4, 0.3)
+        bodies = [Inflated(b, labels) for b in [pillar] + tracks]
         checked = 0
         seen = set()
         for m in msgs:
             check_array_basics(self, m)
             if (m.header.stamp - t0).to_sec() > 1.25:
                 break
-            checked += check_scene_events(self, m, bodies, HORIZON, thresholds=THRESHOLDS,
+            checked += check_scene_events(self, m, bodies, HORIZON, thresholds=labels,
                                           check_points=False)
             seen.update((e.id_a, e.id_b) for e in m.events)
         self.assertEqual(seen, {("pillar", "walker"), ("box", "cart"), ("alien_a", "alien_b")})

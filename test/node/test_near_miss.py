@@ -16,8 +16,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, Collector, ScenePublisher, Track,  # noqa: E402
-                             check_array_basics, events_for, fmt_event)
+from wp_node_testlib import (END, Collector, Track,  # noqa: E402
+                             check_array_basics, events_for, fmt_event, run_scene)
 
 
 class NearMissTest(unittest.TestCase):
@@ -30,11 +30,7 @@ class NearMissTest(unittest.TestCase):
             Track("ctl_a", "padded", (0.0, 0.0, 50.0), (1, 1, 1)),
             Track("ctl_b", "padded", (-2.0, 4.05, 50.0), (1, 1, 1), (1.0, -1.0, 0.0)),
         ]
-        scene = ScenePublisher("tracked_objects", tracks, latency=0.05)
-        t0 = scene.start()
-        rospy.sleep(3.6)  # past the closest approach at t0 + 3.025 s
-        scene.stop()
-        msgs = col.contact_msgs(since=t0 + rospy.Duration(0.3))
+        t0, msgs = run_scene(col, tracks, 3.6, 0.3)  # past the closest approach at t0 + 3.025 s
         self.assertGreater(len(msgs), 40)
         control_cycles = window = 0
         for m in msgs:

@@ -21,19 +21,11 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (Collector, ScenePublisher, StaticBody, Track,  # noqa: E402
-                             broadcast_static, check_array_basics, check_scene_events,
-                             fmt_event)
+from wp_node_testlib import (Collector, StaticBody, Track, broadcast_static,  # noqa: E402
+                             check_array_basics, check_scene_events, fmt_event, node_labels,
+                             run_scene)
 
 HORIZON = 5.0
-THRESHOLDS = {
-    "default": {"warning_time": 1.0, "critical_time": 0.4, "warning_distance": 0.5,
-                "critical_distance": 0.2},
-    "person": {"warning_time": 1.5, "critical_time": 0.6, "warning_distance": 0.8,
-               "critical_distance": 0.3},
-    "robot": {"warning_time": 1.0, "critical_time": 0.4, "warning_distance": 0.3,
-              "critical_distance": 0.1},
-}
 
 
 class RobotBodiesYamlTest(unittest.TestCase):
@@ -49,11 +41,8 @@ class RobotBodiesYamlTest(unittest.TestCase):
         flange = StaticBody("flange", "robot", (0.0, 0.0, 1.5), (0.05, 0.05, 0.05))
         obj_x = Track("obj_x", "default", (-1.2, 0.1, 1.5), (0.2, 0.2, 0.2), (1.0, 0.0, 0.0))
         obj_y = Track("obj_y", "person", (0.0, 1.9, 1.5), (0.2, 0.2, 0.2), (0.0, -1.0, 0.0))
-        scene = ScenePublisher("tracked_objects", [obj_x, obj_y], latency=0.05)
-        t0 = scene.start()
-        rospy.sleep(1.5)
-        scene.stop()
-        msgs = col.contact_msgs(since=t0 + rospy.Duration(0.5))
+        labels = node_labels()
+        t0, msgs = run_scene(col, [obj_x, obj_y], 1.5, 0.5)
         self.assertGreater(len(msgs), 15)
         checked = 0
         seen = set()
@@ -62,7 +51,7 @@ class RobotBodiesYamlTest(unittest.TestCase):
             if (m.header.stamp - t0).to_sec() > 1.4:
                 break
             checked += check_scene_events(self, m, [gripper, base, flange, obj_x, obj_y],
-                                          HORIZON, thresholds=THRESHOLDS)
+                                          HORIZON, thresholds=labels)
             for ev in m.events:
                 self.assertEqual(ev.label_a, "robot", fmt_event(ev))
                 seen.add((ev.id_a, ev.id_b))

@@ -11,7 +11,6 @@ exist, so the link cannot be modelled.
 import os
 import subprocess
 import sys
-import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -21,7 +20,7 @@ import rostest  # noqa: E402
 
 from wp_node_testlib import (END, Collector, DiagnosticsCollector, ScenePublisher,  # noqa: E402
                              Track, broadcast_static, check_array_basics, degraded_about,
-                             events_for, find_node_binary)
+                             find_node_binary)
 
 WARN = 1
 

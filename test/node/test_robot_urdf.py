@@ -20,9 +20,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (Collector, ScenePublisher, StaticBody, Track,  # noqa: E402
-                             broadcast_static, check_array_basics, check_scene_events,
-                             fmt_event)
+from wp_node_testlib import (Collector, StaticBody, Track, broadcast_static,  # noqa: E402
+                             check_array_basics, check_scene_events, fmt_event, run_scene)
 
 HORIZON = 5.0
 
@@ -55,11 +54,7 @@ class RobotUrdfTest(unittest.TestCase):
             Track("o_cam", "default", (0.0, 1.2, 3.0), cube, (0.0, -1.0, 0.0)),
             Track("o_beam", "default", (1.5, 3.2, 1.0), cube, (-1.0, 0.0, 0.0)),
         ]
-        scene = ScenePublisher("tracked_objects", objects, latency=0.05)
-        t0 = scene.start()
-        rospy.sleep(1.3)
-        scene.stop()
-        msgs = col.contact_msgs(since=t0 + rospy.Duration(0.5))
+        t0, msgs = run_scene(col, objects, 1.3, 0.5)
         self.assertGreater(len(msgs), 10)
         checked = 0
         seen = set()

@@ -20,9 +20,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, TIME_TOL, Collector, ScenePublisher, Track,  # noqa: E402
+from wp_node_testlib import (END, TIME_TOL, Collector, Track,  # noqa: E402
                              check_array_basics, events_for, fmt_event, pt, quat_from_rpy,
-                             vadd, vdot, vscale)
+                             vadd, vdot, vscale, run_scene)
 
 HORIZON = 5.0
 S = 1.0 / math.sqrt(2.0)
@@ -56,11 +56,7 @@ class RotatedBoxesTest(unittest.TestCase):
             Track("ctl_stick", "default", vadd(vscale(U, C), z(150)), stick, vscale(U, -0.05),
                   quat=qm45),
         ]
-        scene = ScenePublisher("tracked_objects", tracks, latency=0.05)
-        t0 = scene.start()
-        rospy.sleep(2.2)
-        scene.stop()
-        msgs = col.contact_msgs(since=t0 + rospy.Duration(0.3))
+        t0, msgs = run_scene(col, tracks, 2.2, 0.3)
         self.assertGreater(len(msgs), 25)
         checked = {"sticks": 0, "cube": 0}
         for m in msgs:

@@ -18,8 +18,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, TIME_TOL, Collector, ScenePublisher, Track,  # noqa: E402
-                             check_array_basics, events_for, fmt_event)
+from wp_node_testlib import (END, TIME_TOL, Collector, Track,  # noqa: E402
+                             check_array_basics, events_for, fmt_event, run_scene)
 
 HORIZON = 5.0
 HALF_L, HALF_W = 1.0, 0.05
@@ -55,11 +55,7 @@ class RotatingBoxTest(unittest.TestCase):
         stick = Track("stick", "default", (0.0, 0.0, 0.0), (2 * HALF_L, 2 * HALF_W, 0.1),
                       yaw=YAW0, yaw_rate=RATE)
         wall = Track("wall", "default", (FACE + 0.5, 0.0, 0.0), (1.0, 3.0, 1.0))
-        scene = ScenePublisher("tracked_objects", [stick, wall], latency=0.1)
-        t0 = scene.start()
-        rospy.sleep(2.0)
-        scene.stop()
-        msgs = col.contact_msgs(since=t0 + rospy.Duration(0.3))
+        t0, msgs = run_scene(col, [stick, wall], 2.0, 0.3, latency=0.1)
         approach = overlap = 0
         for m in msgs:
             check_array_basics(self, m)

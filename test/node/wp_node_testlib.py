@@ -230,6 +230,35 @@ class ScenePublisher(object):
             self._thread.join(2.0)
 
 
+def run_scene(collector, tracks, seconds, skip, latency=0.05, topic="tracked_objects"):
+    """Publishes `tracks` for `seconds` from t0 (when the node is connected) and returns
+    (t0, the contact arrays stamped from t0 + skip on)."""
+    scene = ScenePublisher(topic, tracks, latency=latency)
+    t0 = scene.start()
+    rospy.sleep(seconds)
+    scene.stop()
+    return t0, collector.contact_msgs(since=t0 + rospy.Duration(skip))
+
+
+class NodeLabels(dict):
+    """Label -> {margin, warning_time, critical_time, warning_distance, critical_distance}
+    as the node under test was given them; a label it has no entry for reads as "default",
+    as the node treats it."""
+
+    def __missing__(self, label):
+        return self["default"]
+
+
+def node_labels(node="/proximity_monitor"):
+    """The node's label settings from the parameter server (so a test's expectations follow
+    its .test file); "robot" holds ~robot_thresholds with ~robot_margin as its margin."""
+    labels = NodeLabels(rospy.get_param(node + "/labels"))
+    robot = dict(rospy.get_param(node + "/robot_thresholds"))
+    robot["margin"] = rospy.get_param(node + "/robot_margin", 0.0)
+    labels["robot"] = robot
+    return labels
+
+
 class Collector(object):
     """Records every ContactEventArray and MarkerArray the node publishes."""
 
