@@ -6,7 +6,7 @@ namespace {
 bool sameSettings(const LabelSettings& a, const LabelSettings& b) {
   return a.margin == b.margin && a.warning_time == b.warning_time &&
          a.critical_time == b.critical_time && a.warning_distance == b.warning_distance &&
-         a.critical_distance == b.critical_distance;
+         a.critical_distance == b.critical_distance && a.ssm_min_speed == b.ssm_min_speed;
 }
 
 }  // namespace
@@ -25,12 +25,14 @@ ProximityMonitorConfig toConfig(const MonitorParams& p) {
   c.default_critical_time = d.critical_time;
   c.default_warning_distance = d.warning_distance;
   c.default_critical_distance = d.critical_distance;
+  c.default_ssm_min_speed = d.ssm_min_speed;
   const LabelSettings& person = p.label("person");  // the default's when not listed
   c.person_margin = person.margin;
   c.person_warning_time = person.warning_time;
   c.person_critical_time = person.critical_time;
   c.person_warning_distance = person.warning_distance;
   c.person_critical_distance = person.critical_distance;
+  c.person_ssm_min_speed = person.ssm_min_speed;
   const LabelSettings& r = p.robot_thresholds;
   c.robot_warning_time = r.warning_time;
   c.robot_critical_time = r.critical_time;
@@ -39,6 +41,15 @@ ProximityMonitorConfig toConfig(const MonitorParams& p) {
   c.publish_markers = p.publish_markers;
   c.marker_rate = p.marker_rate;
   c.marker_lifetime = p.marker_lifetime;
+  c.ssm_reaction_time = p.ssm.reaction_time;
+  c.ssm_stopping_time = p.ssm.stopping_time;
+  c.ssm_intrusion_distance = p.ssm.intrusion_distance;
+  c.ssm_sensor_uncertainty = p.ssm.sensor_uncertainty;
+  c.ssm_robot_uncertainty = p.ssm.robot_uncertainty;
+  c.ssm_robot_max_speed = p.ssm.robot_max_speed;
+  c.ssm_max_increase_rate = p.ssm.max_increase_rate;
+  c.ssm_hold_time = p.ssm.hold_time;
+  c.ssm_degraded_scale = p.ssm.degraded_scale;
   return c;
 }
 
@@ -51,9 +62,11 @@ MonitorParams applyConfig(MonitorParams p, const ProximityMonitorConfig& c) {
   p.robot_margin = c.robot_margin;
   LabelSettings& d = p.labels["default"];
   d = LabelSettings{c.default_margin, c.default_warning_time, c.default_critical_time,
-                    c.default_warning_distance, c.default_critical_distance};
+                    c.default_warning_distance, c.default_critical_distance,
+                    c.default_ssm_min_speed};
   const LabelSettings person{c.person_margin, c.person_warning_time, c.person_critical_time,
-                             c.person_warning_distance, c.person_critical_distance};
+                             c.person_warning_distance, c.person_critical_distance,
+                             c.person_ssm_min_speed};
   if (p.labels.count("person") != 0 || !sameSettings(person, d)) p.labels["person"] = person;
   p.robot_thresholds.warning_time = c.robot_warning_time;
   p.robot_thresholds.critical_time = c.robot_critical_time;
@@ -62,6 +75,15 @@ MonitorParams applyConfig(MonitorParams p, const ProximityMonitorConfig& c) {
   p.publish_markers = c.publish_markers;
   p.marker_rate = c.marker_rate;
   p.marker_lifetime = c.marker_lifetime;
+  p.ssm.reaction_time = c.ssm_reaction_time;
+  p.ssm.stopping_time = c.ssm_stopping_time;
+  p.ssm.intrusion_distance = c.ssm_intrusion_distance;
+  p.ssm.sensor_uncertainty = c.ssm_sensor_uncertainty;
+  p.ssm.robot_uncertainty = c.ssm_robot_uncertainty;
+  p.ssm.robot_max_speed = c.ssm_robot_max_speed;
+  p.ssm.max_increase_rate = c.ssm_max_increase_rate;
+  p.ssm.hold_time = c.ssm_hold_time;
+  p.ssm.degraded_scale = c.ssm_degraded_scale;
   return p;
 }
 

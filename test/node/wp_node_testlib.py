@@ -32,7 +32,7 @@ BEGIN = ContactEvent.BEGIN
 ONGOING = ContactEvent.ONGOING
 END = ContactEvent.END
 STATE_NAMES = {BEGIN: "BEGIN", ONGOING: "ONGOING", END: "END"}
-MARKER_NAMESPACES = {"bodies", "swept", "nearest", "ttc_text", "velocity", "ids", "status"}
+MARKER_NAMESPACES = {"bodies", "swept", "nearest", "ttc_text", "velocity", "ids", "status", "ssm"}
 
 # Tolerances of the analytic checks.
 TIME_TOL = 1e-3      # s, time_to_contact / time_to_separation
