@@ -86,7 +86,13 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   // timer, re-armed after every cycle, runs one when a period passes without (the floor: silence
   // is still published).
   timer_ = nh_.createTimer(ros::Duration(1.0 / params_.rate),
-                           [this](const ros::TimerEvent&) { cycle(ros::Time::now()); },
+                           [this](const ros::TimerEvent&) {
+                             if (input_trigger_) {
+                               onFloorTimer(ros::Time::now());
+                             } else {
+                               cycle(ros::Time::now());
+                             }
+                           },
                            input_trigger_, true);
   // Markers are built half a period after the cycle that predicted them, so that their
   // cost (and their megabyte on the wire) never delays the contacts of the next cycle or
@@ -139,19 +145,35 @@ void ProximityMonitor::publishSsm() {
   if (twist_filter_ != nullptr) twist_filter_->update(report.ssm.speed_scale, toTime(report.stamp));
 }
 
-void ProximityMonitor::onTriggerArray(const ros::Time& now) {
+void ProximityMonitor::refillTokens(const ros::Time& now) {
   constexpr double kTriggerBurst = 2.0;
   if (trigger_refilled_.isZero() || now < trigger_refilled_) {
-    trigger_tokens_ = kTriggerBurst;  // the first array, or the clock went back
+    trigger_tokens_ = kTriggerBurst;  // the first cycle, or the clock went back
   } else {
     trigger_tokens_ = std::min(
         kTriggerBurst, trigger_tokens_ + (now - trigger_refilled_).toSec() * params_.rate);
   }
   trigger_refilled_ = now;
+}
+
+void ProximityMonitor::onTriggerArray(const ros::Time& now) {
+  refillTokens(now);
   // Out of tokens (a tracker faster than ~rate): the array waits for the floor timer, at most a
   // period, and is used by that cycle (as with the timer trigger).
-  if (trigger_tokens_ < 1.0) return;
+  if (trigger_tokens_ < 1.0) {
+    trigger_refused_ = true;
+    return;
+  }
   trigger_tokens_ -= 1.0;
+  trigger_refused_ = false;
+  cycle(now);
+}
+
+void ProximityMonitor::onFloorTimer(const ros::Time& now) {
+  refillTokens(now);
+  // Silence or a slow tracker: the floor costs nothing, the next array still runs at once.
+  if (trigger_refused_) trigger_tokens_ = std::max(0.0, trigger_tokens_ - 1.0);
+  trigger_refused_ = false;
   cycle(now);
 }
 

@@ -28,7 +28,7 @@ import rospy  # noqa: E402
 import rostest  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 
-from wp_node_testlib import ContactEventArray, Track, TrackedBoxArray  # noqa: E402
+from wp_node_testlib import ContactEventArray, Track, TrackedBoxArray, WallPacer  # noqa: E402
 
 START_NS = 100 * 10**9
 STEP_NS = 10 * 10**6
@@ -75,26 +75,23 @@ class CycleTriggerTest(unittest.TestCase):
         b_ns = set(ns_of(s) for s in B_TIMES)
         a_ns = set(ns_of(s) for s in A_TIMES)
         flood = (ns_of(3.0), ns_of(5.0))
-        next_wall = time.monotonic()
+        pacer = WallPacer(STEP_NS * 1e-9)
         for k in range(701):
             ns = START_NS + k * STEP_NS
             clock_pub.publish(Clock(clock=to_time(ns)))
-            held = False
-            for which, times in (("a", a_ns), ("b", b_ns)):
-                if ns in times:
-                    send(which, ns)
-                    held = True
+            due = [which for which, times in (("a", a_ns), ("b", b_ns)) if ns in times]
+            if due:
+                # The clock and the arrays travel on separate connections: hold the clock at the
+                # array's instant until the node has it, so that the array arrives at that instant.
+                time.sleep(0.05)
+            for which in due:
+                send(which, ns)
             if flood[0] <= ns < flood[1]:
                 send("b", ns)
-            if held:
+            if due:
                 time.sleep(0.06)  # the clock stands still while the node takes the array
-                next_wall = time.monotonic()
-            next_wall += STEP_NS * 1e-9
-            delay = next_wall - time.monotonic()
-            if delay > 0:
-                time.sleep(delay)
-            elif delay < -0.1:
-                next_wall = time.monotonic()
+                pacer.restart()
+            pacer.wait()
         time.sleep(0.3)
         with lock:
             stamps = sorted(cycles)

@@ -38,7 +38,7 @@ from rosgraph_msgs.msg import Clock  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 from trajectory_msgs.msg import JointTrajectory  # noqa: E402
 
-from wp_node_testlib import SsmCollector, Track, TrackedBoxArray  # noqa: E402
+from wp_node_testlib import SsmCollector, Track, TrackedBoxArray, WallPacer  # noqa: E402
 
 STEP_NS = 10 * 1000 * 1000
 START_NS = 100 * 10**9
@@ -106,18 +106,13 @@ class Simulator(object):
             self.cmd_pub.publish(cmd)
 
     def run(self, start_ns, steps, where_at, k0=0):
-        next_wall = time.monotonic()
+        pacer = WallPacer(STEP_NS * 1e-9)
         for k in range(steps):
             if rospy.is_shutdown():
                 return
             ns = start_ns + k * STEP_NS
             self.step(ns, k0 + k, where_at(ns))
-            next_wall += STEP_NS * 1e-9
-            delay = next_wall - time.monotonic()
-            if delay > 0:
-                time.sleep(delay)
-            elif delay < -0.1:
-                next_wall = time.monotonic()
+            pacer.wait()
 
 
 def where_at(ns):

@@ -9,6 +9,7 @@ import math
 import os
 import sys
 import threading
+import time
 
 import rospy
 from geometry_msgs.msg import Pose, TransformStamped, Twist, Vector3
@@ -33,6 +34,26 @@ ONGOING = ContactEvent.ONGOING
 END = ContactEvent.END
 STATE_NAMES = {BEGIN: "BEGIN", ONGOING: "ONGOING", END: "END"}
 MARKER_NAMESPACES = {"bodies", "swept", "nearest", "ttc_text", "velocity", "ids", "status", "ssm"}
+
+class WallPacer(object):
+    """Paces a simulated clock's steps at about real time: call wait() after each step. A
+    step that ran more than 0.1 s late restarts the pacing instead of rushing to catch up."""
+
+    def __init__(self, step_s):
+        self.step_s = step_s
+        self.restart()
+
+    def restart(self):
+        self.next_wall = time.monotonic()
+
+    def wait(self):
+        self.next_wall += self.step_s
+        delay = self.next_wall - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
+        elif delay < -0.1:
+            self.restart()
+
 
 # Tolerances of the analytic checks.
 TIME_TOL = 1e-3      # s, time_to_contact / time_to_separation

@@ -49,6 +49,11 @@ class ProximityMonitor {
   // ~cycle_trigger: input. An array of the trigger source arrived: a cycle now, unless arrays
   // have already run ~rate cycles a second (then the floor timer takes it, within a period).
   void onTriggerArray(const ros::Time& now);
+  // The floor timer (input trigger): a cycle a period after the last one, whatever the bucket
+  // holds. When it runs for an array the bucket refused (a flood), it spends that array's
+  // token, so that the next array of the flood does not run a second cycle right after it.
+  void onFloorTimer(const ros::Time& now);
+  void refillTokens(const ros::Time& now);  // the bucket counted up to `now`
   void armFloor();  // the one-shot floor timer: a cycle one period after the last
   void scheduleMarkers(const ros::Time& now);  // arms marker_timer_ when markers are due
   void publishMarkers();                        // marker_timer_: half a period after a cycle
@@ -73,11 +78,12 @@ class ProximityMonitor {
   ros::Timer timer_;       // timer trigger: every period; input trigger: one-shot floor
   bool input_trigger_ = false;
   int trigger_source_ = 0;  // index of the trigger topic
-  // Array-triggered cycles are limited by a token bucket: ~rate tokens a second, at most
-  // kTriggerBurst saved up, so a tracker at the node's rate whose arrays jitter never waits,
-  // while a flooding one runs at most ~rate cycles a second.
+  // Cycles under the input trigger are limited by a token bucket: ~rate tokens a second, at
+  // most kTriggerBurst saved up, so a tracker at the node's rate whose arrays jitter never
+  // waits, while a flooding one runs at most ~rate cycles a second (floor cycles included).
   double trigger_tokens_ = 0.0;
   ros::Time trigger_refilled_;  // when the tokens were last counted up (zero: never)
+  bool trigger_refused_ = false;  // an array was refused a cycle since the last one
   ros::Timer marker_timer_;
   ros::Time last_markers_;  // stamp of the last MarkerArray
   diagnostic_updater::Updater diagnostics_;
