@@ -8,7 +8,11 @@ Subscribes to `contacts` (workspace_proximity/ContactEventArray) and prints
   * once per ~summary_period seconds (default 1.0) a one-line summary: the number of active
     contacts, the earliest one and its level, or a warning when no array has arrived lately
     (the monitor publishes every cycle, so silence never means "all clear", and neither
-    does an empty list while the status is DEGRADED).
+    does an empty list while the status is DEGRADED);
+  * from `safety_status` (speed and separation monitoring): a STOP line when the speed scale
+    reaches 0 and a GO line when it rises again, and with each summary a "speed" line: the
+    scale, the raw scale and the pair limiting it (or a warning when the scale is silent:
+    a consumer must then act as if it were 0).
 Parameters (private): ~summary_period (1.0 s), ~stale_after (1.0 s), ~color (auto: when a tty).
 """
 
@@ -18,7 +22,7 @@ import threading
 
 import rospy
 
-from workspace_proximity.msg import ContactEvent, ContactEventArray
+from workspace_proximity.msg import ContactEvent, ContactEventArray, SafetyStatus
 
 LEVELS = {ContactEvent.NOTICE: 'NOTICE', ContactEvent.WARNING: 'WARNING', ContactEvent.CRITICAL: 'CRITICAL'}
 COLORS = {ContactEvent.NOTICE: '\033[36m', ContactEvent.WARNING: '\033[33m', ContactEvent.CRITICAL: '\033[1;31m'}
@@ -62,6 +66,10 @@ class Printer(object):
         self.anomalies = 0
         self.status = ContactEventArray.OK
         self.details = []
+        self.safety = None      # latest SafetyStatus
+        self.safety_rx = None   # wall time of its receipt
+        self.stopped = None     # protective stop in force (None: no status yet)
+        self.n_stops = 0
 
     def paint(self, text, level):
         return (COLORS.get(level, '') + text + RESET) if self.color else text
@@ -147,6 +155,39 @@ class Printer(object):
             live = [ev for ev in msg.events if ev.state != ContactEvent.END]
             self.earliest = min(live, key=lambda e: e.time_to_contact) if live else None
 
+    def on_safety(self, msg):
+        with self.lock:
+            self.safety = msg
+            self.safety_rx = rospy.get_time()
+            if msg.protective_stop and self.stopped is not True:
+                self.n_stops += 1
+                self.out(self.paint('STOP   protective stop, speed scale 0: %s' % msg.reason,
+                                    ContactEvent.CRITICAL))
+            elif not msg.protective_stop and self.stopped:
+                self.out('GO     speed scale %.3f and rising: %s' % (msg.speed_scale, msg.reason))
+            self.stopped = msg.protective_stop
+
+    def speed_line(self, now):
+        """The speed scale's summary line, or None when the monitor never published one."""
+        if self.safety_rx is None:
+            return None
+        age = now - self.safety_rx
+        if age > self.stale_after:
+            return self.paint('speed  NO SPEED SCALE for %.1f s: act as if it were 0' % age,
+                              ContactEvent.CRITICAL)
+        m = self.safety
+        if m.id_object:
+            pair = '%s -> %s %.2f m, S_p %.2f m (approach %.2f m/s)' % (
+                m.id_object, m.id_robot, m.separation, m.required_separation, m.approach_speed)
+        else:
+            pair = 'no monitored object within reach'
+        line = 'speed  scale %.2f (raw %.2f)  %s%s' % (
+            m.speed_scale, m.raw_scale, pair,
+            '  [DEGRADED]' if m.status == SafetyStatus.DEGRADED else '')
+        level = (ContactEvent.CRITICAL if m.speed_scale <= 0.0 else
+                 ContactEvent.WARNING if m.speed_scale < 1.0 else None)
+        return self.paint(line, level) if level is not None else line
+
     def summary(self, _event=None):
         if rospy.is_shutdown():
             return
@@ -156,9 +197,12 @@ class Printer(object):
                 self.out('----   no contacts received yet (is proximity_monitor running?)')
                 return
             age = now - self.last_rx
+            speed = self.speed_line(now)
             if age > self.stale_after:
                 self.out(self.paint('----   NO DATA for %.1f s: the monitor is silent, state unknown' % age,
                                     ContactEvent.CRITICAL))
+                if speed is not None:
+                    self.out(speed)
                 return
             n = len(self.active)
             counts = {}
@@ -171,6 +215,8 @@ class Printer(object):
                     self.out(self.paint('----   0 active contacts, but NOT clear' + note, ContactEvent.WARNING))
                 else:
                     self.out('----   0 active contacts  (clear)')
+                if speed is not None:
+                    self.out(speed)
                 return
             e = self.earliest
             split = ', '.join('%d %s' % (counts[l], level_name(l).lower())
@@ -179,13 +225,16 @@ class Printer(object):
                 n, split, e.id_a, e.id_b, fmt_time(e.time_to_contact), e.distance, level_name(e.level),
                 stale_tag(e), note)
             self.out(self.paint(line, max(counts)))
+            if speed is not None:
+                self.out(speed)
 
     def final(self):
         with self.lock:
             peaks = ', '.join('%d %s' % (self.worst.get(l, 0), level_name(l).lower())
                               for l in (ContactEvent.CRITICAL, ContactEvent.WARNING, ContactEvent.NOTICE))
-            self.out('event_printer: %d arrays, %d BEGIN, %d END (peak levels: %s), %d still active%s'
+            self.out('event_printer: %d arrays, %d BEGIN, %d END (peak levels: %s), %d still active%s%s'
                      % (self.n_arrays, self.n_begin, self.n_end, peaks, len(self.active),
+                        ', %d protective stops' % self.n_stops if self.safety_rx is not None else '',
                         ', %d anomalies' % self.anomalies if self.anomalies else ''))
 
 
@@ -200,6 +249,7 @@ def main():
     printer = Printer(bool(color))
     printer.stale_after = float(rospy.get_param('~stale_after', 1.0))
     rospy.Subscriber('contacts', ContactEventArray, printer.on_contacts, queue_size=50)
+    rospy.Subscriber('safety_status', SafetyStatus, printer.on_safety, queue_size=50)
     if period > 0:
         rospy.Timer(rospy.Duration(period), printer.summary)
     rospy.on_shutdown(printer.final)

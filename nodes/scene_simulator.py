@@ -11,6 +11,12 @@ Publishes, at ~rate Hz:
     cell on looping paths that come near the arm, and a forklift crossing it, each with the
     exact velocity of its path.
 
+The arm follows the proximity monitor's speed scale (std_msgs/Float64 on speed_scale, speed and
+separation monitoring) as a robot controller with a speed override would: its trajectory's
+time advances at the scale (1: full speed, 0: standing still, and its joint velocities are
+scaled alike), and silence on speed_scale for longer than ~speed_scale_timeout counts as 0,
+so the loop from the tracked people through the monitor to the arm is closed.
+
 Parameters (private):
   ~rate (30.0)            Hz
   ~frame ("world")        fixed frame of the tf root and of the tracked objects
@@ -19,17 +25,22 @@ Parameters (private):
   ~objects (true)         publish tracked_objects
   ~robot (true)           publish the arm
   ~robot_output ("joint_states")  joint_states (+ robot_state_publisher) or tf
+  ~follow_speed_scale (false)     slow the arm down by speed_scale (the demo turns it on)
+  ~speed_scale_timeout (0.1)      s without a speed_scale message after which the scale is 0
+                                  (the demo: 3 periods of the monitor)
 """
 
 import math
 import random
 import sys
+import threading
 import xml.etree.ElementTree as ET
 
 import rospy
 import tf2_ros
 from geometry_msgs.msg import TransformStamped
 from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64
 
 from workspace_proximity.msg import TrackedBox, TrackedBoxArray
 
@@ -147,23 +158,24 @@ class ArmAnimator(object):
         q = offset + amp * math.sin(2.0 * math.pi * t / period + phase)
         return min(max(q, joint.lower), joint.upper)
 
-    def velocity(self, joint, t):
-        """Exact derivative of position() (0 while held at a limit)."""
+    def velocity(self, joint, t, speed=1.0):
+        """Exact derivative of position() with respect to real time when the trajectory's time
+        t advances at `speed` seconds per second (0 while held at a limit)."""
         offset, amp, period, phase = self.motion[joint.name]
         q = offset + amp * math.sin(2.0 * math.pi * t / period + phase)
         if q <= joint.lower or q >= joint.upper:
             return 0.0
         w = 2.0 * math.pi / period
-        return amp * w * math.cos(w * t + phase)
+        return speed * amp * w * math.cos(w * t + phase)
 
-    def joint_state(self, stamp, t):
+    def joint_state(self, stamp, t, speed=1.0):
         msg = JointState()
         msg.header.stamp = stamp
         for j in self.joints:
             if j.name in self.motion:
                 msg.name.append(j.name)
                 msg.position.append(self.position(j, t))
-                msg.velocity.append(self.velocity(j, t))
+                msg.velocity.append(self.velocity(j, t, speed))
         return msg
 
     def transforms(self, t):
@@ -265,6 +277,30 @@ def make_objects(rng):
 # ---------------------------------------------------------------------------------------------
 
 
+class SpeedScale(object):
+    """The latest speed_scale, or 0 once it has been silent for longer than `timeout` s (a
+    monitor that stopped cycling must stop the robot, not leave it at its last speed)."""
+
+    def __init__(self, timeout):
+        self.timeout = timeout
+        self.lock = threading.Lock()
+        self.value = 0.0
+        self.received = None
+        self.sub = rospy.Subscriber('speed_scale', Float64, self.on_scale, queue_size=1,
+                                    tcp_nodelay=True)
+
+    def on_scale(self, msg):
+        with self.lock:
+            self.value = min(1.0, max(0.0, msg.data))
+            self.received = rospy.Time.now()
+
+    def now(self):
+        with self.lock:
+            if self.received is None or (rospy.Time.now() - self.received).to_sec() > self.timeout:
+                return 0.0
+            return self.value
+
+
 def main():
     rospy.init_node('scene_simulator')
     rate_hz = float(rospy.get_param('~rate', 30.0))
@@ -277,6 +313,8 @@ def main():
     publish_robot = bool(rospy.get_param('~robot', True))
     publish_objects = bool(rospy.get_param('~objects', True))
     robot_output = rospy.get_param('~robot_output', 'joint_states')
+    follow = bool(rospy.get_param('~follow_speed_scale', False))
+    scale_timeout = float(rospy.get_param('~speed_scale_timeout', 0.1))
     if robot_output not in ('joint_states', 'tf'):
         rospy.logfatal("~robot_output must be 'joint_states' or 'tf', got %r", robot_output)
         return 1
@@ -312,21 +350,28 @@ def main():
         static_broadcaster = tf2_ros.StaticTransformBroadcaster()
         static_broadcaster.sendTransform(
             make_tf(rospy.Time.now(), frame, arm.root, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)))
-    rospy.loginfo('scene_simulator: %d Hz, frame %s, %s, %d tracked objects%s', rate_hz, frame,
+    rospy.loginfo('scene_simulator: %d Hz, frame %s, %s, %d tracked objects%s%s', rate_hz, frame,
                   ('arm rooted at %s with %d joints' % (arm.root, len(arm.joints))) if arm else 'no arm',
-                  len(objects), (', seed %d' % seed) if seed else '')
+                  len(objects), (', seed %d' % seed) if seed else '',
+                  (', the arm follows %s' % rospy.resolve_name('speed_scale')) if (arm and follow) else '')
 
+    speed_scale = SpeedScale(scale_timeout) if (arm is not None and follow) else None
     start = rospy.Time.now()
     rate = rospy.Rate(rate_hz)
+    arm_t = 0.0      # the arm's trajectory time: advances at the speed scale
+    last = start
     while not rospy.is_shutdown():
         now = rospy.Time.now()
         t = (now - start).to_sec()
+        speed = speed_scale.now() if speed_scale is not None else 1.0
+        arm_t += max(0.0, (now - last).to_sec()) * speed
+        last = now
 
         if joints_pub is not None:
-            joints_pub.publish(arm.joint_state(now, t))
+            joints_pub.publish(arm.joint_state(now, arm_t, speed))
         elif arm is not None:
             tfs = [make_tf(now, frame, arm.root, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))]
-            for parent, child, trans, rot in arm.transforms(t):
+            for parent, child, trans, rot in arm.transforms(arm_t):
                 tfs.append(make_tf(now, parent, child, trans, rot))
             broadcaster.sendTransform(tfs)
 

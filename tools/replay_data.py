@@ -79,8 +79,12 @@ def read_events(path):
                         level=row["level"], stale=row["stale"] == "1")
 
 
+SSM_NUMBERS = ("speed_scale", "raw_scale", "separation", "required_separation", "approach_speed")
+
+
 def read_cycles(path):
-    """Every row of cycles.csv as a dict with typed stamp, t, status, events, tracks, details."""
+    """Every row of cycles.csv as a dict with typed stamp, t, status, events, tracks, details,
+    and the speed and separation columns (numbers, or None when empty or absent)."""
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
             row["stamp"] = float(row["stamp"])
@@ -88,7 +92,25 @@ def read_cycles(path):
             row["events"] = int(row["events"])
             row["tracks"] = int(row["tracks"])
             row["details"] = [d for d in row["details"].split(" | ") if d] if row["details"] else []
+            for key in SSM_NUMBERS:
+                value = row.get(key)
+                row[key] = float(value) if value not in (None, "") else None
             yield row
+
+
+def protective_stops(cycles):
+    """[(start t, end t or None)] of the stretches of cycles whose speed scale is 0."""
+    stops, start = [], None
+    for c in cycles:
+        stopped = c.get("speed_scale") == 0.0
+        if stopped and start is None:
+            start = c["t"]
+        elif not stopped and start is not None:
+            stops.append((start, c["t"]))
+            start = None
+    if start is not None:
+        stops.append((start, None))
+    return stops
 
 
 def read_summary(out_dir):

@@ -4,11 +4,13 @@ embedded as base64), and a short episode table on stdout.
 
     replay_report.py OUT_DIR [--max-pairs N]
 
-The page has: a summary (bag, configuration, cycles, tracks, dropped boxes by reason, DEGRADED
-intervals with their reasons), the smallest time to contact over the whole scene per cycle,
-a table of episodes (pair, start, end, peak level, smallest time to contact and distance),
-and a timeline per pair (time to contact and distance over bag time, coloured by level).
-Also writes the plots as PNG files next to the page (min_ttc.png, timelines.png).
+The page has: a summary (bag, configuration, cycles, tracks, dropped boxes by reason, the
+speed scale's minimum, mean and protective stops, DEGRADED intervals with their reasons), the
+smallest time to contact over the whole scene per cycle, the speed scale per cycle (speed and
+separation monitoring), a table of episodes (pair, start, end, peak level, smallest time to
+contact and distance), and a timeline per pair (time to contact and distance over bag time,
+coloured by level). Also writes the plots as PNG files next to the page (min_ttc.png,
+speed_scale.png, timelines.png).
 """
 import argparse
 import base64
@@ -78,6 +80,28 @@ def min_ttc_plot(cycles, events_by_cycle, horizon, duration, intervals, path):
     ax.set_title("Smallest time to contact over the scene, per cycle")
     handles = level_legend() + [Patch(color=DEGRADED_COLOUR, alpha=0.35, label="DEGRADED")]
     ax.legend(handles=handles, loc="upper right", fontsize=8, ncol=4)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return png(fig, path)
+
+
+def speed_scale_plot(cycles, duration, intervals, path):
+    """Speed and separation monitoring: the speed scale per cycle and the rule's raw scale."""
+    fig, ax = plt.subplots(figsize=(11, 2.6))
+    shade_degraded(ax, intervals)
+    ts = [c["t"] for c in cycles]
+    ax.plot(ts, [c["raw_scale"] if c["raw_scale"] is not None else math.nan for c in cycles],
+            color="#888888", ls=":", lw=1.0, label="raw scale (the rule)")
+    ax.plot(ts, [c["speed_scale"] if c["speed_scale"] is not None else math.nan for c in cycles],
+            color="#1d3557", lw=1.3, label="speed scale (after the DEGRADED cap and hysteresis)")
+    ax.set_xlim(0, max(duration, 1e-3))
+    ax.set_ylim(-0.05, 1.1)
+    ax.set_xlabel("bag time (s)")
+    ax.set_ylabel("scale")
+    ax.set_title("Speed and separation monitoring, per cycle")
+    handles, _ = ax.get_legend_handles_labels()
+    handles.append(Patch(color=DEGRADED_COLOUR, alpha=0.35, label="DEGRADED"))
+    ax.legend(handles=handles, loc="lower right", fontsize=8, ncol=3)
     ax.grid(alpha=0.3)
     fig.tight_layout()
     return png(fig, path)
@@ -177,6 +201,9 @@ def main(argv):
 
     images = [("Smallest time to contact", min_ttc_plot(
         cycles, earliest, horizon, duration, intervals, os.path.join(out, "min_ttc.png")))]
+    ssm_cycles = [c for c in cycles if c.get("speed_scale") is not None]
+    speed_image = (speed_scale_plot(cycles, duration, intervals, os.path.join(out, "speed_scale.png"))
+                   if ssm_cycles else None)
     if shown:
         images.append(("Timelines", timelines_plot(
             shown, events_by_pair, eps_by_pair, horizon, duration, intervals,
@@ -203,6 +230,19 @@ def main(argv):
         ("replay", "%.3f s of wall time (%.0fx real time)" % (
             summary["wall_seconds"], summary["speed_factor"])),
     ]
+    if ssm_cycles:
+        stops = replay_data.protective_stops(cycles)
+        stopped = sum(((end if end is not None else duration) - start) for start, end in stops)
+        limiting = {}
+        for c in ssm_cycles:
+            if c["raw_scale"] is not None and c["raw_scale"] < 1.0 and c.get("ssm_object"):
+                limiting[c["ssm_object"]] = limiting.get(c["ssm_object"], 0) + 1
+        summary_rows.append(("speed scale", "minimum %.2f, mean %.2f; %d protective stops (%.2f s at 0)%s" % (
+            min(c["speed_scale"] for c in ssm_cycles),
+            sum(c["speed_scale"] for c in ssm_cycles) / len(ssm_cycles), len(stops), stopped,
+            ("; limited by " + ", ".join("%s (%d cycles)" % kv for kv in
+                                        sorted(limiting.items(), key=lambda kv: -kv[1])))
+            if limiting else "")))
     for g in summary.get("skipped_gaps", []):
         summary_rows.append(("gap", "no input from %.3f s to %.3f s: %d cycles skipped" % (
             g["from"], g["to"], g["cycles"])))
@@ -241,6 +281,11 @@ img { max-width: 100%%; border: 1px solid #ddd; }
     parts.append("<h2>Smallest time to contact</h2>")
     parts.append('<img alt="smallest time to contact per cycle" src="data:image/png;base64,%s">'
                  % base64.b64encode(images[0][1]).decode())
+    if speed_image is not None:
+        parts.append("<h2>Speed scale</h2><p>Speed and separation monitoring (ISO/TS 15066): the "
+                     "scale a controller would apply, and the rule's raw scale.</p>")
+        parts.append('<img alt="speed scale per cycle" src="data:image/png;base64,%s">'
+                     % base64.b64encode(speed_image).decode())
     parts.append("<h2>Episodes</h2><p>From a pair's BEGIN to its END; times in seconds after the "
                  "bag's first message.</p>")
     parts.append(table(("pair", "labels", "start", "end", "duration", "peak level",

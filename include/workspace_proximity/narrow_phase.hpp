@@ -71,6 +71,11 @@ class NarrowPhase {
   ShapeDistance distance(const Shape& a, const Eigen::Isometry3d& pose_a, const Shape& b,
                          const Eigen::Isometry3d& pose_b) const;
 
+  /// Distance and nearest points between two bodies' bare shapes (margins not included) at
+  /// t = 0, from their cached geometry (PairBody::geometry) and pose now: allocation-free for
+  /// separated shapes. Overlapping shapes get distance 0, a common point and the contact normal.
+  ShapeDistance distanceNow(const PairBody& a, const PairBody& b) const;
+
   /// Conservative first and last contact of the margin-inflated shapes (shape, motion and
   /// margin of each body are read) inside `window` (from contactWindow() or refineWindow()):
   /// an exact window is taken as it is, otherwise advancement refines its first contact and,

@@ -33,6 +33,20 @@ struct WorldConfig {
   bool time_pair_stages = false;
 };
 
+/// Two bodies near each other now: an allowed pair whose bare shapes (margins not included) are
+/// at most reach(a) + reach(b) apart at the prediction instant (see ProximityWorld::setReach).
+struct NearPair {
+  BodyHandle body_a;
+  BodyHandle body_b;
+  double distance = 0.0;  ///< m between the bare shapes now; 0 when they touch or overlap
+  /// Nearest points now (world, m); for overlapping shapes both are the contact point the
+  /// narrow phase found (near the overlap, not necessarily inside both).
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();
+  /// Unit, from a towards b; for overlapping shapes the contact normal (a towards b).
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitX();
+};
+
 /// Counts and per-stage times (ns) of the last predict().
 struct WorldStats {
   int bodies = 0;
@@ -41,6 +55,7 @@ struct WorldStats {
   int axis_candidates = 0;   ///< per-axis time of impact within the horizon (contact window, step 1)
   int contacts = 0;          ///< confirmed by the narrow phase
   int narrow_iterations = 0; ///< distance queries (FCL calls and closed-form upright boxes)
+  int near_pairs = 0;        ///< pairs within reach (nearPairs())
   /// Stage times, ns: swept bounds; broad phase (with the world's pair cache); contact
   /// window; narrow phase; events.
   std::int64_t ns_bounds = 0, ns_broad = 0, ns_axis = 0, ns_narrow = 0, ns_events = 0;
@@ -77,6 +92,16 @@ class ProximityWorld {
   Aabb sweptBounds(BodyHandle body) const;
   int bodyCount() const { return live_count_; }
 
+  /// How near (m, >= 0; default 0) another body must come to this one to be reported in
+  /// nearPairs(), whatever the contact prediction says: an allowed pair is reported when its
+  /// bare shapes are at most reach(a) + reach(b) apart now. The body's broad-phase bounds are
+  /// grown by `reach` on every side (its sweptBounds() are not), so the broad phase finds every
+  /// such pair: the bounds hold the shapes now, and two shapes at most r apart have boxes at
+  /// most r apart on every axis. Takes effect at the next predict(). Throws on a negative,
+  /// non-finite or huge (> Limits::kMaxSize) reach.
+  void setReach(BodyHandle body, double reach);
+  double reach(BodyHandle body) const;
+
   /// Replaces the pair rules; takes effect at the next predict().
   void setRules(const PairRules& rules);
 
@@ -84,6 +109,9 @@ class ProximityWorld {
   /// The returned events are valid until the next call.
   const std::vector<PairEvent>& predict(double horizon);
   const WorldStats& stats() const { return stats_; }
+  /// Every allowed pair within reach at the last predict() (see setReach), in no particular
+  /// order; valid until the next call.
+  const std::vector<NearPair>& nearPairs() const { return near_pairs_; }
 
  private:
   struct BodyRecord;
@@ -108,6 +136,7 @@ class ProximityWorld {
   ContactWindow windowOf(PairBody* a, PairBody* b, double horizon);
   const Eigen::Isometry3d& poseNow(std::int32_t slot);
   bool allowed(PairRecord& pair);
+  void reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b);
   void report(const PairRecord& pair, const ContactPrediction& prediction);
 
   WorldConfig config_;
@@ -126,6 +155,7 @@ class ProximityWorld {
   BasicPairTable<PairRecord> pair_cache_;       // the broad phase's pairs, as the world sees them
   NarrowPhase narrow_phase_;
   EventTracker tracker_;
+  std::vector<NearPair> near_pairs_;
   WorldStats stats_;
 };
 

@@ -391,6 +391,17 @@ ShapeDistance NarrowPhase::distance(const Shape& a, const Eigen::Isometry3d& pos
       .shape;
 }
 
+ShapeDistance NarrowPhase::distanceNow(const PairBody& a, const PairBody& b) const {
+  checkBody(a);
+  checkBody(b);
+  std::unique_ptr<fcl::CollisionGeometryd> own_a, own_b;  // bodies without a cached geometry
+  Eigen::Isometry3d scratch_a, scratch_b;
+  return evaluate(Solid{*a.shape, cache_->of(a, &own_a)}, a.poseNow(&scratch_a),
+                  Solid{*b.shape, cache_->of(b, &own_b)}, b.poseNow(&scratch_b),
+                  config_.distance_tolerance, true)
+      .shape;
+}
+
 ContactPrediction NarrowPhase::predict(const PairBody& a, const PairBody& b,
                                        const ContactWindow& window) const {
   checkBody(a);

@@ -44,6 +44,13 @@ auto timed(std::int64_t* total, bool enabled, F&& f) {
   return f();
 }
 
+// A body's bounds as the broad phase sees them: its swept bounds grown by its reach.
+Aabb grown(const Aabb& box, double reach) {
+  if (reach == 0.0) return box;
+  const Eigen::Vector3d r = Eigen::Vector3d::Constant(reach);
+  return Aabb{box.lower - r, box.upper + r};
+}
+
 SweepAndPruneConfig broadPhaseConfig(const WorldConfig& config) {
   SweepAndPruneConfig c = config.broad_phase;
   c.initial_proxy_capacity = config.initial_body_capacity;
@@ -79,6 +86,7 @@ struct ProximityWorld::BodyRecord {
   BodyMotion motion;
   Eigen::Vector3d half = Eigen::Vector3d::Zero();  // rotation-inflated half extents + margin
   Aabb swept;
+  double reach = 0.0;  // m: the broad phase sees `swept` grown by this (setReach)
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // at t = 0, valid in cycle pose_cycle
   std::uint64_t pose_cycle = 0;
   SweepAndPrune::ProxyId proxy = -1;
@@ -99,6 +107,7 @@ ProximityWorld::ProximityWorld(const WorldConfig& config)
   body_of_proxy_.reserve(bodies_.capacity());
   removed_.reserve(bodies_.capacity());
   to_free_.reserve(bodies_.capacity());
+  near_pairs_.reserve(static_cast<std::size_t>(std::max(config.initial_pair_capacity, 1)));
 }
 
 ProximityWorld::~ProximityWorld() = default;
@@ -188,6 +197,19 @@ void ProximityWorld::setShape(BodyHandle body, const Shape& shape, double margin
   b.dirty = true;
 }
 
+void ProximityWorld::setReach(BodyHandle body, double reach) {
+  BodyRecord& b = liveRecord(body, "ProximityWorld::setReach");
+  if (!std::isfinite(reach) || reach < 0.0 || reach > Limits::kMaxSize) {
+    throw std::invalid_argument("ProximityWorld::setReach: body '" + b.desc.id +
+                                "': reach must be in [0, 1e4] m");
+  }
+  if (reach == b.reach) return;
+  b.reach = reach;
+  b.dirty = true;
+}
+
+double ProximityWorld::reach(BodyHandle body) const { return record(body).reach; }
+
 const BodyDesc& ProximityWorld::desc(BodyHandle body) const { return record(body).desc; }
 const BodyMotion& ProximityWorld::motion(BodyHandle body) const { return record(body).motion; }
 Aabb ProximityWorld::sweptBounds(BodyHandle body) const { return record(body).swept; }
@@ -253,7 +275,7 @@ void ProximityWorld::updateBounds(double horizon) {
     if (b.state != BodyRecord::State::kLive || !(b.dirty || horizon_changed)) continue;
     b.half = rotationHalfExtents(b.desc.shape, b.motion, b.desc.margin, horizon);
     b.swept = workspace_proximity::sweptBounds(b.desc.shape, b.motion, b.desc.margin, horizon);
-    broad_phase_.moveProxy(b.proxy, b.swept);
+    broad_phase_.moveProxy(b.proxy, grown(b.swept, b.reach));
     b.dirty = false;
   }
 }
@@ -278,12 +300,14 @@ void ProximityWorld::syncPairCache() {
 void ProximityWorld::predictPairs(double horizon) {
   // Per pair: rules, contact window, narrow phase inside the window, report.
   tracker_.beginCycle();
+  near_pairs_.clear();
   stats_.broad_pairs = pair_cache_.size();
   const bool timed_pairs = config_.time_pair_stages;
   for (PairRecord& pair : pair_cache_.mutablePairs()) {
     if (!allowed(pair)) continue;
     ++stats_.allowed_pairs;
     PairBody a = pairBody(pair.body_a), b = pairBody(pair.body_b);
+    reportIfNear(pair, &a, &b);
     const ContactWindow window =
         timed(&stats_.ns_axis, timed_pairs, [&] { return windowOf(&a, &b, horizon); });
     if (window.axis.empty()) continue;
@@ -297,6 +321,7 @@ void ProximityWorld::predictPairs(double horizon) {
     report(pair, prediction);
   }
   rules_changed_ = false;
+  stats_.near_pairs = static_cast<int>(near_pairs_.size());
 }
 
 inline PairBody ProximityWorld::pairBody(std::int32_t slot) const {
@@ -337,6 +362,28 @@ inline bool ProximityWorld::allowed(PairRecord& pair) {
     pair.verdict = allow ? kVerdictAllowed : kVerdictDenied;
   }
   return pair.verdict == kVerdictAllowed;
+}
+
+inline void ProximityWorld::reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b) {
+  const double reach = bodies_[pair.body_a].reach + bodies_[pair.body_b].reach;
+  if (!(reach > 0.0)) return;
+  // The boxes around the centres (PairBody::half holds each shape now) a lower bound apart on
+  // some axis further than the reach: the shapes are too. Most pairs stop here.
+  const Eigen::Vector3d gap = (a->motion->position - b->motion->position).cwiseAbs() - a->half - b->half;
+  if (gap.maxCoeff() > reach) return;
+  a->pose = &poseNow(a->geometry);
+  b->pose = &poseNow(b->geometry);
+  const ShapeDistance d = narrow_phase_.distanceNow(*a, *b);
+  ++stats_.narrow_iterations;
+  if (d.distance > reach) return;
+  NearPair near;
+  near.body_a = BodyHandle{pair.body_a, bodies_[pair.body_a].generation};
+  near.body_b = BodyHandle{pair.body_b, bodies_[pair.body_b].generation};
+  near.distance = d.overlapping ? 0.0 : d.distance;
+  near.point_a = d.point_a;
+  near.point_b = d.point_b;
+  near.normal = d.normal;
+  near_pairs_.push_back(near);
 }
 
 inline void ProximityWorld::report(const PairRecord& pair, const ContactPrediction& prediction) {

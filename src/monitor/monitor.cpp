@@ -21,7 +21,8 @@ Monitor::Monitor(const MonitorParams& params, std::vector<RobotBodySpec> robot,
       world_(worldConfig(params_)),
       sources_(sources, qualify),
       tracks_(&world_, &labels_, params_.max_tracks, BoxLimits(), &drops_, sink),
-      robot_(&world_, std::move(robot), params_.robot_margin) {}
+      robot_(&world_, std::move(robot), params_.robot_margin),
+      ssm_(params_.ssm) {}
 
 bool Monitor::acceptStamp(int source, Stamp stamp, Stamp now) {
   const Drop why =
@@ -56,10 +57,19 @@ void Monitor::setParams(const MonitorParams& params) {
   params_.use_robot_description = structure.use_robot_description;
   params_.robot_description_param = structure.robot_description_param;
   params_.robot_bodies = structure.robot_bodies;
+  params_.cycle_trigger = structure.cycle_trigger;
+  params_.trigger_source = structure.trigger_source;
+  // The SSM outputs are wired at start-up: on or off, and where they go.
+  params_.ssm.enabled = structure.ssm.enabled;
+  params_.ssm.stop_trajectory_topics = structure.ssm.stop_trajectory_topics;
+  params_.ssm.stop_event_topics = structure.ssm.stop_event_topics;
+  params_.ssm.cmd_vel_in = structure.ssm.cmd_vel_in;
+  params_.ssm.cmd_vel_out = structure.ssm.cmd_vel_out;
   labels_ = LabelTable(params_);
   tracks_.refreshSettings(params_.max_tracks);
   robot_.setMargin(params_.robot_margin);
   world_.setRules(makePairRules(params_));
+  ssm_.setParams(params_.ssm);
 }
 
 void Monitor::drop(Drop reason, int source, std::string detail) {
@@ -76,12 +86,14 @@ void Monitor::reset() {
   tracks_.clear();
   robot_.clear();
   sources_.reset();
+  ssm_.reset();
 }
 
 const CycleReport& Monitor::cycle(Stamp now, StageClock* clock) {
   last_cycle_ = now;
   tracks_.expire(now, params_.track_timeout);
   tracks_.advance(now);
+  ssm_.prepare(tracks_, labels_, robot_, &world_);
   clock->lap(CycleStage::kInput);
 
   const std::vector<PairEvent>& events = world_.predict(params_.horizon);
@@ -96,6 +108,8 @@ const CycleReport& Monitor::cycle(Stamp now, StageClock* clock) {
   buildEventReport(in, &report_);
   report_.stats = world_.stats();
   buildStatus(now);
+  ssm_.evaluate(now, world_, tracks_, labels_, robot_, report_.degraded, report_.status_lines,
+                &report_.ssm);
   ++cycles_;
   clock->lap(CycleStage::kPredict);
   return report_;
@@ -121,6 +135,7 @@ void Monitor::cycleFailed(Stamp now, const std::string& what) {
   report_.stale.clear();
   report_.degraded = true;
   report_.status_lines.assign(1, "cycle failed: " + what);
+  ssm_.failed(now, what, &report_.ssm);
 }
 
 void Monitor::noteCycleTime(double ms) {

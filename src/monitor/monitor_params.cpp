@@ -26,6 +26,38 @@ void checkLabel(std::vector<std::string>* errors, const std::string& prefix,
   checkRange(errors, prefix + "/warning_distance", l.warning_distance, 0.0, 100.0, "m");
   checkRange(errors, prefix + "/critical_distance", l.critical_distance, 0.0, l.warning_distance,
              "m");
+  if (check_margin) checkRange(errors, prefix + "/ssm_min_speed", l.ssm_min_speed, 0.0, 20.0, "m/s");
+}
+
+void checkNames(std::vector<std::string>* errors, const std::string& name,
+                const std::vector<std::string>& names) {
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (names[i].empty()) errors->push_back("~" + name + "[" + std::to_string(i) + "]: must not be empty");
+    for (std::size_t j = 0; j < i; ++j) {
+      if (names[i] == names[j]) errors->push_back("~" + name + ": '" + names[i] + "' is listed twice");
+    }
+  }
+}
+
+void checkSsm(std::vector<std::string>* errors, const SsmParams& s) {
+  checkRange(errors, "ssm/reaction_time", s.reaction_time, 0.0, 10.0, "s");
+  checkRange(errors, "ssm/stopping_time", s.stopping_time, 0.0, 10.0, "s");
+  checkRange(errors, "ssm/intrusion_distance", s.intrusion_distance, 0.0, 10.0, "m");
+  checkRange(errors, "ssm/sensor_uncertainty", s.sensor_uncertainty, 0.0, 10.0, "m");
+  checkRange(errors, "ssm/robot_uncertainty", s.robot_uncertainty, 0.0, 10.0, "m");
+  checkRange(errors, "ssm/robot_max_speed", s.robot_max_speed, 0.001, 100.0, "m/s");
+  checkRange(errors, "ssm/max_increase_rate", s.max_increase_rate, 0.001, 1000.0, "1/s");
+  checkRange(errors, "ssm/hold_time", s.hold_time, 0.0, 3600.0, "s");
+  checkRange(errors, "ssm/degraded_scale", s.degraded_scale, 0.0, 1.0, "(a speed scale)");
+  checkNames(errors, "ssm/labels", s.labels);
+  checkNames(errors, "ssm/stop_trajectory_topics", s.stop_trajectory_topics);
+  checkNames(errors, "ssm/stop_event_topics", s.stop_event_topics);
+  if (s.cmd_vel_in.empty() != s.cmd_vel_out.empty()) {
+    errors->push_back("~ssm/cmd_vel_in and ~ssm/cmd_vel_out: give both (the Twist filter) or neither");
+  } else if (!s.cmd_vel_in.empty() && s.cmd_vel_in == s.cmd_vel_out) {
+    errors->push_back("~ssm/cmd_vel_out = '" + s.cmd_vel_out +
+                      "': must differ from ~ssm/cmd_vel_in (the filter would hear itself)");
+  }
 }
 
 // tf2 refuses frame ids that are empty or start with '/' (a tf1 habit) in every lookup, so
@@ -82,6 +114,19 @@ std::vector<std::string> validate(const MonitorParams& p) {
       }
     }
   }
+  if (p.cycle_trigger != "timer" && p.cycle_trigger != "input") {
+    errors.push_back("~cycle_trigger = '" + p.cycle_trigger + "': must be 'timer' or 'input'");
+  }
+  if (!p.trigger_source.empty()) {
+    const std::vector<std::string> topics =
+        p.input_topics.empty() ? std::vector<std::string>{"tracked_objects"} : p.input_topics;
+    if (std::find(topics.begin(), topics.end(), p.trigger_source) == topics.end()) {
+      errors.push_back("~trigger_source = '" + p.trigger_source +
+                       "': must be one of the input topics (as ~input_topics lists them, or "
+                       "'tracked_objects' without ~input_topics)");
+    }
+  }
+  checkSsm(&errors, p.ssm);
   if (p.labels.count("default") == 0) errors.push_back("~labels: must have a 'default' entry");
   for (const auto& kv : p.labels) checkLabel(&errors, "labels/" + kv.first, kv.second, true);
   checkLabel(&errors, "robot_thresholds", p.robot_thresholds, false);

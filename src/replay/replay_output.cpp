@@ -13,7 +13,9 @@ namespace {
 const char* kEventColumns =
     "stamp,t,state,id_a,id_b,label_a,label_b,time_to_contact,time_to_separation,distance,"
     "closing_speed,level,stale\n";
-const char* kCycleColumns = "stamp,t,status,events,tracks,robot_bodies,robot_unposed,details\n";
+const char* kCycleColumns =
+    "stamp,t,status,events,tracks,robot_bodies,robot_unposed,details,speed_scale,raw_scale,"
+    "ssm_robot,ssm_object,separation,required_separation,approach_speed\n";
 
 const char* stateName(std::uint8_t state) {
   switch (state) {
@@ -192,6 +194,32 @@ void ReplayWriter::onCycle(const CycleReport& report, const ContactEventArray& c
     details += d;
   }
   appendField(&l, details);
+  // Speed and separation monitoring: the scale, the rule's raw scale and the limiting pair
+  // (empty fields when it is off, or for the pair when nothing is within reach).
+  const SsmVerdict& v = report.ssm;
+  if (v.enabled) {
+    l.push_back(',');
+    appendNumber(&l, v.speed_scale);
+    l.push_back(',');
+    appendNumber(&l, v.raw_scale);
+    const ProximityWorld& world = monitor.world();
+    if (v.limited && world.contains(v.robot) && world.contains(v.object)) {
+      l.push_back(',');
+      appendField(&l, world.desc(v.robot).id);
+      l.push_back(',');
+      appendField(&l, world.desc(v.object).id);
+      l.push_back(',');
+      appendNumber(&l, v.separation);
+      l.push_back(',');
+      appendNumber(&l, v.required_separation);
+      l.push_back(',');
+      appendNumber(&l, v.approach_speed);
+    } else {
+      l += ",,,,,";
+    }
+  } else {
+    l += ",,,,,,,";
+  }
   l.push_back('\n');
   std::fwrite(l.data(), 1, l.size(), cycles_);
 }

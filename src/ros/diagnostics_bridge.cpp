@@ -36,6 +36,20 @@ void diagnose(const Monitor& monitor, const BridgeCounters& bridges, Stamp now,
   status->add("broad-phase pairs", report.stats.broad_pairs);
   status->add("predicted contacts", report.stats.contacts);
   status->add("history resets (clock jumps)", monitor.resets());
+  const SsmVerdict& ssm = report.ssm;
+  if (ssm.enabled) {
+    status->addf("speed scale", "%.3f", ssm.speed_scale);
+    status->addf("speed scale raw", "%.3f", ssm.raw_scale);
+    if (ssm.limited && monitor.world().contains(ssm.robot) && monitor.world().contains(ssm.object)) {
+      status->addf("speed scale limited by", "%s - %s: %.2f m, S_p %.2f m",
+                   monitor.world().desc(ssm.object).id.c_str(), monitor.world().desc(ssm.robot).id.c_str(),
+                   ssm.separation, ssm.required_separation);
+    } else {
+      status->add("speed scale limited by", "nothing within reach");
+    }
+    status->add("speed scale reason", ssm.reason);
+    status->addf("speed and separation reach (m)", "%.2f", monitor.ssm().reach());
+  }
   const SourceTable& sources = monitor.sources();
   for (int i = 0; i < sources.size(); ++i) {
     const Source& s = sources.source(i);

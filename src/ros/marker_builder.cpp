@@ -139,6 +139,7 @@ void MarkerBuilder::build(const CycleReport& report, const ProximityWorld& world
     if (e.state != ContactState::kEnd && e.pair >= 0) addPair(e, report.levels[i], world, out);
   }
   addStatus(report, world, out);
+  addSsm(report, world, out);
   deleteVanished(out);
   out->markers.resize(used_);
 }
@@ -256,6 +257,12 @@ void MarkerBuilder::addStatus(const CycleReport& report, const ProximityWorld& w
   } else {
     line += " | no contact predicted";
   }
+  if (report.ssm.enabled) {
+    char buffer[48];
+    std::snprintf(buffer, sizeof buffer, " | speed scale %.2f%s", report.ssm.speed_scale,
+                  report.ssm.speed_scale <= 0.0 ? " (STOP)" : "");
+    line += buffer;
+  }
   Marker& m = add("status", 0, Marker::ADD, out);
   m.type = Marker::TEXT_VIEW_FACING;
   m.pose.position = point(Eigen::Vector3d(centre.x(), centre.y(), top + 1.0));
@@ -264,6 +271,57 @@ void MarkerBuilder::addStatus(const CycleReport& report, const ProximityWorld& w
   m.color = report.degraded ? colour(1.0f, 0.5f, 0.0f, 1.0f)
                             : (earliest != nullptr ? levelColour(static_cast<int>(level), false, 1.0f)
                                                    : colour(0.2f, 0.9f, 0.3f, 1.0f));
+}
+
+void MarkerBuilder::addSsm(const CycleReport& report, const ProximityWorld& world,
+                           visualization_msgs::MarkerArray* out) {
+  const SsmVerdict& v = report.ssm;
+  const bool show = v.enabled && v.limited && world.contains(v.robot) && world.contains(v.object);
+  if (!show) {
+    if (ssm_shown_) {
+      for (std::int32_t id = 0; id < 3; ++id) add("ssm", id, Marker::DELETE, out);
+    }
+    ssm_shown_ = false;
+    return;
+  }
+  ssm_shown_ = true;
+  // Red at a stop, orange while slowed, green at full speed.
+  const std_msgs::ColorRGBA c = v.speed_scale <= 0.0  ? colour(1.0f, 0.1f, 0.1f, 1.0f)
+                                : v.speed_scale < 1.0 ? colour(1.0f, 0.5f, 0.0f, 1.0f)
+                                                      : colour(0.2f, 0.9f, 0.3f, 1.0f);
+  // The robot body grown by S_p on every side: an object whose shape enters it limits the
+  // robot (the zone of the limiting pair's approach speed; a box, so it holds the rounded zone).
+  const BodyDesc& robot = world.desc(v.robot);
+  const Eigen::Vector3d half =
+      robot.shape.localHalfExtents() + Eigen::Vector3d::Constant(v.required_separation);
+  Marker& zone = add("ssm", 0, Marker::ADD, out);
+  zone.type = Marker::CUBE;
+  setPose(world.motion(v.robot).poseAt(0.0), &zone);
+  zone.scale.x = 2 * half.x();
+  zone.scale.y = 2 * half.y();
+  zone.scale.z = 2 * half.z();
+  zone.color = c;
+  zone.color.a = 0.15f;
+
+  Marker& line = add("ssm", 1, Marker::ADD, out);
+  line.type = Marker::LINE_LIST;
+  line.points.push_back(point(v.point_object));
+  line.points.push_back(point(v.point_robot));
+  line.scale.x = 0.03;
+  line.color = c;
+
+  Marker& text = add("ssm", 2, Marker::ADD, out);
+  text.type = Marker::TEXT_VIEW_FACING;
+  text.pose.position = point(0.5 * (v.point_object + v.point_robot));
+  text.pose.position.z += 0.35;
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "scale %.2f: ", v.speed_scale);
+  text.text.assign(buffer).append(world.desc(v.object).id);
+  std::snprintf(buffer, sizeof buffer, " %.2f m %s S_p %.2f m", v.separation,
+                v.separation < v.required_separation ? "<" : ">=", v.required_separation);
+  text.text.append(buffer);
+  text.scale.z = 0.2;
+  text.color = colour(1.0f, 1.0f, 1.0f, 1.0f);
 }
 
 void MarkerBuilder::deleteVanished(visualization_msgs::MarkerArray* out) {

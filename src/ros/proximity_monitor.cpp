@@ -1,5 +1,6 @@
 #include "workspace_proximity/ros/proximity_monitor.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
@@ -50,6 +51,20 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
     monitor_->addPermanentIssue(line);
   }
   contacts_ = std::make_unique<ContactPublisher>(nh_, params_.fixed_frame);
+  if (params_.ssm.enabled) {
+    ssm_ = std::make_unique<SsmPublisher>(nh_, params_.fixed_frame, params_.ssm);
+    if (!params_.ssm.cmd_vel_in.empty()) {
+      twist_filter_ = std::make_unique<TwistFilter>(nh_, params_.ssm.cmd_vel_in,
+                                                    params_.ssm.cmd_vel_out, params_.rate);
+    }
+  }
+  input_trigger_ = params_.cycle_trigger == "input";
+  if (!params_.trigger_source.empty()) {
+    const std::string wanted = nh_.resolveName(params_.trigger_source);
+    for (std::size_t i = 0; i < topics.size(); ++i) {
+      if (topics[i] == wanted) trigger_source_ = static_cast<int>(i);
+    }
+  }
   // Advertised even when ~publish_markers is false, so live tuning can turn markers on.
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("markers", 10);
   for (std::size_t i = 0; i < topics.size(); ++i) {
@@ -57,7 +72,9 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
     subscribers_.push_back(nh_.subscribe<TrackedBoxArray>(
         topics[i], 1,
         [this, i](const TrackedBoxArray::ConstPtr& msg) {
-          pipeline_->onArray(static_cast<int>(i), msg, toStamp(ros::Time::now()));
+          const ros::Time now = ros::Time::now();
+          pipeline_->onArray(static_cast<int>(i), msg, toStamp(now));
+          if (input_trigger_ && static_cast<int>(i) == trigger_source_) onTriggerArray(now);
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
   }
@@ -65,8 +82,18 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   diagnostics_.add("proximity monitor", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
     diagnose(*monitor_, pipeline_->counters(), toStamp(ros::Time::now()), &s);
   });
+  // Timer trigger: a cycle every period. Input trigger: arrays run the cycles, and a one-shot
+  // timer, re-armed after every cycle, runs one when a period passes without (the floor: silence
+  // is still published).
   timer_ = nh_.createTimer(ros::Duration(1.0 / params_.rate),
-                           [this](const ros::TimerEvent&) { cycle(ros::Time::now()); });
+                           [this](const ros::TimerEvent&) {
+                             if (input_trigger_) {
+                               onFloorTimer(ros::Time::now());
+                             } else {
+                               cycle(ros::Time::now());
+                             }
+                           },
+                           input_trigger_, true);
   // Markers are built half a period after the cycle that predicted them, so that their
   // cost (and their megabyte on the wire) never delays the contacts of the next cycle or
   // coincides with this one's delivery. One-shot, re-armed by the cycle when markers are due.
@@ -80,10 +107,11 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   reconfigure_->updateConfig(toConfig(params_));
   reconfigure_->setCallback(
       [this](ProximityMonitorConfig& config, std::uint32_t level) { reconfigure(config, level); });
-  ROS_INFO("proximity_monitor: %d robot bodies, %zu input topics, fixed frame '%s', %.1f Hz, "
-           "horizon %.2f s",
+  ROS_INFO("proximity_monitor: %d robot bodies, %zu input topics, fixed frame '%s', %.1f Hz "
+           "(%s), horizon %.2f s, speed and separation monitoring %s",
            monitor_->robot().size(), topics.size(), params_.fixed_frame.c_str(), params_.rate,
-           params_.horizon);
+           input_trigger_ ? ("cycles on arrays of " + topics[trigger_source_]).c_str() : "timer",
+           params_.horizon, params_.ssm.enabled ? "on" : "off");
 }
 
 ProximityMonitor::~ProximityMonitor() {
@@ -105,7 +133,54 @@ void ProximityMonitor::cycle(const ros::Time& now) {
     ROS_ERROR_THROTTLE(1.0, "proximity_monitor: cycle failed: %s", e.what());
     monitor_->cycleFailed(toStamp(now), e.what());
     contacts_->publish(monitor_->report(), monitor_->world());
+    publishSsm();
   }
+  if (input_trigger_) armFloor();
+}
+
+void ProximityMonitor::publishSsm() {
+  if (ssm_ == nullptr) return;
+  const CycleReport& report = monitor_->report();
+  ssm_->publish(report, monitor_->world());
+  if (twist_filter_ != nullptr) twist_filter_->update(report.ssm.speed_scale, toTime(report.stamp));
+}
+
+void ProximityMonitor::refillTokens(const ros::Time& now) {
+  constexpr double kTriggerBurst = 2.0;
+  if (trigger_refilled_.isZero() || now < trigger_refilled_) {
+    trigger_tokens_ = kTriggerBurst;  // the first cycle, or the clock went back
+  } else {
+    trigger_tokens_ = std::min(
+        kTriggerBurst, trigger_tokens_ + (now - trigger_refilled_).toSec() * params_.rate);
+  }
+  trigger_refilled_ = now;
+}
+
+void ProximityMonitor::onTriggerArray(const ros::Time& now) {
+  refillTokens(now);
+  // Out of tokens (a tracker faster than ~rate): the array waits for the floor timer, at most a
+  // period, and is used by that cycle (as with the timer trigger).
+  if (trigger_tokens_ < 1.0) {
+    trigger_refused_ = true;
+    return;
+  }
+  trigger_tokens_ -= 1.0;
+  trigger_refused_ = false;
+  cycle(now);
+}
+
+void ProximityMonitor::onFloorTimer(const ros::Time& now) {
+  refillTokens(now);
+  // Silence or a slow tracker: the floor costs nothing, the next array still runs at once.
+  if (trigger_refused_) trigger_tokens_ = std::max(0.0, trigger_tokens_ - 1.0);
+  trigger_refused_ = false;
+  cycle(now);
+}
+
+void ProximityMonitor::armFloor() {
+  timer_.stop();
+  timer_.setPeriod(ros::Duration(1.0 / params_.rate));
+  timer_.start();
 }
 
 void ProximityMonitor::runCycle(const ros::Time& now) {
@@ -118,6 +193,7 @@ void ProximityMonitor::runCycle(const ros::Time& now) {
   if (reset) diagnostics_.force_update();
   contacts_->publish(report, monitor_->world());
   clock.lap(CycleStage::kContacts);
+  publishSsm();
   scheduleMarkers(now);
   monitor_->noteCycleTime(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
@@ -139,8 +215,9 @@ void ProximityMonitor::reconfigure(ProximityMonitorConfig& config, std::uint32_t
   monitor_->setParams(params_);
   markers_.setLifetime(params_.marker_lifetime);
   if (rate_changed) {
-    timer_.setPeriod(ros::Duration(1.0 / params_.rate));
+    if (!input_trigger_) timer_.setPeriod(ros::Duration(1.0 / params_.rate));  // else: next armFloor
     marker_timer_.setPeriod(ros::Duration(0.5 / params_.rate));
+    if (twist_filter_ != nullptr) twist_filter_->setRate(params_.rate);
   }
   config = toConfig(params_);
 }

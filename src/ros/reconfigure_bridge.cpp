@@ -20,28 +20,46 @@ constexpr ScalarField kScalars[] = {
     {&Config::marker_rate, &MonitorParams::marker_rate},
     {&Config::marker_lifetime, &MonitorParams::marker_lifetime},
 };
+struct SsmField {
+  double Config::*config;
+  double SsmParams::*param;
+};
+constexpr SsmField kSsmScalars[] = {
+    {&Config::ssm_reaction_time, &SsmParams::reaction_time},
+    {&Config::ssm_stopping_time, &SsmParams::stopping_time},
+    {&Config::ssm_intrusion_distance, &SsmParams::intrusion_distance},
+    {&Config::ssm_sensor_uncertainty, &SsmParams::sensor_uncertainty},
+    {&Config::ssm_robot_uncertainty, &SsmParams::robot_uncertainty},
+    {&Config::ssm_robot_max_speed, &SsmParams::robot_max_speed},
+    {&Config::ssm_max_increase_rate, &SsmParams::max_increase_rate},
+    {&Config::ssm_hold_time, &SsmParams::hold_time},
+    {&Config::ssm_degraded_scale, &SsmParams::degraded_scale},
+};
 
-// A label group of the config: its five settings (no margin for the robot's thresholds, whose
-// margin is robot_margin).
+// A label group of the config: its six settings (no margin and no minimum approach speed for
+// the robot's thresholds: its margin is robot_margin, and it is not a tracked object).
 struct LabelFields {
   double Config::*margin;
   double Config::*warning_time;
   double Config::*critical_time;
   double Config::*warning_distance;
   double Config::*critical_distance;
+  double Config::*ssm_min_speed;
 };
 constexpr LabelFields kDefaultLabel{&Config::default_margin, &Config::default_warning_time,
                                     &Config::default_critical_time,
                                     &Config::default_warning_distance,
-                                    &Config::default_critical_distance};
+                                    &Config::default_critical_distance,
+                                    &Config::default_ssm_min_speed};
 constexpr LabelFields kPersonLabel{&Config::person_margin, &Config::person_warning_time,
                                    &Config::person_critical_time,
                                    &Config::person_warning_distance,
-                                   &Config::person_critical_distance};
+                                   &Config::person_critical_distance,
+                                   &Config::person_ssm_min_speed};
 constexpr LabelFields kRobotThresholds{nullptr, &Config::robot_warning_time,
                                        &Config::robot_critical_time,
                                        &Config::robot_warning_distance,
-                                       &Config::robot_critical_distance};
+                                       &Config::robot_critical_distance, nullptr};
 
 void put(const LabelSettings& l, const LabelFields& f, Config* c) {
   if (f.margin != nullptr) c->*f.margin = l.margin;
@@ -49,6 +67,7 @@ void put(const LabelSettings& l, const LabelFields& f, Config* c) {
   c->*f.critical_time = l.critical_time;
   c->*f.warning_distance = l.warning_distance;
   c->*f.critical_distance = l.critical_distance;
+  if (f.ssm_min_speed != nullptr) c->*f.ssm_min_speed = l.ssm_min_speed;
 }
 
 LabelSettings get(const Config& c, const LabelFields& f, LabelSettings l) {
@@ -57,13 +76,14 @@ LabelSettings get(const Config& c, const LabelFields& f, LabelSettings l) {
   l.critical_time = c.*f.critical_time;
   l.warning_distance = c.*f.warning_distance;
   l.critical_distance = c.*f.critical_distance;
+  if (f.ssm_min_speed != nullptr) l.ssm_min_speed = c.*f.ssm_min_speed;
   return l;
 }
 
 bool sameSettings(const LabelSettings& a, const LabelSettings& b) {
   return a.margin == b.margin && a.warning_time == b.warning_time &&
          a.critical_time == b.critical_time && a.warning_distance == b.warning_distance &&
-         a.critical_distance == b.critical_distance;
+         a.critical_distance == b.critical_distance && a.ssm_min_speed == b.ssm_min_speed;
 }
 
 }  // namespace
@@ -71,6 +91,7 @@ bool sameSettings(const LabelSettings& a, const LabelSettings& b) {
 ProximityMonitorConfig toConfig(const MonitorParams& p) {
   Config c = Config::__getDefault__();
   for (const ScalarField& f : kScalars) c.*f.config = p.*f.param;
+  for (const SsmField& f : kSsmScalars) c.*f.config = p.ssm.*f.param;
   put(p.label("default"), kDefaultLabel, &c);
   put(p.label("person"), kPersonLabel, &c);  // the default's when not listed
   put(p.robot_thresholds, kRobotThresholds, &c);
@@ -80,6 +101,7 @@ ProximityMonitorConfig toConfig(const MonitorParams& p) {
 
 MonitorParams applyConfig(MonitorParams p, const ProximityMonitorConfig& c) {
   for (const ScalarField& f : kScalars) p.*f.param = c.*f.config;
+  for (const SsmField& f : kSsmScalars) p.ssm.*f.param = c.*f.config;
   LabelSettings& d = p.labels["default"];
   d = get(c, kDefaultLabel, d);
   const LabelSettings person = get(c, kPersonLabel, d);

@@ -38,28 +38,33 @@ XmlRpcValue* member(const XmlRpcValue& root, const std::string& name) {
   return &root[name];  // XmlRpcValue's struct operator[] is const and returns a reference
 }
 
-void readDouble(const XmlRpcValue& root, const std::string& name, double* out) {
-  if (const XmlRpcValue* v = member(root, name)) *out = toDouble(*v, name);
+// Each reader looks `name` up in `root`; errors name the parameter as `where` + `name` (where:
+// the namespace inside the node's, e.g. "ssm/").
+void readDouble(const XmlRpcValue& root, const std::string& name, double* out,
+                const std::string& where = "") {
+  if (const XmlRpcValue* v = member(root, name)) *out = toDouble(*v, where + name);
 }
 
-void readBool(const XmlRpcValue& root, const std::string& name, bool* out) {
+void readBool(const XmlRpcValue& root, const std::string& name, bool* out,
+              const std::string& where = "") {
   XmlRpcValue* v = member(root, name);
   if (v == nullptr) return;
-  if (v->getType() != XmlRpcValue::TypeBoolean) fail(name, "must be true or false");
+  if (v->getType() != XmlRpcValue::TypeBoolean) fail(where + name, "must be true or false");
   *out = static_cast<bool>(*v);
 }
 
-void readString(const XmlRpcValue& root, const std::string& name, std::string* out) {
-  if (const XmlRpcValue* v = member(root, name)) *out = toString(*v, name);
+void readString(const XmlRpcValue& root, const std::string& name, std::string* out,
+                const std::string& where = "") {
+  if (const XmlRpcValue* v = member(root, name)) *out = toString(*v, where + name);
 }
 
 void readStringList(const XmlRpcValue& root, const std::string& name,
-                    std::vector<std::string>* out) {
+                    std::vector<std::string>* out, const std::string& where = "") {
   const XmlRpcValue* v = member(root, name);
   if (v == nullptr) return;
-  if (v->getType() != XmlRpcValue::TypeArray) fail(name, "must be a list of strings");
+  if (v->getType() != XmlRpcValue::TypeArray) fail(where + name, "must be a list of strings");
   out->clear();
-  for (int i = 0; i < v->size(); ++i) out->push_back(toString((*v)[i], name));
+  for (int i = 0; i < v->size(); ++i) out->push_back(toString((*v)[i], where + name));
 }
 
 void readPairs(const XmlRpcValue& root, const std::string& name,
@@ -86,8 +91,9 @@ LabelSettings readLabel(const XmlRpcValue& v, const std::string& name, LabelSett
     else if (key == "critical_time") l.critical_time = value;
     else if (key == "warning_distance") l.warning_distance = value;
     else if (key == "critical_distance") l.critical_distance = value;
+    else if (key == "ssm_min_speed") l.ssm_min_speed = value;
     else fail(name + "/" + key, "unknown setting (margin, warning_time, critical_time, "
-                                "warning_distance, critical_distance)");
+                                "warning_distance, critical_distance, ssm_min_speed)");
   }
   return l;
 }
@@ -118,9 +124,32 @@ RobotBodySpec readRobotBody(const XmlRpcValue& v, const std::string& name) {
   return b;
 }
 
+// ~ssm/: speed and separation monitoring.
+SsmParams readSsm(const XmlRpcValue& v) {
+  SsmParams s;
+  if (v.getType() != XmlRpcValue::TypeStruct) fail("ssm", "must be a dictionary");
+  readBool(v, "enabled", &s.enabled, "ssm/");
+  readStringList(v, "labels", &s.labels, "ssm/");
+  readDouble(v, "reaction_time", &s.reaction_time, "ssm/");
+  readDouble(v, "stopping_time", &s.stopping_time, "ssm/");
+  readDouble(v, "intrusion_distance", &s.intrusion_distance, "ssm/");
+  readDouble(v, "sensor_uncertainty", &s.sensor_uncertainty, "ssm/");
+  readDouble(v, "robot_uncertainty", &s.robot_uncertainty, "ssm/");
+  readDouble(v, "robot_max_speed", &s.robot_max_speed, "ssm/");
+  readDouble(v, "max_increase_rate", &s.max_increase_rate, "ssm/");
+  readDouble(v, "hold_time", &s.hold_time, "ssm/");
+  readDouble(v, "degraded_scale", &s.degraded_scale, "ssm/");
+  readStringList(v, "stop_trajectory_topics", &s.stop_trajectory_topics, "ssm/");
+  readStringList(v, "stop_event_topics", &s.stop_event_topics, "ssm/");
+  readString(v, "cmd_vel_in", &s.cmd_vel_in, "ssm/");
+  readString(v, "cmd_vel_out", &s.cmd_vel_out, "ssm/");
+  return s;
+}
+
 // Every key the node reads at the top of its namespace.
 const char* const kNodeKeys[] = {
     "fixed_frame", "rate", "horizon", "track_timeout", "input_topics", "stale_after",
+    "cycle_trigger", "trigger_source", "ssm",
     "source_timeout", "max_future", "max_tracks", "use_robot_description",
     "robot_description_param", "require_all_links", "robot_margin", "velocity_window", "tf_timeout", "ignore_pairs",
     "check_pairs", "publish_markers", "marker_lifetime", "marker_rate", "robot_bodies", "labels",
@@ -128,6 +157,11 @@ const char* const kNodeKeys[] = {
     // Read by libraries the node uses: diagnostic_updater's period.
     "diagnostic_period"};
 const char* const kRobotBodyKeys[] = {"name", "frame", "size", "offset"};
+const char* const kSsmKeys[] = {
+    "enabled", "labels", "reaction_time", "stopping_time", "intrusion_distance",
+    "sensor_uncertainty", "robot_uncertainty", "robot_max_speed", "max_increase_rate",
+    "hold_time", "degraded_scale", "stop_trajectory_topics", "stop_event_topics", "cmd_vel_in",
+    "cmd_vel_out"};
 const char* const kOffsetKeys[] = {"xyz", "rpy"};
 
 // Levenshtein distance, for "did you mean" (short strings, off the hot path).
@@ -175,6 +209,10 @@ std::vector<std::string> unknownParams(const XmlRpcValue& root) {
   // dynamic_reconfigure keeps its values beside the node's, under their own flat names.
   for (const auto& d : ProximityMonitorConfig::__getParamDescriptions__()) known.push_back(d->name);
   reportUnknown(root, "", known, &out);
+  if (const XmlRpcValue* ssm = member(root, "ssm")) {
+    reportUnknown(*ssm, "ssm/", std::vector<std::string>(std::begin(kSsmKeys), std::end(kSsmKeys)),
+                  &out);
+  }
   if (const XmlRpcValue* bodies = member(root, "robot_bodies")) {
     if (bodies->getType() == XmlRpcValue::TypeArray) {
       const std::vector<std::string> body_keys(std::begin(kRobotBodyKeys), std::end(kRobotBodyKeys));
@@ -210,6 +248,9 @@ MonitorParams readParams(const XmlRpcValue& root) {
   readDouble(root, "stale_after", &p.stale_after);
   readDouble(root, "source_timeout", &p.source_timeout);
   readDouble(root, "max_future", &p.max_future);
+  readString(root, "cycle_trigger", &p.cycle_trigger);
+  readString(root, "trigger_source", &p.trigger_source);
+  if (const XmlRpcValue* v = member(root, "ssm")) p.ssm = readSsm(*v);
   if (const XmlRpcValue* max_tracks = member(root, "max_tracks")) {
     if (max_tracks->getType() != XmlRpcValue::TypeInt) fail("max_tracks", "must be an integer");
     p.max_tracks = static_cast<int>(const_cast<XmlRpcValue&>(*max_tracks));

@@ -177,6 +177,29 @@ TEST(Allocations, WorldPairCacheAllocatesNothingWhilePairsComeAndGo) {
   EXPECT_GT(broad_max - broad_min, 10);
 }
 
+// The same cell with every link reaching 1.5 m (speed and separation monitoring's reach):
+// the near pairs' distances (upright boxes: the closed form) and their list allocate nothing.
+TEST(Allocations, WorldNearPairsAllocateNothing) {
+  wp::ProximityWorld world;
+  wp_test::RobotCell cell(&world, 30, 200);
+  for (int i = 0; i < cell.linkCount(); ++i) world.setReach(cell.link(i), 1.5);
+  int near_min = 1 << 30, near_max = 0;
+  auto cycle = [&](int k) {
+    cell.step(k / 30.0, 1.0 / 30.0);
+    world.predict(2.0);
+    near_min = std::min(near_min, world.stats().near_pairs);
+    near_max = std::max(near_max, world.stats().near_pairs);
+  };
+  for (int k = 0; k < 3000; ++k) cycle(k);
+  near_min = 1 << 30;
+  near_max = 0;
+  const long before = g_allocations.load();
+  for (int k = 3000; k < 3600; ++k) cycle(k);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_GT(near_max, 0);
+  EXPECT_GT(near_max - near_min, 2);  // pairs came and went
+}
+
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

@@ -79,6 +79,32 @@ TEST(MonitorParams, EachBadValueIsNamed) {
          p.robot_bodies.push_back(b);
        }},
       {"~ignore_pairs", [](wp::MonitorParams& p) { p.ignore_pairs.push_back({"colour:red", "*"}); }},
+      {"~cycle_trigger = 'sometimes'", [](wp::MonitorParams& p) { p.cycle_trigger = "sometimes"; }},
+      {"~trigger_source = 'other'", [](wp::MonitorParams& p) { p.trigger_source = "other"; }},
+      {"~trigger_source = 'tracked_objects'",
+       [](wp::MonitorParams& p) {
+         p.input_topics = {"a", "b"};
+         p.trigger_source = "tracked_objects";
+       }},
+      {"labels/person/ssm_min_speed",
+       [](wp::MonitorParams& p) { p.labels["person"].ssm_min_speed = -1; }},
+      {"~ssm/reaction_time", [](wp::MonitorParams& p) { p.ssm.reaction_time = -0.1; }},
+      {"~ssm/stopping_time", [](wp::MonitorParams& p) { p.ssm.stopping_time = 100; }},
+      {"~ssm/intrusion_distance", [](wp::MonitorParams& p) { p.ssm.intrusion_distance = -1; }},
+      {"~ssm/sensor_uncertainty", [](wp::MonitorParams& p) { p.ssm.sensor_uncertainty = 1e6; }},
+      {"~ssm/robot_uncertainty", [](wp::MonitorParams& p) { p.ssm.robot_uncertainty = -1; }},
+      {"~ssm/robot_max_speed", [](wp::MonitorParams& p) { p.ssm.robot_max_speed = 0; }},
+      {"~ssm/max_increase_rate", [](wp::MonitorParams& p) { p.ssm.max_increase_rate = 0; }},
+      {"~ssm/hold_time", [](wp::MonitorParams& p) { p.ssm.hold_time = -1; }},
+      {"~ssm/degraded_scale", [](wp::MonitorParams& p) { p.ssm.degraded_scale = 1.5; }},
+      {"~ssm/labels[0]", [](wp::MonitorParams& p) { p.ssm.labels = {""}; }},
+      {"~ssm/stop_trajectory_topics", [](wp::MonitorParams& p) {
+         p.ssm.stop_trajectory_topics = {"/arm/command", "/arm/command"}; }},
+      {"~ssm/stop_event_topics[0]", [](wp::MonitorParams& p) { p.ssm.stop_event_topics = {""}; }},
+      {"~ssm/cmd_vel_in and ~ssm/cmd_vel_out", [](wp::MonitorParams& p) { p.ssm.cmd_vel_in = "in"; }},
+      {"~ssm/cmd_vel_out = 'v'", [](wp::MonitorParams& p) {
+         p.ssm.cmd_vel_in = "v";
+         p.ssm.cmd_vel_out = "v"; }},
   };
   for (const Case& c : cases) {
     wp::MonitorParams p;
@@ -89,6 +115,20 @@ TEST(MonitorParams, EachBadValueIsNamed) {
   wp::MonitorParams p;
   p.rate = nan;
   EXPECT_TRUE(mentions(wp::validate(p), "~rate"));
+}
+
+TEST(MonitorParams, TheTriggerSourceIsAnInputTopicAsListed) {
+  wp::MonitorParams p;
+  p.cycle_trigger = "input";
+  p.trigger_source = "tracked_objects";
+  EXPECT_TRUE(wp::validate(p).empty());
+  p.input_topics = {"/cam/boxes", "/lidar/boxes"};
+  p.trigger_source = "/lidar/boxes";
+  EXPECT_TRUE(wp::validate(p).empty());
+  p.ssm.cmd_vel_in = "cmd_vel_raw";
+  p.ssm.cmd_vel_out = "cmd_vel";
+  p.ssm.labels = {"person", "forklift"};
+  EXPECT_TRUE(wp::validate(p).empty());
 }
 
 TEST(MonitorParams, PairRulesComeFromIgnoreThenCheck) {

@@ -4,11 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "workspace_proximity/ros/contact_publisher.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
 #include "workspace_proximity/ros/reconfigure_bridge.hpp"
+#include "workspace_proximity/ros/ssm_publisher.hpp"
+#include "workspace_proximity/ros/twist_filter.hpp"
 
 namespace wp = workspace_proximity;
 
@@ -123,6 +126,83 @@ TEST(Conversions, ContactsMessageCarriesTheReport) {
   EXPECT_EQ(msg.status, wp::ContactEventArray::DEGRADED);
 }
 
+TEST(Conversions, SafetyStatusCarriesTheVerdict) {
+  wp::ProximityWorld world;
+  const wp::BodyHandle r = world.addBody(
+      {"tool", "robot", wp::BodyGroup::kRobot, wp::Shape::box({0.5, 0.5, 0.5}), 0.0}, wp::BodyMotion());
+  const wp::BodyHandle o = world.addBody(
+      {"person_1", "person", wp::BodyGroup::kObject, wp::Shape::box({0.5, 0.5, 0.5}), 0.0}, wp::BodyMotion());
+  wp::CycleReport report;
+  report.stamp = 3000000002;
+  report.ssm.enabled = true;
+  report.ssm.speed_scale = 0.375;
+  report.ssm.raw_scale = 0.5;
+  report.ssm.limited = true;
+  report.ssm.robot = r;
+  report.ssm.object = o;
+  report.ssm.separation = 0.75;
+  report.ssm.required_separation = 0.87;
+  report.ssm.approach_speed = 1.0;
+  report.ssm.reason = "person_1 at 0.75 m from tool";
+  wp::SafetyStatus msg;
+  wp::fillSafetyStatus(report, world, "map", &msg);
+  EXPECT_EQ(msg.header.stamp, ros::Time(3, 2));
+  EXPECT_EQ(msg.header.frame_id, "map");
+  EXPECT_EQ(msg.speed_scale, 0.375);
+  EXPECT_EQ(msg.raw_scale, 0.5);
+  EXPECT_FALSE(msg.protective_stop);
+  EXPECT_EQ(msg.id_robot, "tool");
+  EXPECT_EQ(msg.id_object, "person_1");
+  EXPECT_EQ(msg.separation, 0.75);
+  EXPECT_EQ(msg.required_separation, 0.87);
+  EXPECT_EQ(msg.approach_speed, 1.0);
+  EXPECT_EQ(msg.status, wp::SafetyStatus::OK);
+  EXPECT_EQ(msg.reason, report.ssm.reason);
+  // No pair within reach, DEGRADED, stopped.
+  report.ssm.limited = false;
+  report.ssm.speed_scale = 0.0;
+  report.ssm.separation = std::numeric_limits<double>::infinity();
+  report.degraded = true;
+  wp::fillSafetyStatus(report, world, "map", &msg);
+  EXPECT_TRUE(msg.protective_stop);
+  EXPECT_TRUE(msg.id_robot.empty());
+  EXPECT_TRUE(msg.id_object.empty());
+  EXPECT_TRUE(std::isinf(msg.separation));
+  EXPECT_EQ(msg.status, wp::SafetyStatus::DEGRADED);
+}
+
+TEST(Conversions, SpeedOverrideIsThePercentRounded) {
+  EXPECT_EQ(wp::speedOverride(0.0), 0);
+  EXPECT_EQ(wp::speedOverride(1.0), 100);
+  EXPECT_EQ(wp::speedOverride(0.374), 37);
+  EXPECT_EQ(wp::speedOverride(0.375), 38);  // half away from zero
+  EXPECT_EQ(wp::speedOverride(0.999), 100);
+  EXPECT_EQ(wp::speedOverride(0.004), 0);
+  EXPECT_EQ(wp::speedOverride(-0.5), 0);
+  EXPECT_EQ(wp::speedOverride(3.0), 100);
+}
+
+TEST(Conversions, TwistIsScaledOrZeroedWhenStale) {
+  geometry_msgs::Twist in;
+  in.linear.x = 1.0;
+  in.linear.y = -2.0;
+  in.linear.z = 0.5;
+  in.angular.x = 0.1;
+  in.angular.y = -0.2;
+  in.angular.z = 0.4;
+  const geometry_msgs::Twist half = wp::scaledTwist(in, 0.5, false);
+  EXPECT_EQ(half.linear.x, 0.5);
+  EXPECT_EQ(half.linear.y, -1.0);
+  EXPECT_EQ(half.linear.z, 0.25);
+  EXPECT_EQ(half.angular.x, 0.05);
+  EXPECT_EQ(half.angular.y, -0.1);
+  EXPECT_EQ(half.angular.z, 0.2);
+  const geometry_msgs::Twist stale = wp::scaledTwist(in, 0.5, true);
+  EXPECT_EQ(stale.linear.x, 0.0);
+  EXPECT_EQ(stale.linear.y, 0.0);
+  EXPECT_EQ(stale.angular.z, 0.0);
+}
+
 TEST(Reconfigure, ConfigAndParametersRoundTrip) {
   wp::MonitorParams p;
   p.horizon = 3.5;
@@ -147,6 +227,36 @@ TEST(Reconfigure, ConfigAndParametersRoundTrip) {
   wp::ProximityMonitorConfig person = c;
   person.person_warning_time = 3.0;
   EXPECT_EQ(wp::applyConfig(p, person).label("person").warning_time, 3.0);
+
+  // Speed and separation monitoring: every constant, and the labels' minimum speeds.
+  wp::MonitorParams s = p;
+  s.ssm.reaction_time = 0.05;
+  s.ssm.stopping_time = 0.4;
+  s.ssm.intrusion_distance = 0.2;
+  s.ssm.sensor_uncertainty = 0.15;
+  s.ssm.robot_uncertainty = 0.03;
+  s.ssm.robot_max_speed = 1.5;
+  s.ssm.max_increase_rate = 0.25;
+  s.ssm.hold_time = 1.0;
+  s.ssm.degraded_scale = 0.2;
+  s.labels["default"].ssm_min_speed = 0.5;
+  s.labels["person"] = s.labels["default"];
+  s.labels["person"].ssm_min_speed = 1.6;
+  const wp::ProximityMonitorConfig sc = wp::toConfig(s);
+  EXPECT_EQ(sc.ssm_hold_time, 1.0);
+  EXPECT_EQ(sc.person_ssm_min_speed, 1.6);
+  const wp::MonitorParams sb = wp::applyConfig(wp::MonitorParams(), sc);
+  EXPECT_EQ(sb.ssm.reaction_time, 0.05);
+  EXPECT_EQ(sb.ssm.stopping_time, 0.4);
+  EXPECT_EQ(sb.ssm.intrusion_distance, 0.2);
+  EXPECT_EQ(sb.ssm.sensor_uncertainty, 0.15);
+  EXPECT_EQ(sb.ssm.robot_uncertainty, 0.03);
+  EXPECT_EQ(sb.ssm.robot_max_speed, 1.5);
+  EXPECT_EQ(sb.ssm.max_increase_rate, 0.25);
+  EXPECT_EQ(sb.ssm.hold_time, 1.0);
+  EXPECT_EQ(sb.ssm.degraded_scale, 0.2);
+  EXPECT_EQ(sb.label("default").ssm_min_speed, 0.5);
+  EXPECT_EQ(sb.label("person").ssm_min_speed, 1.6);
 }
 
 TEST(Reconfigure, InvalidChangesAreRefusedWithTheReason) {

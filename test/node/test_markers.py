@@ -45,9 +45,9 @@ class MarkersTest(unittest.TestCase):
         t0 = scene.start()
         rospy.sleep(0.6)
         start = rospy.Time.now()
-        rospy.sleep(2.0)
+        rospy.sleep(3.0)  # the walker's gap closes from 1.7 m to 0.2 m
         scene.stop()
-        arrays = [a for t, a in col.markers if t >= start and t <= start + rospy.Duration(2.0)]
+        arrays = [a for t, a in col.markers if t >= start and t <= start + rospy.Duration(3.0)]
         contacts = dict((m.header.stamp, m) for m in col.contact_msgs(since=t0))
         for m in contacts.values():
             check_array_basics(self, m)
@@ -56,6 +56,7 @@ class MarkersTest(unittest.TestCase):
         bodies = [column, walker, crate]
         ids = {}
         lines_checked = 0
+        ssm_checked = 0
         for arr in arrays:
             per_ns = {}
             stamp = None
@@ -107,7 +108,29 @@ class MarkersTest(unittest.TestCase):
             status = per_ns.get("status", [])
             self.assertEqual(len(status), 1, "status markers: %d" % len(status))
             self.assertRegex(status[0].text,
-                             r"^OK \| earliest: column - walker in [0-9.]+ s \((NOTICE|WARNING|CRITICAL)\)$")
+                             r"^OK \| earliest: column - walker in [0-9.]+ s \((NOTICE|WARNING|CRITICAL)\)"
+                             r" \| speed scale [01]\.[0-9]{2}( \(STOP\))?$")
+            # Speed and separation: once the walker (0.5 m/s straight at the column) is within
+            # S_p(v_max) = 0.5 (0.1 + 0.3) + 1.0 (0.1 + 0.15) + 0.22 = 0.67 m of it, the column
+            # grown by 0.67 m, the line between the nearest points and the scale's text.
+            ssm = dict((m.id, m) for m in per_ns.get("ssm", []))
+            wx, _ = walker.state(stamp)
+            gap = -0.2 - (wx[0] + 0.25)
+            if gap < 0.67 - 0.03:
+                self.assertEqual(set(ssm), {0, 1, 2}, "ssm markers at gap %.3f m" % gap)
+            if ssm:
+                zone = ssm[0]
+                self.assertEqual(zone.type, Marker.CUBE)
+                self.assertLess(vnorm(vsub(pt(zone.pose.position), column.centre)), 1e-6)
+                for k, s in enumerate((zone.scale.x, zone.scale.y, zone.scale.z)):
+                    self.assertAlmostEqual(s, 2 * (column.half[k] + 0.67), delta=1e-3,
+                                           msg="ssm zone scale")
+                self.assertLess(zone.color.a, 0.5, "the zone is translucent")
+                self.assertEqual(ssm[1].type, Marker.LINE_LIST)
+                self.assertAlmostEqual(ssm[1].points[1].x, -0.2, delta=1e-6)
+                self.assertRegex(ssm[2].text,
+                                 r"^scale [01]\.[0-9]{2}: walker [0-9.]+ m (<|>=) S_p 0\.67 m$")
+                ssm_checked += 1
             line = near[0]
             if len(line.points) >= 2:
                 ends = sorted([pt(line.points[0]), pt(line.points[-1])])
@@ -128,6 +151,7 @@ class MarkersTest(unittest.TestCase):
                     self.assertLessEqual(abs(e[2] - 1.0), 0.25 + tol)
                 lines_checked += 1
         self.assertGreater(lines_checked, 0, "no nearest line with points")
+        self.assertGreater(ssm_checked, 0, "no speed and separation markers")
         del tf_pub
 
 

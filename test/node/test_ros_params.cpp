@@ -122,6 +122,67 @@ TEST(RosParams, ListsAndPairs) {
   EXPECT_EQ(p.check_pairs[1].second, "group:robot");
 }
 
+TEST(RosParams, SpeedSeparationAndTheCycleTrigger) {
+  XmlRpcValue root = dict();
+  root["cycle_trigger"] = str("input");
+  root["trigger_source"] = str("/lidar/boxes");
+  XmlRpcValue ssm = dict();
+  ssm["enabled"] = false;
+  ssm["labels"] = list({str("person")});
+  ssm["reaction_time"] = 0.05;
+  ssm["stopping_time"] = 1;  // an integer is a number too
+  ssm["intrusion_distance"] = 0.2;
+  ssm["sensor_uncertainty"] = 0.15;
+  ssm["robot_uncertainty"] = 0.01;
+  ssm["robot_max_speed"] = 0.5;
+  ssm["max_increase_rate"] = 2.0;
+  ssm["hold_time"] = 1.5;
+  ssm["degraded_scale"] = 0.1;
+  ssm["stop_trajectory_topics"] = list({str("/arm/command")});
+  ssm["stop_event_topics"] = list({str("/trajectory_execution_event"), str("/other")});
+  ssm["cmd_vel_in"] = str("cmd_vel_raw");
+  ssm["cmd_vel_out"] = str("cmd_vel");
+  root["ssm"] = ssm;
+  XmlRpcValue person = dict();
+  person["ssm_min_speed"] = 1.6;
+  root["labels"] = dict();
+  root["labels"]["person"] = person;
+  const wp::MonitorParams p = wp::readParams(root);
+  EXPECT_EQ(p.cycle_trigger, "input");
+  EXPECT_EQ(p.trigger_source, "/lidar/boxes");
+  EXPECT_FALSE(p.ssm.enabled);
+  EXPECT_EQ(p.ssm.labels, std::vector<std::string>{"person"});
+  EXPECT_EQ(p.ssm.reaction_time, 0.05);
+  EXPECT_EQ(p.ssm.stopping_time, 1.0);
+  EXPECT_EQ(p.ssm.intrusion_distance, 0.2);
+  EXPECT_EQ(p.ssm.sensor_uncertainty, 0.15);
+  EXPECT_EQ(p.ssm.robot_uncertainty, 0.01);
+  EXPECT_EQ(p.ssm.robot_max_speed, 0.5);
+  EXPECT_EQ(p.ssm.max_increase_rate, 2.0);
+  EXPECT_EQ(p.ssm.hold_time, 1.5);
+  EXPECT_EQ(p.ssm.degraded_scale, 0.1);
+  EXPECT_EQ(p.ssm.stop_trajectory_topics, std::vector<std::string>{"/arm/command"});
+  EXPECT_EQ(p.ssm.stop_event_topics.size(), 2u);
+  EXPECT_EQ(p.ssm.cmd_vel_in, "cmd_vel_raw");
+  EXPECT_EQ(p.ssm.cmd_vel_out, "cmd_vel");
+  EXPECT_EQ(p.label("person").ssm_min_speed, 1.6);
+  EXPECT_EQ(p.label("default").ssm_min_speed, 0.0);
+  // Not set: the defaults.
+  const wp::MonitorParams d = wp::readParams(dict());
+  EXPECT_TRUE(d.ssm.enabled);
+  EXPECT_EQ(d.cycle_trigger, "timer");
+  EXPECT_EQ(d.ssm.reaction_time, 0.1);
+  EXPECT_EQ(d.ssm.stopping_time, 0.3);
+  EXPECT_EQ(d.ssm.intrusion_distance, 0.1);
+  EXPECT_EQ(d.ssm.sensor_uncertainty, 0.1);
+  EXPECT_EQ(d.ssm.robot_uncertainty, 0.02);
+  EXPECT_EQ(d.ssm.robot_max_speed, 1.0);
+  EXPECT_EQ(d.ssm.max_increase_rate, 0.5);
+  EXPECT_EQ(d.ssm.hold_time, 0.5);
+  EXPECT_EQ(d.ssm.degraded_scale, 0.0);
+  EXPECT_TRUE(wp::unknownParams(root).empty()) << ::testing::PrintToString(wp::unknownParams(root));
+}
+
 TEST(RosParams, LabelsInheritFromDefaultWhateverTheirOrder) {
   XmlRpcValue labels = dict();
   XmlRpcValue person = dict();  // "a..." sorts before "default": read after it all the same
@@ -236,6 +297,23 @@ TEST(RosParams, EachWrongTypeOrStructureIsNamed) {
          r["robot_thresholds"] = t;
        }},
       {"~robot_bodies: must be a list", [](XmlRpcValue& r) { r["robot_bodies"] = dict(); }},
+      {"~ssm: must be a dictionary", [](XmlRpcValue& r) { r["ssm"] = 1.0; }},
+      {"~ssm/hold_time: must be a number",
+       [](XmlRpcValue& r) {
+         r["ssm"] = dict();
+         r["ssm"]["hold_time"] = str("long");
+       }},
+      {"~ssm/enabled: must be true or false",
+       [](XmlRpcValue& r) {
+         r["ssm"] = dict();
+         r["ssm"]["enabled"] = str("yes");
+       }},
+      {"~ssm/stop_event_topics: must be a list of strings",
+       [](XmlRpcValue& r) {
+         r["ssm"] = dict();
+         r["ssm"]["stop_event_topics"] = str("/stop");
+       }},
+      {"~cycle_trigger: must be a string", [](XmlRpcValue& r) { r["cycle_trigger"] = 1; }},
       {"~robot_bodies[0]: must be a dictionary",
        [](XmlRpcValue& r) { r["robot_bodies"] = list({str("gripper")}); }},
       {"~robot_bodies[0]: needs name, frame and size",
@@ -303,8 +381,12 @@ TEST(RosParams, UnknownKeysAreNamedWithTheClosestKnownOne) {
   body["size"] = list({0.1, 0.1, 0.1});
   body["ofset"] = dict();
   root["robot_bodies"] = list({body});
+  root["ssm"] = dict();
+  root["ssm"]["hold_time"] = 1.0;
+  root["ssm"]["stoping_time"] = 1.0;   // misspelled
+  root["ssm_hold_time"] = 1.0;         // dynamic_reconfigure's own key: known
   const std::vector<std::string> lines = wp::unknownParams(root);
-  ASSERT_EQ(lines.size(), 4u) << ::testing::PrintToString(lines);
+  ASSERT_EQ(lines.size(), 5u) << ::testing::PrintToString(lines);
   auto has = [&](const std::string& text) {
     for (const std::string& l : lines) {
       if (l.find(text) != std::string::npos) return true;
@@ -317,6 +399,7 @@ TEST(RosParams, UnknownKeysAreNamedWithTheClosestKnownOne) {
   EXPECT_FALSE(has("~colour: unknown parameter, not used (did you mean"));
   EXPECT_TRUE(has("~robot_bodies[0]/ofset: unknown parameter, not used (did you mean "
                   "~robot_bodies[0]/offset?)"));
+  EXPECT_TRUE(has("~ssm/stoping_time: unknown parameter, not used (did you mean ~ssm/stopping_time?)"));
   EXPECT_TRUE(wp::unknownParams(XmlRpcValue()).empty());
 }
 

@@ -9,14 +9,15 @@ import math
 import os
 import sys
 import threading
+import time
 
 import rospy
 from geometry_msgs.msg import Pose, TransformStamped, Twist, Vector3
 from visualization_msgs.msg import MarkerArray
 
 try:
-    from workspace_proximity.msg import (ContactEvent, ContactEventArray, TrackedBox,
-                                         TrackedBoxArray)
+    from workspace_proximity.msg import (ContactEvent, ContactEventArray, SafetyStatus,
+                                         TrackedBox, TrackedBoxArray)
 except ImportError:
     # A devel space configured for the first time exports an empty PYTHONPATH (its Python
     # directory did not exist yet when catkin cached the environment): look in the prefixes.
@@ -25,14 +26,34 @@ except ImportError:
         if os.path.isdir(os.path.join(_dir, "workspace_proximity")) and _dir not in sys.path:
             sys.path.insert(0, _dir)
     sys.modules.pop("workspace_proximity", None)
-    from workspace_proximity.msg import (ContactEvent, ContactEventArray, TrackedBox,
-                                         TrackedBoxArray)
+    from workspace_proximity.msg import (ContactEvent, ContactEventArray, SafetyStatus,
+                                         TrackedBox, TrackedBoxArray)
 
 BEGIN = ContactEvent.BEGIN
 ONGOING = ContactEvent.ONGOING
 END = ContactEvent.END
 STATE_NAMES = {BEGIN: "BEGIN", ONGOING: "ONGOING", END: "END"}
-MARKER_NAMESPACES = {"bodies", "swept", "nearest", "ttc_text", "velocity", "ids", "status"}
+MARKER_NAMESPACES = {"bodies", "swept", "nearest", "ttc_text", "velocity", "ids", "status", "ssm"}
+
+class WallPacer(object):
+    """Paces a simulated clock's steps at about real time: call wait() after each step. A
+    step that ran more than 0.1 s late restarts the pacing instead of rushing to catch up."""
+
+    def __init__(self, step_s):
+        self.step_s = step_s
+        self.restart()
+
+    def restart(self):
+        self.next_wall = time.monotonic()
+
+    def wait(self):
+        self.next_wall += self.step_s
+        delay = self.next_wall - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
+        elif delay < -0.1:
+            self.restart()
+
 
 # Tolerances of the analytic checks.
 TIME_TOL = 1e-3      # s, time_to_contact / time_to_separation
@@ -671,3 +692,73 @@ def find_node_binary():
     from roslib.packages import find_node
     found = find_node("workspace_proximity", "proximity_monitor")
     return found[0] if found else None
+
+
+# ---------------------------------------------------------------------------------------------
+# Speed and separation monitoring (ISO/TS 15066): the formula written out, and the outputs.
+
+SSM_DEFAULTS = {"reaction_time": 0.1, "stopping_time": 0.3, "intrusion_distance": 0.1,
+                "sensor_uncertainty": 0.1, "robot_uncertainty": 0.02, "robot_max_speed": 1.0}
+
+
+def ssm_required(v_h, v_r, p=SSM_DEFAULTS):
+    """S_p(v_r) = v_h (T_r + T_s) + v_r T_r + v_r T_s / 2 + C + Z_d + Z_r, m."""
+    return (v_h * (p["reaction_time"] + p["stopping_time"]) + v_r * p["reaction_time"] +
+            v_r * p["stopping_time"] / 2.0 + p["intrusion_distance"] + p["sensor_uncertainty"] +
+            p["robot_uncertainty"])
+
+
+def ssm_scale(d, v_h, p=SSM_DEFAULTS):
+    """min(1, v_allowed / v_max) with v_allowed the largest v_r >= 0 with S_p(v_r) <= d."""
+    spare = d - ssm_required(v_h, 0.0, p)
+    per_speed = p["reaction_time"] + p["stopping_time"] / 2.0
+    return min(1.0, max(0.0, spare / per_speed / p["robot_max_speed"]))
+
+
+class SsmCollector(object):
+    """Records safety_status, speed_scale and speed_override in order of receipt."""
+
+    def __init__(self):
+        from std_msgs.msg import Float64, Int64
+        self.lock = threading.Lock()
+        self.status = []     # SafetyStatus
+        self.scale = []      # float
+        self.override = []   # int
+        self.subs = [
+            rospy.Subscriber("safety_status", SafetyStatus, self._on_status, queue_size=500),
+            rospy.Subscriber("speed_scale", Float64, self._on_scale, queue_size=500),
+            rospy.Subscriber("speed_override", Int64, self._on_override, queue_size=500)]
+
+    def _on_status(self, msg):
+        with self.lock:
+            self.status.append(msg)
+
+    def _on_scale(self, msg):
+        with self.lock:
+            self.scale.append(msg.data)
+
+    def _on_override(self, msg):
+        with self.lock:
+            self.override.append(msg.data)
+
+    def connected(self):
+        return all(s.get_num_connections() >= 1 for s in self.subs)
+
+    def statuses(self, since=None):
+        with self.lock:
+            return [m for m in self.status if since is None or m.header.stamp >= since]
+
+    def sequences(self):
+        with self.lock:
+            return list(self.status), list(self.scale), list(self.override)
+
+
+def aligned(a, b, same, max_shift=5, min_overlap=20):
+    """The shift k (|k| <= max_shift) for which same(a[i], b[i + k]) holds for every i of the
+    overlap (at least min_overlap long), or None. Topics published together every cycle are
+    received in order, but their first messages may differ by a cycle or two."""
+    for k in sorted(range(-max_shift, max_shift + 1), key=abs):
+        pairs = [(a[i], b[i + k]) for i in range(len(a)) if 0 <= i + k < len(b)]
+        if len(pairs) >= min_overlap and all(same(x, y) for x, y in pairs):
+            return k
+    return None

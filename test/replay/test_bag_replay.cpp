@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -306,9 +307,38 @@ TEST_F(BagReplayTest, WritesOneRowPerEventAndPerCycle) {
   EXPECT_NEAR(distance, kContactAfter - 2.5, 1e-3) << rows[0];
   EXPECT_NE(rows[0].find(",NOTICE,0"), std::string::npos) << rows[0];
   std::getline(cycles, line);
-  EXPECT_EQ(line, "stamp,t,status,events,tracks,robot_bodies,robot_unposed,details");
-  while (std::getline(cycles, line)) ++n_rows;
+  EXPECT_EQ(line, "stamp,t,status,events,tracks,robot_bodies,robot_unposed,details,speed_scale,"
+                  "raw_scale,ssm_robot,ssm_object,separation,required_separation,approach_speed");
+  // Speed and separation monitoring per cycle, against the formula: the walker's bare gap to
+  // the post is d = x - 0.25 - 0.2, approaching at 1 m/s, so S_p(v_r) = 0.4 + 0.25 v_r + 0.22
+  // with the defaults and the raw scale is clamp((d - 0.62) / 0.25, 0, 1).
+  int limited = 0, partial = 0;
+  while (std::getline(cycles, line)) {
+    ++n_rows;
+    std::vector<std::string> f;
+    std::stringstream row(line);
+    for (std::string field; std::getline(row, field, ',');) f.push_back(field);
+    if (line.back() == ',') f.push_back("");
+    ASSERT_EQ(f.size(), 15u) << line;  // no details (the scene stays OK): no quoted commas
+    const std::int64_t stamp = static_cast<std::int64_t>(std::llround(std::stod(f[0]) * 1e9));
+    const double d = walkerX(stamp) - 0.25 - 0.2;
+    if (d <= 0.0) continue;  // touching: the approach is what has a closed form here
+    const double speed_scale = std::stod(f[8]), raw = std::stod(f[9]);
+    EXPECT_NEAR(raw, std::clamp((d - 0.62) / 0.25, 0.0, 1.0), 1e-6) << line;
+    EXPECT_LE(speed_scale, raw) << line;
+    if (d <= 0.87) {  // S_p(v_max): the pair is within reach
+      EXPECT_EQ(f[10], "post") << line;
+      EXPECT_EQ(f[11], "walker") << line;
+      EXPECT_NEAR(std::stod(f[12]), d, 1e-6) << line;
+      EXPECT_NEAR(std::stod(f[13]), 0.87, 1e-9) << line;
+      EXPECT_NEAR(std::stod(f[14]), 1.0, 1e-9) << line;
+      ++limited;
+      partial += raw > 0.0 && raw < 1.0;
+    }
+  }
   EXPECT_EQ(n_rows, rec.cycles.size());
+  EXPECT_GE(limited, 4);
+  EXPECT_GE(partial, 2);
   std::ifstream summary(dir_ + "/out/nested/summary.json");
   std::stringstream json;
   json << summary.rdbuf();

@@ -264,17 +264,45 @@ class ReplayEpisodesTest(unittest.TestCase):
             with open(os.path.join(out_dir, "events.csv"), "rb") as f:
                 self.assertEqual(f.read(), plain, compression)
 
+    def test_speed_scale_per_cycle(self):
+        # Speed and separation monitoring with the defaults: every cycle has a scale; while
+        # DEGRADED it is degraded_scale (0); it never exceeds the raw scale, which is the
+        # formula of its limiting pair's separation and approach speed.
+        per_speed = 0.1 + 0.3 / 2.0
+        limited = stopped = 0
+        for c in self.cycles:
+            self.assertIsNotNone(c["speed_scale"], c)
+            self.assertTrue(0.0 <= c["speed_scale"] <= c["raw_scale"] + 1e-6 <= 1.0 + 1e-6, c)
+            if c["status"] == "DEGRADED":
+                self.assertEqual(c["speed_scale"], 0.0, c)
+            if c["ssm_object"]:
+                d, v_h = c["separation"], c["approach_speed"]
+                self.assertAlmostEqual(c["required_separation"],
+                                       v_h * 0.4 + 1.0 * per_speed + 0.22, delta=2e-6, msg=c)
+                raw = min(1.0, max(0.0, (d - v_h * 0.4 - 0.22) / per_speed))
+                self.assertAlmostEqual(c["raw_scale"], raw, delta=1e-5, msg=c)  # 6 decimals in the CSV
+                self.assertIn(c["ssm_robot"], ("base_link", "shoulder_link", "upper_arm", "forearm",
+                                               "tool", "tool_tip"))
+                limited += 1
+            else:
+                self.assertEqual(c["raw_scale"], 1.0, c)
+            stopped += c["speed_scale"] == 0.0 and c["status"] == "OK"
+        self.assertGreater(limited, 100)
+        self.assertGreater(stopped, 20)
+
     def test_report(self):
         stdout = self.replay.stdout.decode()
         self.assertIn("episodes (%d):" % len(self.episodes), stdout)
         self.assertIn("x real time", stdout)
         with open(os.path.join(self.out, "report.html")) as f:
             page = f.read()
-        self.assertEqual(len(re.findall(r'src="data:image/png;base64,[A-Za-z0-9+/=]{1000,}"', page)), 2)
+        # min_ttc, speed_scale, timelines
+        self.assertEqual(len(re.findall(r'src="data:image/png;base64,[A-Za-z0-9+/=]{1000,}"', page)), 3)
         self.assertNotIn('src="http', page)  # self-contained
         rows = re.findall(r"<tr class=\"(notice|warning|critical)\">", page)
         self.assertEqual(len(rows), len(self.episodes))
-        for name in ("min_ttc.png", "timelines.png"):
+        self.assertIn("protective stops", page)
+        for name in ("min_ttc.png", "speed_scale.png", "timelines.png"):
             with open(os.path.join(self.out, name), "rb") as f:
                 self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
 

@@ -136,6 +136,9 @@ class RobotCell {
     }
   }
 
+  int linkCount() const { return static_cast<int>(links_.size()); }
+  wp::BodyHandle link(int i) const { return links_[static_cast<std::size_t>(i)].handle; }
+
   /// Poses the arm at time t (s) and walks every object dt (s) on.
   void step(double t, double dt) {
     for (const Link& l : links_) {

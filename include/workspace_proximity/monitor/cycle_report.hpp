@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "workspace_proximity/monitor/level_policy.hpp"
+#include "workspace_proximity/monitor/ssm.hpp"
 #include "workspace_proximity/monitor/stamp.hpp"
 #include "workspace_proximity/pair_event.hpp"
 #include "workspace_proximity/proximity_world.hpp"
@@ -37,6 +38,7 @@ struct CycleReport {
   bool degraded = false;
   std::vector<std::string> status_lines;  ///< one per reason the status is DEGRADED
   WorldStats stats;
+  SsmVerdict ssm;  ///< speed and separation monitoring: the speed scale and why
 
   std::size_t eventCount() const { return events == nullptr ? 0 : events->size(); }
   const PairEvent& event(std::size_t i) const { return (*events)[i]; }

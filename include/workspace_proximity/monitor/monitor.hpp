@@ -1,7 +1,8 @@
 #pragma once
 /// The monitor: the node's logic without ROS. It owns the ProximityWorld, the tracks, the
 /// robot bodies and the input sources, and runs one cycle as
-///   input (arrays -> TrackTable, robot poses -> RobotBodies) -> world.predict -> CycleReport.
+///   input (arrays -> TrackTable, robot poses -> RobotBodies) -> world.predict -> CycleReport,
+/// the report including the speed and separation verdict (SpeedSeparation).
 /// The ROS bridges feed it and render its report; the offline replay feeds it from a bag.
 
 #include <cstdint>
@@ -16,6 +17,7 @@
 #include "workspace_proximity/monitor/monitor_params.hpp"
 #include "workspace_proximity/monitor/robot_bodies.hpp"
 #include "workspace_proximity/monitor/source_table.hpp"
+#include "workspace_proximity/monitor/speed_separation.hpp"
 #include "workspace_proximity/monitor/stamp.hpp"
 #include "workspace_proximity/monitor/track_table.hpp"
 #include "workspace_proximity/proximity_world.hpp"
@@ -52,7 +54,8 @@ class Monitor {
   /// New parameters from now on (live tuning): horizon, timeouts, label margins and thresholds,
   /// the robot margin, pair rules and the track cap take effect at the next cycle; a changed
   /// margin re-shapes the bodies it applies to. The structure (fixed frame, input topics, robot
-  /// bodies) stays as built. `params` must have passed validate().
+  /// bodies, the SSM outputs, the cycle trigger) stays as built. `params` must have passed
+  /// validate().
   void setParams(const MonitorParams& params);
 
   RobotBodies& robot() { return robot_; }
@@ -81,6 +84,7 @@ class Monitor {
   const MonitorParams& params() const { return params_; }
   CycleTiming& timing() { return timing_; }
   const CycleTiming& timing() const { return timing_; }
+  const SpeedSeparation& ssm() const { return ssm_; }
   std::uint64_t cycles() const { return cycles_; }
   std::uint64_t resets() const { return resets_; }
   Stamp lastCycle() const { return last_cycle_; }
@@ -98,6 +102,7 @@ class Monitor {
   SourceTable sources_;
   TrackTable tracks_;
   RobotBodies robot_;
+  SpeedSeparation ssm_;
   std::vector<std::string> permanent_issues_;
   CycleReport report_;
   CycleTiming timing_;

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "workspace_proximity/body.hpp"
+#include "workspace_proximity/monitor/ssm.hpp"
 #include "workspace_proximity/pair_rules.hpp"
 
 namespace workspace_proximity {
@@ -22,6 +23,9 @@ struct LabelSettings {
   double critical_time = 0.4;      ///< time_to_contact at or below -> CRITICAL
   double warning_distance = 0.5;   ///< distance at or below -> WARNING
   double critical_distance = 0.2;  ///< distance at or below -> CRITICAL
+  /// m/s, speed and separation monitoring: the approach speed v_h assumed at least (1.6 is the
+  /// standard's walking speed for people whose motion is not measured); 0: as tracked.
+  double ssm_min_speed = 0.0;
 };
 
 /// A robot body declared in ~robot_bodies or taken from the URDF.
@@ -42,6 +46,12 @@ struct MonitorParams {
   double source_timeout = 1.0;  ///< s without an array from a source -> DEGRADED
   double max_future = 0.5;      ///< s; arrays stamped further ahead of the clock are dropped
   int max_tracks = 2000;        ///< tracked objects kept at most (nearest to the robot win)
+  /// When a cycle runs: "timer" (every 1 / rate s) or "input" (as soon as an array of
+  /// `trigger_source` arrives, at most `rate` times a second, and at least every 1 / rate s).
+  std::string cycle_trigger = "timer";
+  /// The input topic whose arrays trigger a cycle (as listed in input_topics, or
+  /// "tracked_objects"); empty: the first input topic.
+  std::string trigger_source;
 
   bool use_robot_description = true;
   std::string robot_description_param = "robot_description";
@@ -64,6 +74,8 @@ struct MonitorParams {
   /// Hz, markers are published at most this often (every cycle when >= rate): RViz needs
   /// far fewer than the prediction, and 1 000 bodies' markers cost as much as a prediction.
   double marker_rate = 10.0;
+
+  SsmParams ssm;  ///< speed and separation monitoring (~ssm/)
 
   MonitorParams();
   /// Settings for a label ("default" when not listed).

@@ -13,9 +13,13 @@
 /// monitored pairs (1 with none). A pair at or beyond S_p(v_max) allows full speed.
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
+#include "workspace_proximity/body.hpp"
 #include "workspace_proximity/monitor/stamp.hpp"
 
 namespace workspace_proximity {
@@ -38,6 +42,31 @@ struct SsmParams {
   std::vector<std::string> stop_event_topics;       ///< "stop" (std_msgs/String) on each at a stop
   std::string cmd_vel_in;   ///< Twist commands to scale ("" = no filter)
   std::string cmd_vel_out;  ///< the scaled commands
+};
+
+/// One cycle's verdict of the rule, read by every output (speed_scale, safety_status,
+/// speed_override, stop actions, the Twist filter, markers, diagnostics, the replay).
+struct SsmVerdict {
+  bool enabled = false;       ///< ~ssm/enabled; nothing below means anything otherwise
+  /// The scale the robot may use, in [0, 1]: the raw scale, at most ~ssm/degraded_scale while
+  /// the prediction is DEGRADED, after the hysteresis (SpeedScaleFilter).
+  double speed_scale = 0.0;
+  /// The rule itself: the smallest pairScale() over the monitored pairs within reach, 1 with
+  /// none (degraded_scale after a failed cycle, when nothing is known).
+  double raw_scale = 1.0;
+  bool degraded = false;      ///< the cycle's status is DEGRADED (the scale is capped)
+  int pairs = 0;              ///< monitored robot-object pairs within reach this cycle
+  /// The limiting pair: the monitored pair with the smallest d - S_p(v_max) (the one that sets
+  /// raw_scale, or the nearest to doing so when raw_scale is 1). Only with `limited`.
+  bool limited = false;
+  BodyHandle robot;           ///< its robot body (named by the world until the next predict)
+  BodyHandle object;          ///< its tracked object
+  double separation = std::numeric_limits<double>::infinity();  ///< d, m
+  double required_separation = 0.0;  ///< S_p(v_max) for its approach speed, m
+  double approach_speed = 0.0;       ///< v_h, m/s
+  Eigen::Vector3d point_robot = Eigen::Vector3d::Zero();   ///< nearest points now, fixed frame
+  Eigen::Vector3d point_object = Eigen::Vector3d::Zero();
+  std::string reason;         ///< one line: why the scale is what it is
 };
 
 /// S_p(v_r), m.

@@ -5,12 +5,15 @@
 ///                 level, stale (the ContactEvent fields the node publishes; END rows have
 ///                 time_to_contact inf);
 ///   cycles.csv    one row per cycle: stamp, t, status, events, tracks, robot_bodies,
-///                 robot_unposed, details (the DEGRADED lines, joined by " | ");
+///                 robot_unposed, details (the DEGRADED lines, joined by " | "), and speed and
+///                 separation monitoring's speed_scale, raw_scale and limiting pair (ssm_robot,
+///                 ssm_object, separation, required_separation, approach_speed; empty when
+///                 nothing is within reach, all seven empty with ~ssm/enabled false);
 ///   summary.json  the whole replay: bag, configuration, counts, drops by reason, speed.
 /// `stamp` is the cycle's instant (bag time, s since the epoch, to the nanosecond) and `t` the
 /// same in seconds since the bag's first message. Columns are named in the first row and
-/// readers (tools/replay_report.py) address them by name: a column added later (the speed
-/// scale of each cycle, once the monitor has one) goes at the end of a row and breaks nothing.
+/// readers (tools/replay_report.py) address them by name: a column added later goes at the end
+/// of a row and breaks nothing.
 /// Rows are written as the cycles come (memory does not grow with the bag's length).
 
 #include <cstdio>

@@ -18,7 +18,10 @@ namespace workspace_proximity {
 /// marker per body, id = its world slot, stable for the body's life; "ids" is the body's id as
 /// a small label), "nearest" and "ttc_text" (one per predicted pair, id = the pair's id, stable
 /// for the pair's life; the text names the pair: "person_3 - tool 0.42 s"), "status" (one line
-/// above the scene: OK or DEGRADED with the first reason, and the earliest contact). Markers shown by the
+/// above the scene: OK or DEGRADED with the first reason, the earliest contact, and the speed
+/// scale), "ssm" (speed and separation monitoring's limiting pair: its robot body grown by the
+/// protective separation S_p as a translucent box in the scale's colour, id 0; the line between
+/// the pair's nearest points, id 1; "scale 0.42: person_1 0.83 m < S_p 1.11 m", id 2). Markers shown by the
 /// last build but not by this one are sent with action DELETE; every marker has `lifetime`,
 /// so everything vanishes if the node stops. Bookkeeping is in flat arrays indexed by slot
 /// and pair id; the output array is rewritten in place, so steady builds allocate (almost)
@@ -44,6 +47,8 @@ class MarkerBuilder {
                visualization_msgs::MarkerArray* out);
   void addStatus(const CycleReport& report, const ProximityWorld& world,
                  visualization_msgs::MarkerArray* out);
+  void addSsm(const CycleReport& report, const ProximityWorld& world,
+              visualization_msgs::MarkerArray* out);
   void deleteVanished(visualization_msgs::MarkerArray* out);
 
   std::string frame_;
@@ -55,6 +60,7 @@ class MarkerBuilder {
   std::vector<std::uint8_t> pair_shown_;    // per pair id: shown last build
   std::vector<std::uint8_t> pair_showing_;  // the same, this build
   std::string status_text_;                 // reused
+  bool ssm_shown_ = false;                  // the "ssm" markers were shown last build
 };
 
 }  // namespace workspace_proximity

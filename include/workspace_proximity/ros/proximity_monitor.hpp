@@ -1,9 +1,12 @@
 #pragma once
 /// The proximity_monitor node: wires the monitor pipeline to ROS. Subscriptions feed its input
-/// bridge, tf2_ros its robot bridge, a timer runs the cycle, and the cycle's report goes to
-/// the contact publisher, the marker builder and the diagnostics:
+/// bridge, tf2_ros its robot bridge, a timer (or, with ~cycle_trigger: input, the arrival of an
+/// array) runs the cycle, and the cycle's report goes to the contact publisher, the speed and
+/// separation outputs, the marker builder and the diagnostics:
 ///   arrays -> InputBridge -> Monitor (TrackTable) ; tf -> RobotTfBridge -> Monitor (RobotBodies)
-///   timer -> MonitorPipeline::cycle -> CycleReport -> {contacts, markers, /diagnostics}
+///   timer | array -> MonitorPipeline::cycle -> CycleReport
+///     -> {contacts, speed_scale + safety_status + speed_override (+ stops, Twist filter),
+///         markers, /diagnostics}
 
 #include <memory>
 #include <vector>
@@ -20,6 +23,8 @@
 #include "workspace_proximity/ros/marker_builder.hpp"
 #include "workspace_proximity/ros/monitor_pipeline.hpp"
 #include "workspace_proximity/ros/rejection_log.hpp"
+#include "workspace_proximity/ros/ssm_publisher.hpp"
+#include "workspace_proximity/ros/twist_filter.hpp"
 #include <workspace_proximity/ProximityMonitorConfig.h>
 
 namespace workspace_proximity {
@@ -40,6 +45,16 @@ class ProximityMonitor {
 
  private:
   void runCycle(const ros::Time& now);
+  void publishSsm();
+  // ~cycle_trigger: input. An array of the trigger source arrived: a cycle now, unless arrays
+  // have already run ~rate cycles a second (then the floor timer takes it, within a period).
+  void onTriggerArray(const ros::Time& now);
+  // The floor timer (input trigger): a cycle a period after the last one, whatever the bucket
+  // holds. When it runs for an array the bucket refused (a flood), it spends that array's
+  // token, so that the next array of the flood does not run a second cycle right after it.
+  void onFloorTimer(const ros::Time& now);
+  void refillTokens(const ros::Time& now);  // the bucket counted up to `now`
+  void armFloor();  // the one-shot floor timer: a cycle one period after the last
   void scheduleMarkers(const ros::Time& now);  // arms marker_timer_ when markers are due
   void publishMarkers();                        // marker_timer_: half a period after a cycle
   // dynamic_reconfigure: a checked change applies from the next cycle; an invalid one is
@@ -54,11 +69,21 @@ class ProximityMonitor {
   std::unique_ptr<MonitorPipeline> pipeline_;
   Monitor* monitor_ = nullptr;  // the pipeline's
   std::unique_ptr<ContactPublisher> contacts_;
+  std::unique_ptr<SsmPublisher> ssm_;        // null with ~ssm/enabled: false
+  std::unique_ptr<TwistFilter> twist_filter_;  // null without ~ssm/cmd_vel_in
   MarkerBuilder markers_;
   visualization_msgs::MarkerArray markers_msg_;  // reused
   ros::Publisher markers_pub_;
   std::vector<ros::Subscriber> subscribers_;
-  ros::Timer timer_;
+  ros::Timer timer_;       // timer trigger: every period; input trigger: one-shot floor
+  bool input_trigger_ = false;
+  int trigger_source_ = 0;  // index of the trigger topic
+  // Cycles under the input trigger are limited by a token bucket: ~rate tokens a second, at
+  // most kTriggerBurst saved up, so a tracker at the node's rate whose arrays jitter never
+  // waits, while a flooding one runs at most ~rate cycles a second (floor cycles included).
+  double trigger_tokens_ = 0.0;
+  ros::Time trigger_refilled_;  // when the tokens were last counted up (zero: never)
+  bool trigger_refused_ = false;  // an array was refused a cycle since the last one
   ros::Timer marker_timer_;
   ros::Time last_markers_;  // stamp of the last MarkerArray
   diagnostic_updater::Updater diagnostics_;

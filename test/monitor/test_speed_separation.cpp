@@ -1,0 +1,343 @@
+// Speed and separation monitoring through the monitor's cycle: the scale of analytic scenes
+// (a person walking at a robot box, walking away, standing still inside the protective
+// separation without any predicted contact), label rules (~ssm/labels, ssm_min_speed), the
+// DEGRADED cap, the hysteresis after the person leaves, and, on random scenes, the scale
+// against a brute-force minimum over every robot-object pair (so no pair within reach is
+// missed by the broad phase).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "workspace_proximity/monitor/monitor.hpp"
+
+namespace wp = workspace_proximity;
+
+namespace {
+
+constexpr wp::Stamp kSecond = 1000000000;
+constexpr wp::Stamp kT0 = 1000 * kSecond;
+
+wp::Stamp at(double seconds) { return kT0 + wp::nanoseconds(seconds); }
+
+wp::MonitorParams params() {
+  wp::MonitorParams p;
+  p.horizon = 2.0;
+  p.robot_margin = 0.0;
+  p.labels["default"].margin = 0.0;
+  p.labels["person"] = wp::LabelSettings{0.0, 1.0, 0.4, 0.5, 0.2};
+  return p;  // ~ssm/ with the defaults: T_r 0.1, T_s 0.3, C 0.1, Z_d 0.1, Z_r 0.02
+}
+
+wp::RobotBodySpec box(const std::string& name, const Eigen::Vector3d& centre,
+                      const Eigen::Vector3d& half) {
+  wp::RobotBodySpec s;
+  s.name = name;
+  s.frame = "base";
+  s.shape = wp::Shape::box(half);
+  s.offset.translation() = centre;  // the bridge would apply it; here the pose is the centre
+  return s;
+}
+
+struct Person {
+  std::string id;
+  std::string label = "person";
+  Eigen::Vector3d position;
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d size = Eigen::Vector3d(0.5, 0.5, 1.8);
+};
+
+class Cell {
+ public:
+  Cell(const wp::MonitorParams& p, std::vector<wp::RobotBodySpec> robot)
+      : specs_(robot), monitor_(p, std::move(robot), {"/boxes"}, false, nullptr),
+        clock_(&monitor_.timing()) {}
+
+  // Every robot body at its spec's offset, standing still; the people as observed at `now`.
+  const wp::CycleReport& cycle(wp::Stamp now, const std::vector<Person>& people) {
+    for (int i = 0; i < static_cast<int>(specs_.size()); ++i) {
+      wp::BodyMotion m;
+      m.position = specs_[static_cast<std::size_t>(i)].offset.translation();
+      EXPECT_TRUE(monitor_.robot().pose(i, m));
+    }
+    std::vector<wp::BoxObservation> boxes;
+    for (const Person& p : people) {
+      wp::BoxObservation b;
+      b.id = p.id;
+      b.label = p.label;
+      b.position = p.position;
+      b.dimensions = p.size;
+      b.linear_velocity = p.velocity;
+      boxes.push_back(b);
+    }
+    monitor_.noteReceipt(0, now);
+    EXPECT_TRUE(monitor_.acceptStamp(0, now, now));
+    monitor_.ingest(0, now, Eigen::Isometry3d::Identity(), boxes);
+    return monitor_.cycle(now, &clock_);
+  }
+  wp::Monitor& monitor() { return monitor_; }
+
+ private:
+  std::vector<wp::RobotBodySpec> specs_;
+  wp::Monitor monitor_;
+  wp::StageClock clock_;
+};
+
+// The robot: a 1 m cube centred at the origin.
+std::vector<wp::RobotBodySpec> post() { return {box("post", {0, 0, 0.5}, {0.5, 0.5, 0.5})}; }
+
+}  // namespace
+
+TEST(SpeedSeparation, APersonWalkingAtTheRobotGetsTheFormulaUntilTheStop) {
+  const wp::MonitorParams p = params();
+  Cell cell(p, post());
+  // The person (0.5 m square) walks along -x at 1 m/s from a gap of 4 m: d(t) = 4 - t.
+  int limited = 0, stopped = 0, full = 0;
+  for (int k = 0; k <= 80; ++k) {
+    const double t = 0.05 * k;
+    const double d = std::max(0.0, 4.0 - t);
+    Person person{"p1", "person", {0.5 + 0.25 + d, 0.0, 0.9}, {-1.0, 0.0, 0.0}};
+    const wp::CycleReport& r = cell.cycle(at(t), {person});
+    const wp::SsmVerdict& v = r.ssm;
+    ASSERT_TRUE(v.enabled);
+    EXPECT_FALSE(r.degraded) << r.status_lines.front();
+    // v_h = 1 m/s straight at the robot: S_p(v_r) = 0.4 + 0.25 v_r + 0.22.
+    const double expected = std::clamp((d - 0.4 - 0.22) / 0.25 / 1.0, 0.0, 1.0);
+    EXPECT_NEAR(v.raw_scale, expected, 1e-9) << "t " << t;
+    if (d <= 0.87 + 1e-9) {  // within S_p(v_max) = 0.87 m: the pair must be there
+      ASSERT_TRUE(v.limited) << "t " << t;
+      EXPECT_EQ(cell.monitor().world().desc(v.object).id, "p1");
+      EXPECT_EQ(cell.monitor().world().desc(v.robot).id, "post");
+      EXPECT_NEAR(v.separation, d, 1e-9);
+      EXPECT_NEAR(v.approach_speed, 1.0, 1e-12);
+      EXPECT_NEAR(v.required_separation, 0.87, 1e-12);
+      ++limited;
+    }
+    if (expected == 0.0) {
+      EXPECT_EQ(v.speed_scale, 0.0);
+      ++stopped;
+    }
+    if (expected == 1.0) ++full;
+  }
+  EXPECT_GT(limited, 10);
+  EXPECT_GT(stopped, 10);
+  EXPECT_GT(full, 40);
+}
+
+TEST(SpeedSeparation, WalkingAwayTheScaleComesFromTheDistanceAloneOrTheLabelsMinimum) {
+  wp::MonitorParams p = params();
+  p.labels["visitor"] = p.labels["person"];
+  p.labels["visitor"].ssm_min_speed = 1.6;  // the standard's walking speed
+  Cell cell(p, post());
+  for (int k = 0; k <= 20; ++k) {
+    const double t = 0.05 * k;
+    const double d = 0.3 + 0.5 * t;  // walking away along +y at 0.5 m/s
+    Person walker{"w", "person", {0.0, 0.5 + 0.25 + d, 0.9}, {0.3, 0.5, 0.0}};
+    Person visitor{"v", "visitor", {0.0, -(0.5 + 0.25 + 2.0 + d), 0.9}, {0.0, -0.5, 0.0}};
+    const wp::CycleReport& r = cell.cycle(at(t), {walker, visitor});
+    // v_h = 0 for the walker (its sideways 0.3 m/s does not approach): (d - 0.22) / 0.25. The
+    // visitor, 2 m farther and also leaving, is assumed at its label's 1.6 m/s:
+    // (d + 2 - 0.64 - 0.22) / 0.25, above 1 here.
+    const double walker_scale = std::clamp((d - 0.22) / 0.25, 0.0, 1.0);
+    const double visitor_scale = std::clamp((d + 2.0 - 0.64 - 0.22) / 0.25, 0.0, 1.0);
+    EXPECT_NEAR(r.ssm.raw_scale, std::min(walker_scale, visitor_scale), 1e-9) << "t " << t;
+    if (r.ssm.raw_scale < 1.0) {
+      EXPECT_EQ(cell.monitor().world().desc(r.ssm.object).id, "w");
+      EXPECT_EQ(r.ssm.approach_speed, 0.0);
+    }
+  }
+  // The visitor alone, standing 1.0 m away: 1.6 m/s assumed, S_p(v_max) = 1.11 m.
+  Cell alone(p, post());
+  Person visitor{"v", "visitor", {1.75, 0.0, 0.9}};
+  const wp::CycleReport& r = alone.cycle(at(0), {visitor});
+  EXPECT_NEAR(r.ssm.raw_scale, (1.0 - 0.64 - 0.22) / 0.25, 1e-9);
+  EXPECT_NEAR(r.ssm.approach_speed, 1.6, 1e-12);
+  EXPECT_NEAR(r.ssm.required_separation, 1.11, 1e-12);
+}
+
+TEST(SpeedSeparation, StandingStillInsideTheProtectiveSeparationStopsWithoutAnyContact) {
+  Cell cell(params(), post());
+  // d = 0.2 m < C + Z_d + Z_r = 0.22 m, nobody moves: no contact within any horizon.
+  Person person{"p1", "person", {0.5 + 0.2 + 0.25, 0.0, 0.9}};
+  for (int k = 0; k < 10; ++k) {
+    const wp::CycleReport& r = cell.cycle(at(0.1 * k), {person});
+    EXPECT_EQ(r.eventCount(), 0u);
+    EXPECT_EQ(r.ssm.raw_scale, 0.0);
+    EXPECT_EQ(r.ssm.speed_scale, 0.0);
+    EXPECT_NEAR(r.ssm.separation, 0.2, 1e-12);
+    EXPECT_NE(r.ssm.reason.find("p1 at 0.20 m from post"), std::string::npos) << r.ssm.reason;
+  }
+}
+
+TEST(SpeedSeparation, OnlyMonitoredLabelsCountAndOffMeansFullSpeed) {
+  wp::MonitorParams p = params();
+  p.ssm.labels = {"person"};
+  Cell cell(p, post());
+  Person cart{"c", "cart", {0.8, 0.0, 0.9}};      // 0.05 m away, not monitored
+  Person person{"p", "person", {0.0, 1.15, 0.9}};  // 0.4 m away, still
+  const wp::CycleReport& r = cell.cycle(at(0), {cart, person});
+  EXPECT_NEAR(r.ssm.raw_scale, (0.4 - 0.22) / 0.25, 1e-9);
+  EXPECT_EQ(r.ssm.pairs, 1);
+  EXPECT_EQ(cell.monitor().world().desc(r.ssm.object).id, "p");
+
+  p.ssm.enabled = false;
+  Cell off(p, post());
+  const wp::CycleReport& r_off = off.cycle(at(0), {Person{"p", "person", {0.8, 0.0, 0.9}}});
+  EXPECT_FALSE(r_off.ssm.enabled);
+  EXPECT_EQ(r_off.ssm.speed_scale, 1.0);
+  // Nothing grows the robot's bounds while SSM is off.
+  EXPECT_EQ(off.monitor().world().reach(off.monitor().robot().handle(0)), 0.0);
+}
+
+TEST(SpeedSeparation, DegradedCapsTheScaleAndSaysWhy) {
+  wp::MonitorParams p = params();
+  p.ssm.degraded_scale = 0.3;
+  p.ssm.hold_time = 0.0;
+  p.ssm.max_increase_rate = 100.0;
+  Cell cell(p, post());
+  Person far{"p", "person", {5.0, 0.0, 0.9}};
+  for (int k = 0; k < 5; ++k) cell.cycle(at(0.05 * k), {far});
+  EXPECT_EQ(cell.monitor().report().ssm.speed_scale, 1.0);
+  // The tracker goes silent (no array for 0.6 s > track_timeout 0.5 s).
+  wp::Monitor& m = cell.monitor();
+  wp::BodyMotion still;
+  still.position = {0, 0, 0.5};
+  m.robot().pose(0, still);
+  wp::StageClock clock(&m.timing());
+  const wp::CycleReport& r = m.cycle(at(0.8), &clock);
+  ASSERT_TRUE(r.degraded);
+  EXPECT_EQ(r.ssm.raw_scale, 1.0);  // nothing within reach any more
+  EXPECT_EQ(r.ssm.speed_scale, 0.3);
+  EXPECT_NE(r.ssm.reason.find("DEGRADED, scale at most 0.30: source /boxes: no data for"),
+            std::string::npos)
+      << r.ssm.reason;
+  // A failed cycle: nothing known, degraded_scale.
+  m.cycleFailed(at(0.85), "boom");
+  EXPECT_EQ(m.report().ssm.speed_scale, 0.3);
+  EXPECT_TRUE(m.report().ssm.degraded);
+  EXPECT_NE(m.report().ssm.reason.find("cycle failed: boom"), std::string::npos);
+  // The clock goes back: the history is reset, the scale starts from 0 again.
+  m.reset();
+  const wp::CycleReport& after = cell.cycle(at(0.1), {far});
+  EXPECT_EQ(after.ssm.speed_scale, 0.0);
+}
+
+TEST(SpeedSeparation, AfterThePersonLeavesTheScaleRisesOnlyAfterTheHoldAndAtTheRate) {
+  wp::MonitorParams p = params();  // hold 0.5 s, rate 0.5 / s
+  Cell cell(p, post());
+  Person person{"p1", "person", {0.95, 0.0, 0.9}};  // standing 0.2 m away: stop
+  double t = 0.0;
+  for (; t < 1.0; t += 0.05) EXPECT_EQ(cell.cycle(at(t), {person}).ssm.speed_scale, 0.0);
+  // Gone (walked 10 m away at once): the raw scale is 1 from here.
+  person.position.x() = 10.0;
+  const double left = t;
+  double last = 0.0;
+  for (; t < left + 3.5; t += 0.05) {
+    const wp::CycleReport& r = cell.cycle(at(t), {person});
+    EXPECT_EQ(r.ssm.raw_scale, 1.0);
+    const double out = r.ssm.speed_scale;
+    const double since = t - left;
+    if (since < 0.5 - 1e-9) {
+      EXPECT_EQ(out, 0.0) << since;
+    } else {
+      EXPECT_NEAR(out, std::min(1.0, 0.5 * (since - 0.5)), 1e-6) << since;
+    }
+    EXPECT_LE(out - last, 0.5 * 0.05 + 1e-9);
+    last = out;
+  }
+  EXPECT_EQ(last, 1.0);
+}
+
+// Random cells: several robot boxes, people and carts of assorted sizes, speeds and minimum
+// speeds, all axis-aligned so that the vector between nearest points is known exactly (for
+// convex sets it is unique: per axis, the gap between the intervals). The monitor's raw scale
+// must equal the minimum of the formula over every robot-object pair, wherever they are.
+TEST(SpeedSeparation, TheScaleIsTheMinimumOverEveryPairAgainstBruteForce) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * u(rng); };
+  int limiting = 0, zero = 0, partial = 0;
+  for (int scene = 0; scene < 30; ++scene) {
+    wp::MonitorParams p = params();
+    p.labels["cart"] = p.labels["default"];
+    p.labels["cart"].ssm_min_speed = uniform(0.0, 2.0);
+    p.labels["person"].ssm_min_speed = scene % 2 ? 1.6 : 0.0;
+    p.ssm.reaction_time = uniform(0.05, 0.3);
+    p.ssm.stopping_time = uniform(0.1, 0.6);
+    p.ssm.robot_max_speed = uniform(0.3, 2.0);
+    std::vector<wp::RobotBodySpec> robot;
+    const int links = 1 + scene % 5;
+    for (int i = 0; i < links; ++i) {
+      robot.push_back(box("link" + std::to_string(i),
+                          {uniform(-1, 1), uniform(-1, 1), uniform(0.3, 1.5)},
+                          {uniform(0.05, 0.4), uniform(0.05, 0.4), uniform(0.05, 0.4)}));
+    }
+    Cell cell(p, robot);
+    for (int cycle = 0; cycle < 8; ++cycle) {
+      std::vector<Person> people;
+      const int n = 5 + scene % 20;
+      for (int i = 0; i < n; ++i) {
+        Person q;
+        q.id = "o" + std::to_string(i);
+        q.label = i % 3 ? "person" : "cart";
+        q.size = {uniform(0.2, 1.5), uniform(0.2, 1.5), uniform(0.5, 2.0)};
+        q.position = {uniform(-4, 4), uniform(-4, 4), uniform(0.0, 2.0)};
+        q.velocity = {uniform(-2.5, 2.5), uniform(-2.5, 2.5), uniform(-0.2, 0.2)};
+        people.push_back(q);
+      }
+      const wp::CycleReport& r = cell.cycle(at(0.05 * cycle), people);
+      // Brute force over every pair, with nothing but the formula.
+      double expected = 1.0, best_slack = HUGE_VAL;
+      bool overlap = false;
+      for (const wp::RobotBodySpec& link : robot) {
+        const Eigen::Vector3d c = link.offset.translation(), h = link.shape.half_extents;
+        for (const Person& q : people) {
+          const Eigen::Vector3d hq = 0.5 * q.size;
+          Eigen::Vector3d gap;  // from the object towards the robot
+          for (int k = 0; k < 3; ++k) {
+            const double lo_r = c[k] - h[k], hi_r = c[k] + h[k];
+            const double lo_o = q.position[k] - hq[k], hi_o = q.position[k] + hq[k];
+            gap[k] = std::max(0.0, lo_r - hi_o) - std::max(0.0, lo_o - hi_r);
+          }
+          const double d = gap.norm();
+          const double min_speed = p.label(q.label).ssm_min_speed;
+          const double along = d > 0 ? q.velocity.dot(gap / d) : 0.0;
+          const double v_h = std::max({0.0, along, min_speed});
+          overlap = overlap || d == 0.0;
+          const wp::SsmParams& s = p.ssm;
+          const double spare = d - v_h * (s.reaction_time + s.stopping_time) -
+                               s.intrusion_distance - s.sensor_uncertainty - s.robot_uncertainty;
+          const double scale = std::clamp(
+              spare / (s.reaction_time + s.stopping_time / 2) / s.robot_max_speed, 0.0, 1.0);
+          expected = std::min(expected, scale);
+          const double slack = spare - s.robot_max_speed * (s.reaction_time + s.stopping_time / 2);
+          best_slack = std::min(best_slack, slack);
+        }
+      }
+      EXPECT_NEAR(r.ssm.raw_scale, expected, 1e-9) << "scene " << scene << " cycle " << cycle;
+      if (expected < 1.0) {
+        ASSERT_TRUE(r.ssm.limited);
+        // The limiting pair has the smallest d - S_p(v_max) (for overlapping shapes the
+        // direction of v_h is the contact normal's, which the brute force does not know).
+        if (!overlap) {
+          EXPECT_NEAR(r.ssm.separation - r.ssm.required_separation, best_slack, 1e-9);
+        }
+        ++limiting;
+      }
+      zero += expected == 0.0;
+      partial += expected > 0.0 && expected < 1.0;
+    }
+  }
+  EXPECT_GT(limiting, 50);
+  EXPECT_GT(zero, 10);
+  EXPECT_GT(partial, 10);
+}
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
