@@ -39,6 +39,8 @@ class ProximityMonitor {
   void cycle(const ros::Time& now);
 
  private:
+  // Robot links moved by URDF joints from joint_states (~use_joint_states with a URDF).
+  void enableJoints();
   void runCycle(const ros::Time& now);
   void scheduleMarkers(const ros::Time& now);  // arms marker_timer_ when markers are due
   void publishMarkers();                        // marker_timer_: half a period after a cycle
