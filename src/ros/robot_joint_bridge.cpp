@@ -82,6 +82,8 @@ void RobotJointBridge::onTrajectory(const trajectory_msgs::JointTrajectory& msg,
 
 void RobotJointBridge::update(Stamp now, double horizon) {
   RobotBodies& robot = monitor_->robot();
+  // Live tuning (~tf_timeout) applies from the next cycle, as for tf.
+  predictor_.setParams(predictorParams(monitor_->params()));
   // The root frame from tf: everything the joints move rides on it.
   BodyMotion base;
   std::string why, stale;
