@@ -6,6 +6,8 @@
 // differences, stale and missing readings, plan checks and the contradiction rule.
 
 #include <cmath>
+#include <cstdlib>
+#include <new>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -16,6 +18,21 @@
 #include "workspace_proximity/monitor/joint_predictor.hpp"
 
 namespace wp = workspace_proximity;
+
+// Heap allocations in this binary, counted (the steady-state test below).
+namespace {
+std::size_t g_allocations = 0;
+}  // namespace
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) { return operator new(size); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -359,6 +376,27 @@ TEST(JointPredictor, ManyBreaksBeyondTheBudgetStayConservative) {
     q[1] = 0.3 * t;
     q[2] = 0.0;
   }, 2.0);
+}
+
+TEST(JointPredictor, SteadyStateCyclesAllocateNothing) {
+  Fixture f;
+  wp::JointPlan plan = shoulderPlan(kNow);
+  plan.times = {0.0, 5.0, 10.0, 15.0};  // long enough to stay in force
+  ASSERT_EQ(f.predictor.setPlan(plan, kNow), "");
+  auto cycle = [&](int c) {
+    const wp::Stamp now = kNow + c * kSecond / 30;
+    const double t = c / 30.0;
+    f.predictor.observe(0, now, std::min(1.0, 0.2 * t), t < 5.0 ? 0.2 : 0.0);  // as planned
+    f.predictor.observe(1, now, 0.1 * std::sin(t), 0.1 * std::cos(t));
+    f.predictor.observe(2, now, 0.1, kNaN);  // finite differences
+    f.predictor.predict(now, 2.0, wp::BodyMotion());
+  };
+  for (int c = 0; c < 10; ++c) cycle(c);  // sizes the buffers
+  const std::size_t before = g_allocations;
+  for (int c = 10; c < 200; ++c) cycle(c);
+  EXPECT_EQ(g_allocations - before, 0u);
+  EXPECT_TRUE(f.predictor.hasPlan());
+  EXPECT_EQ(f.predictor.body(2).state, wp::JointPathState::kMoving);
 }
 
 int main(int argc, char** argv) {
