@@ -12,11 +12,13 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "scenes.hpp"  // test/shared: the robot cell
+#include "workspace_proximity/monitor/joint_predictor.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace wp = workspace_proximity;
@@ -66,24 +68,152 @@ Result run(int links, int objects, double horizon, int cycles) {
   return r;
 }
 
+// The robot cell's arm as joints: one continuous joint about z per chain of 6 links (the
+// chain's link turns with it); each link body sits on its chain's link at its radius and height.
+class CellArm : public wp::KinematicModel {
+ public:
+  explicit CellArm(int chains) {
+    root_ = "base";
+    for (int c = 0; c < chains; ++c) {
+      joints_.push_back({"chain_" + std::to_string(c), wp::JointType::kContinuous, false, 0.0, 0.0});
+      links_.push_back({"chain_link_" + std::to_string(c), {c}, {0.0}, 0.0});
+    }
+  }
+  void forward(const double* q, Eigen::Isometry3d* poses) const override {
+    for (std::size_t c = 0; c < links_.size(); ++c) {
+      poses[c] = Eigen::Isometry3d(Eigen::AngleAxisd(q[c], Eigen::Vector3d::UnitZ()));
+    }
+  }
+};
+
+// The same cell with the arm predicted from its joints: every cycle each chain's joint reading
+// (position and velocity 0.8 rad/s) goes to the JointPredictor, whose keyframed paths (spaced by
+// its arc bound, ~joint_path_tolerance 0.01 m, at most 16 segments) go to the core with setPath.
+// `joints` false: the same links set with their constant twist (setMotion), as from tf. The
+// time per cycle includes posing the arm.
+class ArmCell {
+ public:
+  ArmCell(int links, int objects, bool joints)
+      : joints_(joints), cell_(&world_, 0, objects),  // the objects only; the arm is added here
+        chains_(std::max(1, links / 6)),
+        predictor_(std::make_shared<CellArm>(chains_), wp::JointPredictorParams()) {
+    for (int i = 0; i < links; ++i) {
+      const int chain = i / 6, k = i % 6;
+      Link l{wp::BodyHandle(), 0.25 + 0.25 * k, 0.5 + 0.2 * chain, 2 * M_PI * chain / chains_};
+      const wp::Shape shape = wp::Shape::box({0.13, 0.06, 0.06});
+      l.handle = world_.addBody({"link_" + std::to_string(i), "robot", wp::BodyGroup::kRobot, shape, 0.02},
+                                wp::BodyMotion());
+      Eigen::Isometry3d offset(Eigen::AngleAxisd(l.phase, Eigen::Vector3d::UnitZ()));
+      offset.translation() = offset.linear() * Eigen::Vector3d(l.radius, 0, l.height);
+      predictor_.addBody(chain, offset, shape.boundingRadius());
+      arm_.push_back(l);
+    }
+  }
+  // One cycle at t (s); returns its time in µs (arm posing and prediction).
+  double cycle(double t, double horizon) {
+    cell_.step(t, 1.0 / 30.0);
+    const auto start = std::chrono::steady_clock::now();
+    if (joints_) {
+      const wp::Stamp now = wp::nanoseconds(100.0 + t);
+      for (int j = 0; j < chains_; ++j) {
+        predictor_.observe(j, now, std::remainder(wp_test::RobotCell::kOmega * t, 2 * M_PI),
+                           wp_test::RobotCell::kOmega);
+      }
+      predictor_.predict(now, horizon, wp::BodyMotion());
+      for (std::size_t i = 0; i < arm_.size(); ++i) {
+        const wp::JointBodyPath& path = predictor_.body(static_cast<int>(i));
+        world_.setPath(arm_[i].handle, path.segments.data(), static_cast<int>(path.segments.size()));
+      }
+    } else {
+      for (const Link& l : arm_) {
+        world_.setMotion(l.handle, wp_test::turningLink(t, l.radius, l.height, wp_test::RobotCell::kOmega, l.phase));
+      }
+    }
+    world_.predict(horizon);
+    return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+  }
+  const wp::WorldStats& stats() const { return world_.stats(); }
+  int segments() const { return predictor_.segmentCount(); }
+
+ private:
+  struct Link {
+    wp::BodyHandle handle;
+    double radius, height, phase;
+  };
+  bool joints_;
+  wp::ProximityWorld world_;
+  wp_test::RobotCell cell_;
+  int chains_;
+  wp::JointPredictor predictor_;
+  std::vector<Link> arm_;
+};
+
+struct ArmResult {
+  Result twist, joint;
+  double ratio_median = 0.0;  // median over cycles of joint / twist time (paired cycles)
+  double segments = 0.0;
+};
+
+// Both cells stepped in the same loop, cycle by cycle (alternating which goes first), so that
+// load from other processes falls on both alike; the ratio is the median of paired cycles.
+ArmResult runArm(int links, int objects, double horizon, int cycles) {
+  ArmCell twist(links, objects, false), joint(links, objects, true);
+  std::vector<double> tt, jt, ratio;
+  ArmResult r;
+  r.twist = Result{links, objects, horizon, 0, 0, {0, 0, 0, 0, 0}, 0, 0, 0, 0};
+  r.joint = r.twist;
+  const int warmup = 30;
+  for (int c = 0; c < warmup + cycles; ++c) {
+    const double t = c / 30.0;
+    double a, b;
+    if (c % 2 == 0) {
+      a = twist.cycle(t, horizon);
+      b = joint.cycle(t, horizon);
+    } else {
+      b = joint.cycle(t, horizon);
+      a = twist.cycle(t, horizon);
+    }
+    if (c < warmup) continue;
+    tt.push_back(a);
+    jt.push_back(b);
+    ratio.push_back(b / a);
+    r.twist.pairs += double(twist.stats().broad_pairs) / cycles;
+    r.joint.pairs += double(joint.stats().broad_pairs) / cycles;
+    r.twist.contacts += double(twist.stats().contacts) / cycles;
+    r.joint.contacts += double(joint.stats().contacts) / cycles;
+    r.segments += double(joint.segments()) / cycles;
+  }
+  r.twist.median_us = percentile(tt, 0.5);
+  r.twist.p99_us = percentile(tt, 0.99);
+  r.joint.median_us = percentile(jt, 0.5);
+  r.joint.p99_us = percentile(jt, 0.99);
+  r.ratio_median = percentile(ratio, 0.5);
+  return r;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string out;
   int cycles = 600;
+  bool joints_only = false;  // only the joint-space rows (issue 10)
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc) out = argv[++i];
     else if (a == "--quick") cycles = 150;
+    else if (a == "--joints-only") joints_only = true;
   }
   std::ostringstream md;
-  md << "# Pipeline benchmark (robot cell through the whole core)\n\n"
-     << "Per cycle, after 30 warm-up cycles, " << cycles << " cycles each. Stage times are "
+  if (!joints_only) {
+    md << "# Pipeline benchmark (robot cell through the whole core)\n\n"
+       << "Per cycle, after 30 warm-up cycles, " << cycles << " cycles each. Stage times are "
         "means; the stage timers themselves cost a little.\n\n"
-     << "| links | objects | horizon s | median µs | p99 µs | bounds | broad | axis TOI | narrow | "
+       << "| links | objects | horizon s | median µs | p99 µs | bounds | broad | axis TOI | narrow | "
         "events | broad pairs | candidates | contacts | distance queries |\n"
-     << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+       << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  }
   for (int links : {30, 60}) {
+    if (joints_only) break;
     for (int objects : {10, 100, 200}) {
       for (double horizon : {0.0, 0.5, 2.0}) {
         const Result r = run(links, objects, horizon, cycles);
@@ -97,6 +227,29 @@ int main(int argc, char** argv) {
         md << line;
         std::fputs(line, stderr);
       }
+    }
+  }
+  // The arm from its joints (issue 10): cost per cycle, arm posing included, against the same
+  // arm as constant twists.
+  md << "\n## Robot cell with joint-space prediction\n\n"
+     << "The arm posed every cycle (included in the time): constant twists per link (setMotion, "
+        "as from tf) or the JointPredictor's keyframed paths from the chains' joint readings "
+        "(setPath; ~joint_path_tolerance 0.01 m, at most 16 segments). Target: joint-space at "
+        "most 1.5x the constant twist at 60 links + 200 objects, H = 2 s.\n\n"
+     << "| links | objects | horizon s | constant twist median µs | p99 µs | joint-space median µs "
+        "| p99 µs | ratio of medians | median paired ratio | segments | broad pairs twist / joint | contacts twist / joint |\n"
+     << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (int objects : {100, 200}) {
+    for (double horizon : {0.5, 2.0}) {
+      const ArmResult a = runArm(60, objects, horizon, cycles);
+      char line[512];
+      std::snprintf(line, sizeof line,
+                    "| 60 | %d | %.1f | %.1f | %.1f | %.1f | %.1f | %.2f | %.2f | %.1f | %.0f / %.0f | %.1f / %.1f |\n",
+                    objects, horizon, a.twist.median_us, a.twist.p99_us, a.joint.median_us,
+                    a.joint.p99_us, a.joint.median_us / a.twist.median_us, a.ratio_median, a.segments,
+                    a.twist.pairs, a.joint.pairs, a.twist.contacts, a.joint.contacts);
+      md << line;
+      std::fputs(line, stderr);
     }
   }
   std::fputs(md.str().c_str(), stdout);

@@ -28,6 +28,12 @@ Parameters (private):
   ~follow_speed_scale (false)     slow the arm down by speed_scale (the demo turns it on)
   ~speed_scale_timeout (0.1)      s without a speed_scale message after which the scale is 0
                                   (the demo: 3 periods of the monitor)
+  ~trajectory_topic ("")  planned-trajectory episode: every ~plan_period s the arm leaves its
+                          periodic motion for a planned move (reach out with the pan and elbow,
+                          stop 1.5 s, return), announced 0.3 s ahead as a
+                          trajectory_msgs/JointTrajectory on this topic, and executed exactly
+                          (linear between its points); "" = no episode
+  ~plan_period (15.0)     s between planned moves
 """
 
 import math
@@ -41,6 +47,7 @@ import tf2_ros
 from geometry_msgs.msg import TransformStamped
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from workspace_proximity.msg import TrackedBox, TrackedBoxArray
 
@@ -168,14 +175,70 @@ class ArmAnimator(object):
         w = 2.0 * math.pi / period
         return speed * amp * w * math.cos(w * t + phase)
 
-    def joint_state(self, stamp, t, speed=1.0):
+    def joint_state(self, stamp, t, speed=1.0, plan=None):
         msg = JointState()
         msg.header.stamp = stamp
         for j in self.joints:
             if j.name in self.motion:
                 msg.name.append(j.name)
+                planned = plan.at(j.name, t) if plan is not None else None
+                if planned is not None:
+                    msg.position.append(planned[0])
+                    msg.velocity.append(speed * planned[1])
+                    continue
                 msg.position.append(self.position(j, t))
                 msg.velocity.append(self.velocity(j, t, speed))
+        return msg
+
+
+# The planned move of the demo's trajectory episode: (s after its start, pan offset rad, elbow
+# rad). From where the periodic motion is, the pan turns 1.2 rad further and the elbow folds
+# out, a stop, and back to where the periodic motion will be when the move ends.
+PLAN_TIMES = (0.0, 1.5, 3.0, 4.5)
+PLAN_LEAD = 0.3  # s: the plan is published this long before it starts
+
+
+class PlannedMove(object):
+    """One planned move of the pan and elbow joints from time `t_start` (s of the scene)."""
+
+    def __init__(self, arm, t_start):
+        self.t_start = t_start
+        self.points = {}
+        for j in arm.joints:
+            if j.name not in ('shoulder_pan', 'elbow') or j.name not in arm.motion:
+                continue
+            first = arm.position(j, t_start)
+            last = arm.position(j, t_start + PLAN_TIMES[-1])
+            if j.name == 'shoulder_pan':
+                far = first + (1.2 if first < 0.0 else -1.2)
+            else:
+                far = 0.2
+            far = min(max(far, j.lower), j.upper)
+            self.points[j.name] = (first, far, far, last)
+
+    @property
+    def end(self):
+        return self.t_start + PLAN_TIMES[-1]
+
+    def at(self, name, t):
+        """(position, velocity) of joint `name` at scene time t while the move runs, else None."""
+        if name not in self.points or not (self.t_start <= t <= self.end):
+            return None
+        q, s = self.points[name], t - self.t_start
+        for k in range(1, len(PLAN_TIMES)):
+            if s <= PLAN_TIMES[k]:
+                v = (q[k] - q[k - 1]) / (PLAN_TIMES[k] - PLAN_TIMES[k - 1])
+                return q[k - 1] + v * (s - PLAN_TIMES[k - 1]), v
+        return q[-1], 0.0
+
+    def message(self, stamp):
+        msg = JointTrajectory()
+        msg.header.stamp = stamp
+        msg.joint_names = sorted(self.points)
+        for k, t in enumerate(PLAN_TIMES):
+            msg.points.append(JointTrajectoryPoint(
+                positions=[self.points[n][k] for n in msg.joint_names],
+                time_from_start=rospy.Duration(t)))
         return msg
 
     def transforms(self, t):
@@ -315,6 +378,8 @@ def main():
     robot_output = rospy.get_param('~robot_output', 'joint_states')
     follow = bool(rospy.get_param('~follow_speed_scale', False))
     scale_timeout = float(rospy.get_param('~speed_scale_timeout', 0.1))
+    trajectory_topic = rospy.get_param('~trajectory_topic', '')
+    plan_period = float(rospy.get_param('~plan_period', 15.0))
     if robot_output not in ('joint_states', 'tf'):
         rospy.logfatal("~robot_output must be 'joint_states' or 'tf', got %r", robot_output)
         return 1
@@ -356,6 +421,10 @@ def main():
                   (', the arm follows %s' % rospy.resolve_name('speed_scale')) if (arm and follow) else '')
 
     speed_scale = SpeedScale(scale_timeout) if (arm is not None and follow) else None
+    plan_pub, plan = None, None
+    if joints_pub is not None and trajectory_topic and plan_period > PLAN_TIMES[-1] + PLAN_LEAD:
+        plan_pub = rospy.Publisher(trajectory_topic, JointTrajectory, queue_size=2)
+
     start = rospy.Time.now()
     rate = rospy.Rate(rate_hz)
     arm_t = 0.0      # the arm's trajectory time: advances at the speed scale
@@ -367,8 +436,20 @@ def main():
         arm_t += max(0.0, (now - last).to_sec()) * speed
         last = now
 
+        if plan_pub is not None:
+            # Announce the next move PLAN_LEAD s (of the arm's time) ahead; the arm executes it
+            # in its own time, so at full speed exactly as announced, and behind the plan while
+            # the speed scale slows it (the monitor then drops the plan as not followed, as it
+            # would for a real controller that scales a trajectory).
+            n = math.floor((arm_t + PLAN_LEAD) / plan_period)
+            t_next = n * plan_period
+            if n >= 1 and (plan is None or plan.t_start < t_next):
+                plan = PlannedMove(arm, t_next)
+                plan_pub.publish(plan.message(now + rospy.Duration(max(0.0, t_next - arm_t))))
+                rospy.loginfo('scene_simulator: planned move at t = %.1f s', t_next)
+
         if joints_pub is not None:
-            joints_pub.publish(arm.joint_state(now, arm_t, speed))
+            joints_pub.publish(arm.joint_state(now, arm_t, speed, plan))
         elif arm is not None:
             tfs = [make_tf(now, frame, arm.root, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))]
             for parent, child, trans, rot in arm.transforms(arm_t):

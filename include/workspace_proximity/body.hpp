@@ -20,6 +20,8 @@ struct Limits {
   static constexpr double kMaxSpeed = 1e4;        ///< m/s
   static constexpr double kMaxAngularSpeed = 1e4; ///< rad/s
   static constexpr double kMaxHorizon = 1e4;      ///< s
+  static constexpr double kMaxAccel = 1e4;        ///< m/s^2, margin growth (MarginGrowth)
+  static constexpr int kMaxSegments = 64;         ///< segments of a piecewise path (setPath)
 };
 
 /// The shapes the narrow phase understands. Every shape is centred on the body origin;
@@ -85,6 +87,9 @@ struct BodyHandle {
   bool operator!=(const BodyHandle& o) const { return !(*this == o); }
 };
 
+struct PathSegment;   // motion_path.hpp
+struct MarginGrowth;  // motion_path.hpp
+
 /// A body as the per-pair stages (contact window, narrow phase) see it. Pointers are
 /// borrowed for the call.
 struct PairBody {
@@ -100,6 +105,16 @@ struct PairBody {
   /// The pose at t = 0 (motion->poseAt(0)) if the caller has it, so that the stages need not
   /// compute it again; nullptr: computed where needed.
   const Eigen::Isometry3d* pose = nullptr;
+  /// Piecewise motion (motion_path.hpp): the prepared segments of the body's path
+  /// (preparePath; segments[0].motion is *motion), or null for the constant twist `motion`
+  /// with `margin` and `half`.
+  const PathSegment* segments = nullptr;
+  int segment_count = 0;
+  /// The body's margin growth, or null when it does not grow.
+  const MarginGrowth* growth = nullptr;
+
+  /// Needs the piecewise stages (PairPieces): a path or a growing margin.
+  bool piecewise() const { return segments != nullptr || growth != nullptr; }
 
   /// The pose at t = 0: *pose, or motion->poseAt(0) written into `scratch`.
   const Eigen::Isometry3d& poseNow(Eigen::Isometry3d* scratch) const {

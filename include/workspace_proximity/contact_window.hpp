@@ -3,10 +3,15 @@
 /// of [0, horizon] outside which two margin-inflated bodies cannot touch, and what the narrow
 /// phase still has to refine inside it. Runs once per pair and cycle.
 
+#include <cstdint>
+
 #include "workspace_proximity/body.hpp"
+#include "workspace_proximity/motion_path.hpp"
 #include "workspace_proximity/time_of_impact.hpp"
 
 namespace workspace_proximity {
+
+class PairPieces;
 
 struct ContactWindow {
   /// Step 1, per-axis time of impact: the bodies' rotation-inflated boxes (PairBody::half)
@@ -23,9 +28,79 @@ struct ContactWindow {
   /// `interval.last` already is a conservative last contact (translating boxes with margins,
   /// i.e. rounded boxes, which the axis test bounds): only the first contact is refined.
   bool last_known = false;
+  /// Pairs with a piecewise motion or a growing margin (PairBody::piecewise()): the pieces the
+  /// window was computed on; the narrow phase walks them. Null for constant-twist pairs.
+  const PairPieces* pieces = nullptr;
 
   bool empty() const { return interval.empty(); }
 };
+
+/// One body over one piece of a pair's horizon.
+struct PieceBody {
+  const PathSegment* segment = nullptr;  ///< the segment the body is in
+  GrowthPiece growth;                    ///< its margin growth, in x = t - u0
+  double growth_rate = 0.0;              ///< m/s, the largest growth rate over the piece
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< centre at u0, m
+
+  /// Pose at t (s, within the piece).
+  Eigen::Isometry3d poseAt(double t) const { return segment->motion.poseAt(t - segment->start); }
+};
+
+/// A stretch [u0, u1] of the horizon on which each body of a pair keeps one segment of its
+/// path and its growth one polynomial: between consecutive merged breakpoints (both bodies'
+/// segment starts and the instants their growth caps take over).
+struct Piece {
+  double u0 = 0.0;
+  double u1 = 0.0;
+  PieceBody a, b;
+};
+
+/// The pieces of [0, horizon] for a pair with a piecewise motion or a growing margin. A body
+/// without a path is one segment (its motion, margin and half over the horizon). Holds at most
+/// 2 Limits::kMaxSegments + 3 breakpoints in place: building it allocates nothing.
+class PairPieces {
+ public:
+  static constexpr int kMaxPieces = 2 * Limits::kMaxSegments + 2;
+
+  /// `a` and `b` (and what they point to) must outlive the pieces.
+  PairPieces(const PairBody& a, const PairBody& b, double horizon);
+  PairPieces(const PairPieces&) = delete;
+  PairPieces& operator=(const PairPieces&) = delete;
+
+  int size() const { return count_; }
+  double horizon() const { return horizon_; }
+  Piece piece(int i) const;
+  /// The last piece whose start is at or before t (0 for t <= 0).
+  int pieceAt(double t) const;
+  const PairBody& a() const { return *a_; }
+  const PairBody& b() const { return *b_; }
+
+ private:
+  PieceBody body(const PairBody& body, const PathSegment* segments, int segment,
+                 double u0, double u1) const;
+
+  const PairBody* a_;
+  const PairBody* b_;
+  double horizon_;
+  // A body without a path: its one segment over the whole horizon.
+  PathSegment own_a_, own_b_;
+  const PathSegment* segments_a_;
+  const PathSegment* segments_b_;
+  int count_ = 0;
+  double breaks_[kMaxPieces + 1];
+  std::int16_t segment_a_[kMaxPieces];
+  std::int16_t segment_b_[kMaxPieces];
+};
+
+/// Step 1 on one piece: the per-axis test (growingAxisInterval) of the two bodies' segment
+/// boxes (PathSegment::half around the moving centres), each grown by its growth unless
+/// `with_growth` is false; intersected over the axes. Seconds after the prediction instant,
+/// within [u0, u1]; empty: the boxes do not meet on this piece.
+TimeInterval pieceAxisWindow(const Piece& piece, bool with_growth = true);
+
+/// Steps 1 and 2 for a pair with a piecewise motion or a growing margin: the hull of every
+/// piece's axis window (with growth); `pieces` is set, `exact` and `last_known` are false.
+ContactWindow piecewiseWindow(const PairPieces& pieces);
 
 /// Step 1 alone: boxContactInterval() of the bodies' rotation-inflated boxes (PairBody::half,
 /// centred on the positions at t = 0, translating at the linear velocities) within

@@ -81,6 +81,16 @@ class NarrowPhase {
   /// an exact window is taken as it is, otherwise advancement refines its first contact and,
   /// unless the window's end is already known to be the last one, its last contact. The
   /// distance, nearest points, normal and closing speed describe t = 0 whatever the window.
+  ///
+  /// Bodies with a path or a growing margin (PairBody::piecewise()) need a window from
+  /// piecewiseWindow() (otherwise std::invalid_argument): the advancement then runs piece by
+  /// piece (PairPieces), each piece with its own segments' twists and margins, and adds both
+  /// growth rates at their largest on the piece to the closing-speed bound, so it still never
+  /// steps over a contact. Newton steps are used only on pieces where the gap is convex (both
+  /// bodies translating, growth linear); the upright closed form serves every evaluation. The
+  /// first contact is that of the grown shapes; the last contact is that of the shapes without
+  /// growth (their segment margins only), never before the first contact, and equal to it when
+  /// they never touch. The distance now includes the growth since each observation.
   ContactPrediction predict(const PairBody& a, const PairBody& b,
                             const ContactWindow& window) const;
 
@@ -88,6 +98,9 @@ class NarrowPhase {
 
  private:
   struct GeometryCache;  // FCL geometry by slot
+
+  ContactPrediction predictOnPieces(const PairBody& a, const PairBody& b,
+                                    const ContactWindow& window) const;
 
   NarrowPhaseConfig config_;
   std::unique_ptr<GeometryCache> cache_;

@@ -1,6 +1,10 @@
 #pragma once
 /// The whole prediction pipeline: bodies in, contact events out. ROS-free.
 ///
+/// A body moves with one constant twist over the horizon (setMotion), or along a piecewise
+/// constant-twist path (setPath); its margin may grow with time (setGrowth). Pairs with a path
+/// or growth run the contact window and narrow phase piece by piece (PairPieces).
+///
 /// predict(H): swept bounds over [0, H] -> incremental sweep-and-prune (the world mirrors its
 /// pairs from began/ended) -> pair rules (cached per pair) -> contact window (per-axis time of
 /// impact, then the moving separating-axis test for translating boxes) -> narrow phase
@@ -14,6 +18,7 @@
 #include "workspace_proximity/contact_window.hpp"
 #include "workspace_proximity/pair_event.hpp"
 #include "workspace_proximity/event_tracker.hpp"
+#include "workspace_proximity/motion_path.hpp"
 #include "workspace_proximity/narrow_phase.hpp"
 #include "workspace_proximity/pair_rules.hpp"
 #include "workspace_proximity/pair_table.hpp"
@@ -76,8 +81,20 @@ class ProximityWorld {
   /// Removes a body; its pairs get END events at the next predict(). The handle stays
   /// readable (desc()) until the predict() after that, so END events can be named.
   void removeBody(BodyHandle body);
-  /// New pose and velocity at the next prediction instant. Throws on an invalid motion.
+  /// New pose and velocity at the next prediction instant: one constant twist over the
+  /// horizon (replaces a path). Throws on an invalid motion.
   void setMotion(BodyHandle body, const BodyMotion& motion);
+  /// A piecewise constant-twist motion over the horizon from the next prediction instant on
+  /// (motion_path.hpp): `count` segments, the first starting at t = 0 with the pose now; each
+  /// segment may add a margin. Swept bounds are the union over the segments; the contact
+  /// window and the narrow phase run piece by piece. One segment without margin is exactly
+  /// setMotion(segments[0].motion). Allocation-free once the body has held as many segments.
+  /// Throws std::invalid_argument on an invalid path (validPath()).
+  void setPath(BodyHandle body, const MotionSegment* segments, int count);
+  /// The body's margin grows with time from the next prediction on: margin + growth.at(t) at
+  /// t s after the prediction instant (motion_path.hpp; growth.none(): it does not grow, as
+  /// when added). Kept across setMotion() and setPath(). Throws on an invalid growth.
+  void setGrowth(BodyHandle body, const MarginGrowth& growth);
   /// New shape and margin for a live body, keeping its identity (its pairs' events continue).
   /// Rebuilds the narrow phase's geometry, so callers should do it only when the size really
   /// changed.
@@ -87,7 +104,13 @@ class ProximityWorld {
   /// True for a body that is live or removed but still nameable.
   bool contains(BodyHandle body) const;
   const BodyDesc& desc(BodyHandle body) const;
+  /// The motion now: the constant twist, or a path's first segment.
   const BodyMotion& motion(BodyHandle body) const;
+  const MarginGrowth& growth(BodyHandle body) const;
+  /// Segments of the body's path as the last predict() prepared them (ends, margins, halves
+  /// filled); 0 for a constant twist without growth.
+  int pathSize(BodyHandle body) const;
+  const PathSegment* path(BodyHandle body) const;
   /// Swept bounds used by the last predict().
   Aabb sweptBounds(BodyHandle body) const;
   int bodyCount() const { return live_count_; }
@@ -132,6 +155,7 @@ class ProximityWorld {
   void updateBounds(double horizon);
   void syncPairCache();
   void predictPairs(double horizon);
+  void predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b, double horizon);
   PairBody pairBody(std::int32_t slot) const;
   ContactWindow windowOf(PairBody* a, PairBody* b, double horizon);
   const Eigen::Isometry3d& poseNow(std::int32_t slot);

@@ -21,6 +21,19 @@ struct TimeInterval {
 TimeInterval axisContactInterval(double lo_a, double hi_a, double v_a, double lo_b, double hi_b,
                                  double v_b);
 
+/// The same on a stretch x in [0, length] (s) where each interval also grows on both sides by
+/// a polynomial of degree at most 2 with a non-negative leading coefficient (a growing margin):
+/// a's interval is centre_a + v_a x -+ (half_a + grow_a(x)), b's likewise, grow(x) =
+/// g0 + g1 x + g2 x^2 (grow_a and grow_b each {g0, g1, g2}). Both overlap conditions are
+/// convex quadratics in x, at most one of them negative at a time, so the overlapping instants
+/// are [0, length] less at most two open intervals; returned is their hull (first and last
+/// overlapping instant, from the roots in closed form), empty when there is none. Constants
+/// get a relative slack of a few ulps and the roots are widened like axisContactInterval's,
+/// so rounding never narrows it. half_a + half_b must be > 0.
+TimeInterval growingAxisInterval(double centre_a, double half_a, double v_a, const double grow_a[3],
+                                 double centre_b, double half_b, double v_b, const double grow_b[3],
+                                 double length);
+
 /// Conservative contact interval of two boxes, each centred at `center` with half extents
 /// `half` (m) and translating at `velocity` (m/s): the intersection of the three per-axis
 /// intervals clipped to [0, horizon]. Empty means "no contact within the horizon".

@@ -343,6 +343,144 @@ double retreatToLastContact(const MovingPair& pair, double mu, double end, doubl
   return std::max(s, first);
 }
 
+// ------------------------------------------------------------------------------------------
+// Piecewise motion and growing margins: the same advancement, piece by piece.
+
+// Fastest speed of any point of a shape relative to its centre under `motion`, m/s.
+double rimSpeed(const Shape& shape, const BodyMotion& motion) {
+  const double w = motion.angular_velocity.norm();
+  return w == 0.0 ? 0.0 : w * shape.boundingRadius();
+}
+
+// The gap of a pair on one piece (PairPieces): each body in its segment, its margin that
+// segment's, grown by its growth polynomial unless `with_growth` is false.
+struct PieceGap {
+  const Solid& a;
+  const Solid& b;
+  const Piece& piece;
+  bool with_growth;
+  int* queries;
+
+  double margins(double t) const {
+    double m = piece.a.segment->margin + piece.b.segment->margin;
+    if (with_growth) m += piece.a.growth.at(t - piece.u0) + piece.b.growth.at(t - piece.u0);
+    return m;
+  }
+  // Certified lower bound on the gap at t (within the piece), m; -inf when overlapping.
+  double gapAt(double t, Eigen::Vector3d* normal, bool* exact) const {
+    const Evaluation e = evaluate(a, piece.a.poseAt(t), b, piece.b.poseAt(t), 0.0, false);
+    *queries += e.queries;
+    *normal = e.shape.normal;
+    *exact = e.exact && !e.shape.overlapping;
+    if (e.shape.overlapping) return -kInf;
+    return e.lower_bound - margins(t);
+  }
+  // How fast the gap can shrink on the piece, m/s: relative translation, both rim speeds, and
+  // (with growth) both growth rates at their largest on the piece.
+  double closingBound() const {
+    const BodyMotion& ma = piece.a.segment->motion;
+    const BodyMotion& mb = piece.b.segment->motion;
+    double mu = (ma.linear_velocity - mb.linear_velocity).norm() + rimSpeed(a.shape, ma) +
+                rimSpeed(b.shape, mb);
+    if (with_growth) mu += piece.a.growth_rate + piece.b.growth_rate;
+    return mu;
+  }
+  // Newton steps stay safe where the gap is convex in t: both bodies only translate on the
+  // piece (the distance of two translating convex sets is convex) and the growth subtracted
+  // from it is linear (a quadratic growth, max_accel > 0 before the cap takes over, makes
+  // the gap convex minus convex: then plain advancement only).
+  bool convex() const {
+    return piece.a.segment->motion.angular_velocity.isZero(0.0) &&
+           piece.b.segment->motion.angular_velocity.isZero(0.0) &&
+           (!with_growth || (piece.a.growth.linear() && piece.b.growth.linear()));
+  }
+  // The gap's rate of change from the growth alone (linear growth), m/s.
+  double growthSlope() const { return with_growth ? piece.a.growth.c1 + piece.b.growth.c1 : 0.0; }
+  Eigen::Vector3d relativeVelocity() const {
+    return piece.b.segment->motion.linear_velocity - piece.a.segment->motion.linear_velocity;
+  }
+};
+
+// Forward advancement over the pieces, from the window's start: on each piece whose axis
+// window is not empty, steps that never pass a contact (as advanceToFirstContact); a piece
+// without contact hands over at its end, where the next segment starts. Returns false when no
+// contact is found; true with *t the first contact (or where the steps ran out: contact then).
+bool firstContactOnPieces(const Solid& a, const Solid& b, const PairPieces& pieces,
+                          TimeInterval window, const NarrowPhaseConfig& config, int* queries,
+                          double* t_out) {
+  double t = window.first;
+  int steps = 0;
+  for (int i = pieces.pieceAt(t); i < pieces.size(); ++i) {
+    const Piece p = pieces.piece(i);
+    if (p.u0 > window.last) break;
+    const TimeInterval w = pieceAxisWindow(p);
+    const double lo = std::max(t, w.first), hi = std::min(w.last, window.last);
+    if (!w.empty() && lo <= hi) {
+      t = lo;
+      const PieceGap gap{a, b, p, true, queries};
+      const double mu = gap.closingBound();
+      const bool convex = gap.convex();
+      for (;;) {
+        if (steps++ >= config.max_iterations) {
+          *t_out = t;
+          return true;
+        }
+        Eigen::Vector3d normal;
+        bool exact = false;
+        const double g = gap.gapAt(t, &normal, &exact);
+        if (g <= config.distance_tolerance) {
+          *t_out = t;
+          return true;
+        }
+        if (!(mu > 0.0)) break;  // nothing moves or grows on this piece: the gap stays
+        double advance = g / mu;
+        if (convex && exact) {
+          const double closing = -normal.dot(gap.relativeVelocity()) + gap.growthSlope();
+          if (!(closing > 0.0)) break;  // never shrinks again on this piece
+          advance = std::max(advance, g / closing * (1.0 - 1e-9));
+        }
+        t += advance;
+        if (t > hi) break;
+      }
+    }
+    t = p.u1;  // the next piece starts here, with its own segments
+  }
+  return false;
+}
+
+// Backward advancement over the pieces from `end` down to `first`: the last contact of the
+// shapes grown by their segment margins, without growth (a growing set has no last contact;
+// the message reports the constant-velocity one). Never earlier than that last contact, never
+// before `first`; `first` when those shapes never touch.
+double lastContactOnPieces(const Solid& a, const Solid& b, const PairPieces& pieces, double first,
+                           double end, const NarrowPhaseConfig& config, int* queries) {
+  double s = end;
+  int steps = 0;
+  for (int i = pieces.pieceAt(end); i >= 0; --i) {
+    const Piece p = pieces.piece(i);
+    if (p.u1 < first) break;
+    const TimeInterval w = pieceAxisWindow(p, false);
+    const double hi = std::min(s, w.last), lo = std::max(first, w.first);
+    if (!w.empty() && lo <= hi) {
+      s = hi;
+      const PieceGap gap{a, b, p, false, queries};
+      const double mu = gap.closingBound();
+      for (;;) {
+        if (steps++ >= config.max_iterations) return std::max(s, first);  // safe: not early
+        Eigen::Vector3d normal;
+        bool exact = false;
+        const double g = gap.gapAt(s, &normal, &exact);
+        if (g <= config.distance_tolerance) return std::max(s, first);
+        if (!(mu > 0.0)) break;
+        s -= g / mu;
+        if (s < lo) break;
+      }
+    }
+    s = p.u0;  // the previous piece ends here
+  }
+  return first;
+}
+
 }  // namespace
 
 // FCL geometry by slot; a body without one gets its geometry built for the query.
@@ -406,6 +544,11 @@ ContactPrediction NarrowPhase::predict(const PairBody& a, const PairBody& b,
                                        const ContactWindow& window) const {
   checkBody(a);
   checkBody(b);
+  if (window.pieces != nullptr) return predictOnPieces(a, b, window);
+  if (a.piecewise() || b.piecewise()) {
+    throw std::invalid_argument(
+        "NarrowPhase::predict: a body with a path or a growing margin needs piecewiseWindow()");
+  }
   std::unique_ptr<fcl::CollisionGeometryd> own_a, own_b;  // bodies without a cached geometry
   ContactPrediction out;
   const MovingPair pair{Solid{*a.shape, cache_->of(a, &own_a)}, Solid{*b.shape, cache_->of(b, &own_b)},
@@ -432,6 +575,35 @@ ContactPrediction NarrowPhase::predict(const PairBody& a, const PairBody& b,
     out.time_to_separation =
         retreatToLastContact(pair, mu, w.last, out.time_to_contact, config_);
   }
+  return out;
+}
+
+}  // namespace workspace_proximity
+
+namespace workspace_proximity {
+
+ContactPrediction NarrowPhase::predictOnPieces(const PairBody& a, const PairBody& b,
+                                               const ContactWindow& window) const {
+  std::unique_ptr<fcl::CollisionGeometryd> own_a, own_b;
+  ContactPrediction out;
+  const Solid solid_a{*a.shape, cache_->of(a, &own_a)};
+  const Solid solid_b{*b.shape, cache_->of(b, &own_b)};
+  const PairPieces& pieces = *window.pieces;
+  // Now: the first piece's margins, with the growth since each observation.
+  const Piece now = pieces.piece(0);
+  const double margin_a = now.a.segment->margin + (a.growth != nullptr ? a.growth->at(0.0) : 0.0);
+  const double margin_b = now.b.segment->margin + (b.growth != nullptr ? b.growth->at(0.0) : 0.0);
+  const MovingPair pair{solid_a, solid_b, *a.motion, *b.motion, margin_a, margin_b, &out.iterations};
+  describeNow(pair, a, b, config_.distance_tolerance, &out);
+  if (window.empty()) return out;
+  if (!firstContactOnPieces(solid_a, solid_b, pieces, window.interval, config_, &out.iterations,
+                            &out.time_to_contact)) {
+    out.time_to_contact = 0.0;
+    return out;
+  }
+  out.contact = true;
+  out.time_to_separation = lastContactOnPieces(solid_a, solid_b, pieces, out.time_to_contact,
+                                               window.interval.last, config_, &out.iterations);
   return out;
 }
 

@@ -83,7 +83,13 @@ struct ProximityWorld::BodyRecord {
   enum class State : std::uint8_t { kFree, kLive, kRemoved };
 
   BodyDesc desc;
-  BodyMotion motion;
+  BodyMotion motion;  // now: the constant twist, or the path's first segment
+  // Piecewise motion (setPath), or the one segment of a growing body: prepared by
+  // updateBounds. The vector keeps its capacity across cycles and slot reuse.
+  std::vector<PathSegment> path;
+  bool has_path = false;  // set by setPath (else path holds the growing body's one segment)
+  MarginGrowth growth;
+  bool grows = false;     // !growth.none()
   Eigen::Vector3d half = Eigen::Vector3d::Zero();  // rotation-inflated half extents + margin
   Aabb swept;
   double reach = 0.0;  // m: the broad phase sees `swept` grown by this (setReach)
@@ -160,6 +166,9 @@ BodyHandle ProximityWorld::addBody(const BodyDesc& desc, const BodyMotion& motio
   BodyRecord& b = bodies_[index];
   b.desc = desc;
   b.motion = motion;
+  b.has_path = false;
+  b.growth = MarginGrowth();
+  b.grows = false;
   b.serial = next_serial_++;
   b.state = BodyRecord::State::kLive;
   b.dirty = true;
@@ -185,6 +194,41 @@ void ProximityWorld::setMotion(BodyHandle body, const BodyMotion& motion) {
   BodyRecord& b = liveRecord(body, "ProximityWorld::setMotion");
   checkMotion("ProximityWorld::setMotion", b.desc.id, motion);
   b.motion = motion;
+  b.has_path = false;
+  b.dirty = true;
+}
+
+void ProximityWorld::setPath(BodyHandle body, const MotionSegment* segments, int count) {
+  BodyRecord& b = liveRecord(body, "ProximityWorld::setPath");
+  if (!validPath(segments, count)) {
+    throw std::invalid_argument("ProximityWorld::setPath: body '" + b.desc.id +
+                                "' has an invalid path (1 to 64 segments from t = 0, increasing "
+                                "starts, valid motions and margins)");
+  }
+  b.motion = segments[0].motion;
+  b.dirty = true;
+  if (count == 1 && segments[0].margin == 0.0) {
+    b.has_path = false;  // one constant twist: the plain path, bit for bit
+    return;
+  }
+  b.path.resize(static_cast<std::size_t>(count));
+  for (int k = 0; k < count; ++k) {
+    PathSegment& s = b.path[static_cast<std::size_t>(k)];
+    s.start = segments[k].start;
+    s.motion = segments[k].motion;
+    s.extra_margin = segments[k].margin;
+  }
+  b.has_path = true;
+}
+
+void ProximityWorld::setGrowth(BodyHandle body, const MarginGrowth& growth) {
+  BodyRecord& b = liveRecord(body, "ProximityWorld::setGrowth");
+  if (!growth.valid()) {
+    throw std::invalid_argument("ProximityWorld::setGrowth: body '" + b.desc.id +
+                                "' has a negative, non-finite or out-of-range margin growth");
+  }
+  b.growth = growth;
+  b.grows = !growth.none();
   b.dirty = true;
 }
 
@@ -212,6 +256,17 @@ double ProximityWorld::reach(BodyHandle body) const { return record(body).reach;
 
 const BodyDesc& ProximityWorld::desc(BodyHandle body) const { return record(body).desc; }
 const BodyMotion& ProximityWorld::motion(BodyHandle body) const { return record(body).motion; }
+const MarginGrowth& ProximityWorld::growth(BodyHandle body) const { return record(body).growth; }
+
+int ProximityWorld::pathSize(BodyHandle body) const {
+  const BodyRecord& b = record(body);
+  return (b.has_path || b.grows) ? static_cast<int>(b.path.size()) : 0;
+}
+
+const PathSegment* ProximityWorld::path(BodyHandle body) const {
+  const BodyRecord& b = record(body);
+  return (b.has_path || b.grows) ? b.path.data() : nullptr;
+}
 Aabb ProximityWorld::sweptBounds(BodyHandle body) const { return record(body).swept; }
 
 void ProximityWorld::setRules(const PairRules& rules) {
@@ -273,8 +328,21 @@ void ProximityWorld::updateBounds(double horizon) {
   last_horizon_ = horizon;
   for (BodyRecord& b : bodies_) {
     if (b.state != BodyRecord::State::kLive || !(b.dirty || horizon_changed)) continue;
-    b.half = rotationHalfExtents(b.desc.shape, b.motion, b.desc.margin, horizon);
-    b.swept = workspace_proximity::sweptBounds(b.desc.shape, b.motion, b.desc.margin, horizon);
+    if (b.has_path || b.grows) {
+      if (!b.has_path) {
+        // A growing body with one constant twist: a path of one segment.
+        b.path.resize(1);
+        b.path[0].start = 0.0;
+        b.path[0].motion = b.motion;
+        b.path[0].extra_margin = 0.0;
+      }
+      b.swept = preparePath(b.desc.shape, b.desc.margin, b.growth, horizon, b.path.data(),
+                            static_cast<int>(b.path.size()));
+      b.half = b.path[0].half;
+    } else {
+      b.half = rotationHalfExtents(b.desc.shape, b.motion, b.desc.margin, horizon);
+      b.swept = workspace_proximity::sweptBounds(b.desc.shape, b.motion, b.desc.margin, horizon);
+    }
     broad_phase_.moveProxy(b.proxy, grown(b.swept, b.reach));
     b.dirty = false;
   }
@@ -308,6 +376,10 @@ void ProximityWorld::predictPairs(double horizon) {
     ++stats_.allowed_pairs;
     PairBody a = pairBody(pair.body_a), b = pairBody(pair.body_b);
     reportIfNear(pair, &a, &b);
+    if (a.piecewise() || b.piecewise()) {
+      predictPiecewisePair(pair, &a, &b, horizon);
+      continue;
+    }
     const ContactWindow window =
         timed(&stats_.ns_axis, timed_pairs, [&] { return windowOf(&a, &b, horizon); });
     if (window.axis.empty()) continue;
@@ -324,6 +396,25 @@ void ProximityWorld::predictPairs(double horizon) {
   stats_.near_pairs = static_cast<int>(near_pairs_.size());
 }
 
+void ProximityWorld::predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b,
+                                         double horizon) {
+  // The merged breakpoints of both bodies, then the same steps as a constant-twist pair.
+  const bool timed_pairs = config_.time_pair_stages;
+  const PairPieces pieces(*a, *b, horizon);
+  const ContactWindow window =
+      timed(&stats_.ns_axis, timed_pairs, [&] { return piecewiseWindow(pieces); });
+  if (window.axis.empty()) return;
+  ++stats_.axis_candidates;
+  a->pose = &poseNow(a->geometry);
+  b->pose = &poseNow(b->geometry);
+  const ContactPrediction prediction =
+      timed(&stats_.ns_narrow, timed_pairs, [&] { return narrow_phase_.predict(*a, *b, window); });
+  stats_.narrow_iterations += prediction.iterations;
+  if (!prediction.contact) return;
+  ++stats_.contacts;
+  report(pair, prediction);
+}
+
 inline PairBody ProximityWorld::pairBody(std::int32_t slot) const {
   const BodyRecord& r = bodies_[slot];
   PairBody body;
@@ -332,6 +423,11 @@ inline PairBody ProximityWorld::pairBody(std::int32_t slot) const {
   body.margin = r.desc.margin;
   body.half = r.half;
   body.geometry = slot;  // the narrow phase's geometry cache is indexed by body slot
+  if (r.has_path || r.grows) {
+    body.segments = r.path.data();
+    body.segment_count = static_cast<int>(r.path.size());
+    if (r.grows) body.growth = &r.growth;
+  }
   return body;
 }
 

@@ -16,7 +16,69 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 double widenDown(double t) { return t - (std::abs(t) * 4.0 * std::numeric_limits<double>::epsilon() + 1e-12); }
 double widenUp(double t) { return t + (std::abs(t) * 4.0 * std::numeric_limits<double>::epsilon() + 1e-12); }
 
+// Smallest x >= 0 at which the convex f(x) = a x^2 + b x + c (a >= 0, c = f(0) < 0) is back
+// at 0: its larger root (the roots straddle 0 when a > 0). +infinity when it never is.
+double exitRoot(double a, double b, double c) {
+  if (a > 0.0) {
+    const double root = std::sqrt(b * b - 4.0 * a * c);
+    // The cancellation-free form of each sign of b.
+    return b <= 0.0 ? (-b + root) / (2.0 * a) : (-2.0 * c) / (b + root);
+  }
+  return b > 0.0 ? -c / b : kInf;
+}
+
+// Largest x <= 0 at which the convex f (f(0) = c < 0) was last at 0: its smaller root.
+// -infinity when it never was.
+double entryRoot(double a, double b, double c) {
+  if (a > 0.0) {
+    const double root = std::sqrt(b * b - 4.0 * a * c);
+    return b >= 0.0 ? (-b - root) / (2.0 * a) : (2.0 * c) / (-b + root);
+  }
+  return b < 0.0 ? -c / b : -kInf;
+}
+
 }  // namespace
+
+TimeInterval growingAxisInterval(double centre_a, double half_a, double v_a, const double grow_a[3],
+                                 double centre_b, double half_b, double v_b, const double grow_b[3],
+                                 double length) {
+  // Overlap at x  <=>  |D(x)| <= S(x), D = centre_b - centre_a (linear), S = the sum of the
+  // half widths (convex). f_up = S - D >= 0 (b's lower end below a's upper end) and
+  // f_down = S + D >= 0; f_up + f_down = 2 S > 0, so they are never negative together.
+  const double d0 = centre_b - centre_a;
+  const double dv = v_b - v_a;
+  const double s0 = half_a + half_b + grow_a[0] + grow_b[0];
+  const double s1 = grow_a[1] + grow_b[1];
+  const double s2 = grow_a[2] + grow_b[2];
+  // A slack of a few ulps of the terms, so that a touching instant is never lost to rounding.
+  const double slack = 8.0 * std::numeric_limits<double>::epsilon() * (std::abs(s0) + std::abs(d0)) + 1e-15;
+  const double up[3] = {s0 + slack - d0, s1 - dv, s2};
+  const double down[3] = {s0 + slack + d0, s1 + dv, s2};
+  auto value = [](const double f[3], double x) { return f[0] + x * (f[1] + x * f[2]); };
+  const double end = std::max(length, 0.0);
+
+  // First instant: 0 unless a condition fails there; then where that one recovers.
+  double first = 0.0;
+  const double* failing = up[0] < 0.0 ? up : (down[0] < 0.0 ? down : nullptr);
+  if (failing != nullptr) {
+    first = widenDown(exitRoot(failing[2], failing[1], failing[0]));
+    if (!(first <= end)) return TimeInterval{};
+    first = std::max(first, 0.0);
+  }
+  // Last instant: the end unless a condition fails there; then where that one started failing
+  // (in y = x - end: f(end + y) = a y^2 + (b + 2 a end) y + f(end)).
+  double last = end;
+  const double at_end_up = value(up, end), at_end_down = value(down, end);
+  const double* failing_end = at_end_up < 0.0 ? up : (at_end_down < 0.0 ? down : nullptr);
+  if (failing_end != nullptr) {
+    const double c = failing_end == up ? at_end_up : at_end_down;
+    last = end + widenUp(entryRoot(failing_end[2], failing_end[1] + 2.0 * failing_end[2] * end, c));
+    if (!(last >= 0.0)) return TimeInterval{};
+    last = std::min(last, end);
+  }
+  if (last < first) last = first;  // rounding at a single touching instant: keep it
+  return TimeInterval{first, last};
+}
 
 TimeInterval axisContactInterval(double lo_a, double hi_a, double v_a, double lo_b, double hi_b,
                                  double v_b) {

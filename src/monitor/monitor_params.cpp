@@ -97,6 +97,8 @@ std::vector<std::string> validate(const MonitorParams& p) {
   checkRange(&errors, "robot_margin", p.robot_margin, 0.0, 10.0, "m");
   checkRange(&errors, "velocity_window", p.velocity_window, 0.005, 2.0, "s");
   checkRange(&errors, "tf_timeout", p.tf_timeout, 0.001, 3600.0, "s");
+  checkRange(&errors, "trajectory_tolerance", p.trajectory_tolerance, 0.0, 100.0, "rad or m");
+  checkRange(&errors, "joint_path_tolerance", p.joint_path_tolerance, 0.0001, 1.0, "m");
   checkRange(&errors, "marker_lifetime", p.marker_lifetime, 0.01, 3600.0, "s");
   checkRange(&errors, "marker_rate", p.marker_rate, 0.1, 1000.0, "Hz");
   if (p.marker_rate > 0.0 && p.rate > 0.0 &&

@@ -32,6 +32,24 @@ bool RobotBodies::pose(int i, const BodyMotion& motion, const std::string& stale
   return true;
 }
 
+bool RobotBodies::posePath(int i, const MotionSegment* segments, int count,
+                           const std::string& stale_reason) {
+  Body& b = bodies_[static_cast<std::size_t>(i)];
+  if (count < 1 || segments == nullptr) {
+    markUnknown(i, "empty path");
+    return false;
+  }
+  if (!pose(i, segments[0].motion, stale_reason)) return false;
+  if (count == 1 && segments[0].margin == 0.0) return true;
+  try {
+    world_->setPath(b.handle, segments, count);
+  } catch (const std::exception& e) {
+    markUnknown(i, std::string("rejected by the core: ") + e.what());
+    return false;
+  }
+  return true;
+}
+
 void RobotBodies::markUnknown(int i, const std::string& why) {
   Body& b = bodies_[static_cast<std::size_t>(i)];
   b.stale = true;

@@ -157,6 +157,30 @@ BagInput::BagInput(const std::string& path, const std::vector<std::string>& inpu
   }
 }
 
+std::vector<std::string> BagInput::replayJoints(const std::string& joint_topic,
+                                               const std::string& trajectory_topic) {
+  std::vector<std::string> warnings;
+  auto add = [&](const std::string& name, BagTopicKind kind, const std::string& type) {
+    if (name.empty()) return;
+    for (BagTopic& t : topics_) {
+      if (t.name != name) continue;
+      if (t.kind != kind) {
+        warnings.push_back("topic " + name + " has type " + t.type + ", not " + type + "; not replayed");
+        return;
+      }
+      if (std::find(replayed_.begin(), replayed_.end(), name) == replayed_.end()) {
+        replayed_.push_back(name);
+        replayed_messages_ += t.messages;
+      }
+      return;
+    }
+    warnings.push_back("the bag has no " + name + " (" + type + ")");
+  };
+  add(joint_topic, BagTopicKind::kJointState, "sensor_msgs/JointState");
+  add(trajectory_topic, BagTopicKind::kTrajectory, "trajectory_msgs/JointTrajectory");
+  return warnings;
+}
+
 BagInput::~BagInput() {
   try {
     bag_.close();
@@ -204,12 +228,20 @@ void BagInput::stream(BagVisitor* visitor) {
       m.write(out);
       ros::serialization::IStream in(buffer_.data(), size);
       std::string why;
+      const bool joints = topic->kind == BagTopicKind::kJointState || topic->kind == BagTopicKind::kTrajectory;
+      // Joint messages: deserialised as they are (their lists are short; a damaged count is
+      // caught by the deserialiser running out of bytes, after at most one large allocation).
       const bool plausible =
-          topic->kind == BagTopicKind::kArray
+          joints ? true
+          : topic->kind == BagTopicKind::kArray
               ? plausibleCount(buffer_, boxCountOffset(buffer_), min_box_bytes_, &why)
               : plausibleCount(buffer_, 0, min_transform_bytes_, &why);
       if (!plausible) throw damaged(why + " (on " + topic->name + ")");
-      if (topic->kind == BagTopicKind::kArray) {
+      if (topic->kind == BagTopicKind::kJointState) {
+        ros::serialization::deserialize(in, joint_state_);
+      } else if (topic->kind == BagTopicKind::kTrajectory) {
+        ros::serialization::deserialize(in, trajectory_);
+      } else if (topic->kind == BagTopicKind::kArray) {
         auto& pool = array_pool_[static_cast<std::size_t>(topic->source)];
         boost::shared_ptr<TrackedBoxArray>* free_slot = nullptr;
         for (auto& p : pool) {
@@ -230,7 +262,11 @@ void BagInput::stream(BagVisitor* visitor) {
       throw damaged(e.what());
     }
 
-    if (topic->kind == BagTopicKind::kArray) {
+    if (topic->kind == BagTopicKind::kJointState) {
+      visitor->onJointState(joint_state_, last);
+    } else if (topic->kind == BagTopicKind::kTrajectory) {
+      visitor->onTrajectory(trajectory_, last);
+    } else if (topic->kind == BagTopicKind::kArray) {
       visitor->onArray(topic->source, array, last);
       array.reset();
     } else {

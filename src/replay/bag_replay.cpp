@@ -8,6 +8,8 @@
 
 #include "workspace_proximity/ros/contact_publisher.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
+#include "workspace_proximity/ros/kdl_robot_model.hpp"
+#include "workspace_proximity/replay/replay_options.hpp"
 
 namespace workspace_proximity {
 
@@ -24,6 +26,16 @@ BagReplay::BagReplay(const ReplaySetup& setup)
                                     setup.params.velocity_window}) + 1.0)),
       robot_posed_(setup.robot.size(), 0) {
   for (const std::string& line : setup_.permanent_issues) pipeline_.monitor().addPermanentIssue(line);
+  if (setup_.params.use_joint_states && setup_.params.use_robot_description && !setup_.urdf_xml.empty()) {
+    // As the node does (ProximityMonitor::enableJoints): links moved by joints from joint_states.
+    std::shared_ptr<KdlRobotModel> model;
+    try {
+      model = std::make_shared<KdlRobotModel>(setup_.urdf_xml);
+    } catch (const std::exception& e) {
+      ROS_ERROR("replay: no forward kinematics (%s); every robot link from tf", e.what());
+    }
+    if (model && !model->links().empty()) joint_model_ = model;
+  }
 }
 
 ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) {
@@ -58,6 +70,24 @@ ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) 
   last_input_ = stats_.begin;
   skipped_ = 0;
 
+  if (joint_model_ && !pipeline_.jointsEnabled()) {
+    // The links joints move are posed from the bag's joint states, as the node poses them;
+    // a bag recorded without them (tf only) keeps every link on the tf it recorded.
+    const std::string joint_topic = resolveTopic("joint_states");
+    bool recorded = false;
+    for (const BagTopic& t : bag->topics()) {
+      recorded = recorded || (t.name == joint_topic && t.kind == BagTopicKind::kJointState && t.messages > 0);
+    }
+    if (recorded) {
+      pipeline_.enableJoints(joint_model_);
+      const std::string& traj = setup_.params.trajectory_topic;
+      for (const std::string& w : bag->replayJoints(joint_topic, traj.empty() ? std::string() : resolveTopic(traj))) {
+        ROS_WARN("replay: %s", w.c_str());
+      }
+    } else {
+      ROS_WARN("replay: the bag has no %s: every robot link from the recorded tf", joint_topic.c_str());
+    }
+  }
   bag->stream(this);
   // Cycles up to the last message, inclusive.
   while (next_cycle_ <= stats_.end) {
@@ -86,6 +116,22 @@ void BagReplay::onTf(const tf2_msgs::TFMessage& msg, bool is_static, Stamp recei
     tf_frames_.insert(t.header.frame_id);
     tf_frames_.insert(t.child_frame_id);
   }
+}
+
+void BagReplay::onInput(Stamp received) {
+  cyclesBefore(received);
+  advanceClock(received);
+  last_input_ = received;
+}
+
+void BagReplay::onJointState(const sensor_msgs::JointState& msg, Stamp received) {
+  onInput(received);
+  pipeline_.onJointState(msg, received);
+}
+
+void BagReplay::onTrajectory(const trajectory_msgs::JointTrajectory& msg, Stamp received) {
+  onInput(received);
+  pipeline_.onTrajectory(msg, received);
 }
 
 void BagReplay::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp received) {

@@ -7,6 +7,8 @@
 
 #include <climits>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -100,6 +102,10 @@ int replay(const wp::ReplayOptions& options) {
                                "is true: " + robot.unmodelled.front());
     }
     setup.robot = std::move(robot.bodies);
+    if (!options.urdf.empty()) {
+      std::ifstream in(options.urdf);
+      setup.urdf_xml.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
     // As in the node: every cycle's status is DEGRADED naming each.
     setup.permanent_issues = robot.unmodelled;
   } catch (const std::exception& e) {

@@ -33,6 +33,15 @@ void diagnose(const Monitor& monitor, const BridgeCounters& bridges, Stamp now,
   status->add("robot bodies", monitor.robot().size());
   status->add("robot bodies not posed", monitor.robot().unknownCount());
   status->add("tf failures", bridges.tf_failures);
+  if (bridges.joints) {
+    status->add("joint states received", bridges.joint.joint_states);
+    status->add("trajectories accepted", bridges.joint.trajectories);
+    status->add("trajectories ignored", bridges.joint.trajectories_ignored);
+    status->add("trajectories dropped (not followed)", bridges.joint.trajectories_dropped);
+    if (!bridges.joint.last_trajectory_problem.empty()) {
+      status->add("last trajectory problem", bridges.joint.last_trajectory_problem);
+    }
+  }
   status->add("broad-phase pairs", report.stats.broad_pairs);
   status->add("predicted contacts", report.stats.contacts);
   status->add("history resets (clock jumps)", monitor.resets());

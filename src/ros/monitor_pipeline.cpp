@@ -12,6 +12,11 @@ MonitorPipeline::MonitorPipeline(const MonitorParams& params, std::vector<RobotB
       input_(&monitor_, tf, params.fixed_frame),
       robot_(&monitor_, tf) {}
 
+int MonitorPipeline::enableJoints(std::shared_ptr<const KinematicModel> model) {
+  joints_ = std::make_unique<RobotJointBridge>(&monitor_, &robot_, std::move(model));
+  return joints_->bodyCount();
+}
+
 const CycleReport& MonitorPipeline::cycle(Stamp now, StageClock* clock, bool* reset) {
   *reset = monitor_.clockWentBack(now);
   if (*reset) {
@@ -23,9 +28,11 @@ const CycleReport& MonitorPipeline::cycle(Stamp now, StageClock* clock, bool* re
     monitor_.reset();
     input_.reset();
     tf_->clear();
+    if (joints_) joints_->reset();
   }
   input_.takePending(now);
   robot_.update(now);
+  if (joints_) joints_->update(now, monitor_.params().horizon);
   return monitor_.cycle(now, clock);
 }
 

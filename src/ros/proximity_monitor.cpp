@@ -7,6 +7,7 @@
 
 #include "workspace_proximity/ros/conversions.hpp"
 #include "workspace_proximity/ros/diagnostics_bridge.hpp"
+#include "workspace_proximity/ros/kdl_robot_model.hpp"
 #include "workspace_proximity/ros/reconfigure_bridge.hpp"
 #include "workspace_proximity/ros/robot_description.hpp"
 
@@ -50,6 +51,7 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
     ROS_WARN("proximity_monitor: %s; status DEGRADED while the node runs", line.c_str());
     monitor_->addPermanentIssue(line);
   }
+  enableJoints();
   contacts_ = std::make_unique<ContactPublisher>(nh_, params_.fixed_frame);
   if (params_.ssm.enabled) {
     ssm_ = std::make_unique<SsmPublisher>(nh_, params_.fixed_frame, params_.ssm);
@@ -112,6 +114,42 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
            monitor_->robot().size(), topics.size(), params_.fixed_frame.c_str(), params_.rate,
            input_trigger_ ? ("cycles on arrays of " + topics[trigger_source_]).c_str() : "timer",
            params_.horizon, params_.ssm.enabled ? "on" : "off");
+}
+
+void ProximityMonitor::enableJoints() {
+  std::string urdf;
+  if (!params_.use_joint_states || !params_.use_robot_description ||
+      !nh_.getParam(params_.robot_description_param, urdf)) {
+    return;
+  }
+  std::shared_ptr<KdlRobotModel> model;
+  try {
+    model = std::make_shared<KdlRobotModel>(urdf);
+  } catch (const std::exception& e) {
+    // The collision bodies parsed, so this is KDL refusing the tree: the links keep tf.
+    ROS_ERROR("proximity_monitor: no forward kinematics (%s); every robot link from tf", e.what());
+    return;
+  }
+  if (model->links().empty()) return;  // nothing moves: tf gives every link
+  const int bodies = pipeline_->enableJoints(model);
+  // Queue of a few: every reading counts for the finite differences when velocity is empty.
+  subscribers_.push_back(nh_.subscribe<sensor_msgs::JointState>(
+      "joint_states", 10,
+      [this](const sensor_msgs::JointState::ConstPtr& msg) {
+        pipeline_->onJointState(*msg, toStamp(ros::Time::now()));
+      },
+      ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
+  if (!params_.trajectory_topic.empty()) {
+    subscribers_.push_back(nh_.subscribe<trajectory_msgs::JointTrajectory>(
+        params_.trajectory_topic, 5, [this](const trajectory_msgs::JointTrajectory::ConstPtr& msg) {
+          pipeline_->onTrajectory(*msg, toStamp(ros::Time::now()));
+        }));
+  }
+  ROS_INFO("proximity_monitor: %d robot bodies on %zu joint-driven links posed from joint_states "
+           "(%zu joints, root '%s')%s%s",
+           bodies, model->links().size(), model->joints().size(), model->root().c_str(),
+           params_.trajectory_topic.empty() ? "" : ", planned trajectories on ",
+           params_.trajectory_topic.empty() ? "" : nh_.resolveName(params_.trajectory_topic).c_str());
 }
 
 ProximityMonitor::~ProximityMonitor() {

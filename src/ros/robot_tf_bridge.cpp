@@ -15,6 +15,7 @@ RobotTfBridge::RobotTfBridge(Monitor* monitor, tf2::BufferCore* tf)
 void RobotTfBridge::update(Stamp now) {
   RobotBodies& robot = monitor_->robot();
   for (int i = 0; i < robot.size(); ++i) {
+    if (static_cast<std::size_t>(i) < claimed_.size() && claimed_[static_cast<std::size_t>(i)] != 0) continue;
     const RobotBodySpec& spec = robot.spec(i);
     BodyMotion motion;
     std::string why, stale;
@@ -37,17 +38,35 @@ void RobotTfBridge::update(Stamp now) {
   }
 }
 
+void RobotTfBridge::setClaimed(int i, bool claimed) {
+  claimed_.resize(static_cast<std::size_t>(monitor_->robot().size()), 0);
+  claimed_[static_cast<std::size_t>(i)] = claimed ? 1 : 0;
+}
+
 bool RobotTfBridge::motionOf(int i, Stamp now, BodyMotion* motion, std::string* why,
                              std::string* stale) {
   const RobotBodySpec& spec = monitor_->robot().spec(i);
+  return frameMotion(spec.frame, spec.offset, now, motion, why, stale);
+}
+
+bool RobotTfBridge::frameMotion(const std::string& frame, const Eigen::Isometry3d& offset,
+                                Stamp now, BodyMotion* motion, std::string* why,
+                                std::string* stale) {
+  if (frame == params_.fixed_frame) {
+    // The fixed frame itself: standing still by definition.
+    *motion = BodyMotion();
+    motion->position = offset.translation();
+    motion->orientation = Eigen::Quaterniond(offset.linear()).normalized();
+    return true;
+  }
   geometry_msgs::TransformStamped latest;
   try {
-    latest = tf_->lookupTransform(params_.fixed_frame, spec.frame, ros::Time(0));
+    latest = tf_->lookupTransform(params_.fixed_frame, frame, ros::Time(0));
   } catch (const tf2::TransformException& e) {
     *why = e.what();
     return false;
   }
-  const Eigen::Isometry3d pose1 = tf2::transformToEigen(latest) * spec.offset;
+  const Eigen::Isometry3d pose1 = tf2::transformToEigen(latest) * offset;
   motion->position = pose1.translation();
   motion->orientation = Eigen::Quaterniond(pose1.linear()).normalized();
   motion->linear_velocity.setZero();
@@ -72,8 +91,8 @@ bool RobotTfBridge::motionOf(int i, Stamp now, BodyMotion* motion, std::string* 
   const Stamp t0 = t1 - nanoseconds(params_.velocity_window);
   try {
     const Eigen::Isometry3d pose0 =
-        tf2::transformToEigen(tf_->lookupTransform(params_.fixed_frame, spec.frame, toTime(t0))) *
-        spec.offset;
+        tf2::transformToEigen(tf_->lookupTransform(params_.fixed_frame, frame, toTime(t0))) *
+        offset;
     const double dt = secondsBetween(t0, t1);
     motion->linear_velocity = (pose1.translation() - pose0.translation()) / dt;
     const Eigen::AngleAxisd turn(pose1.linear() * pose0.linear().transpose());

@@ -151,7 +151,8 @@ const char* const kNodeKeys[] = {
     "fixed_frame", "rate", "horizon", "track_timeout", "input_topics", "stale_after",
     "cycle_trigger", "trigger_source", "ssm",
     "source_timeout", "max_future", "max_tracks", "use_robot_description",
-    "robot_description_param", "require_all_links", "robot_margin", "velocity_window", "tf_timeout", "ignore_pairs",
+    "robot_description_param", "require_all_links", "robot_margin", "velocity_window", "tf_timeout",
+    "use_joint_states", "trajectory_topic", "trajectory_tolerance", "joint_path_tolerance", "ignore_pairs",
     "check_pairs", "publish_markers", "marker_lifetime", "marker_rate", "robot_bodies", "labels",
     "robot_thresholds",
     // Read by libraries the node uses: diagnostic_updater's period.
@@ -261,6 +262,10 @@ MonitorParams readParams(const XmlRpcValue& root) {
   readDouble(root, "robot_margin", &p.robot_margin);
   readDouble(root, "velocity_window", &p.velocity_window);
   readDouble(root, "tf_timeout", &p.tf_timeout);
+  readBool(root, "use_joint_states", &p.use_joint_states);
+  readString(root, "trajectory_topic", &p.trajectory_topic);
+  readDouble(root, "trajectory_tolerance", &p.trajectory_tolerance);
+  readDouble(root, "joint_path_tolerance", &p.joint_path_tolerance);
   readPairs(root, "ignore_pairs", &p.ignore_pairs);
   readPairs(root, "check_pairs", &p.check_pairs);
   readBool(root, "publish_markers", &p.publish_markers);

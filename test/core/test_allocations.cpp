@@ -200,6 +200,33 @@ TEST(Allocations, WorldNearPairsAllocateNothing) {
   EXPECT_GT(near_max - near_min, 2);  // pairs came and went
 }
 
+// The same cell with the arm on keyframed paths (ten segments per link over the horizon) and
+// every object's margin growing: the piecewise window, the pieces and the narrow phase's walk
+// over them allocate nothing either (paths keep their capacity; the pieces live on the stack).
+TEST(Allocations, PathsAndGrowingMarginsAllocateNothing) {
+  wp::ProximityWorld world;
+  wp_test::RobotCell cell(&world, 30, 100);
+  cell.setKeyframes(10, 2.0);
+  wp::MarginGrowth growth;  // 0.5 m after 2 s, quadratic then capped
+  growth.velocity_error = 0.1;
+  growth.max_accel = 0.4;
+  growth.speed_cap = 0.3;
+  growth.age = 0.03;
+  cell.setObjectGrowth(growth);
+  int contacts = 0;
+  auto cycle = [&](int k) {
+    cell.step(k / 30.0, 1.0 / 30.0);
+    world.predict(2.0);
+    contacts += world.stats().contacts;
+  };
+  for (int k = 0; k < 1500; ++k) cycle(k);
+  contacts = 0;
+  const long before = g_allocations.load();
+  for (int k = 1500; k < 1800; ++k) cycle(k);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_GT(contacts, 3000);
+}
+
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -63,6 +64,36 @@ inline Eigen::Isometry3d makePose(const Eigen::Vector3d& t,
   pose.linear() = q.normalized().toRotationMatrix();
   pose.translation() = t;
   return pose;
+}
+
+// ------------------------------------------------------------------------------------------
+// Piecewise motion and growing margins, written out from their definitions
+// (motion_path.hpp) independently of the library.
+
+/// Pose at time t along a piecewise constant-twist path: anything with a vector of segments
+/// with start, motion (BodyMotion's fields) and margin. The segment in force is the last one
+/// starting at or before t.
+template <class Segment>
+Eigen::Isometry3d pathPoseAt(const std::vector<Segment>& path, double t) {
+  std::size_t k = 0;
+  while (k + 1 < path.size() && path[k + 1].start <= t) ++k;
+  return poseAt(path[k].motion, t - path[k].start);
+}
+
+/// The segment margin in force at t.
+template <class Segment>
+double pathMarginAt(const std::vector<Segment>& path, double t) {
+  std::size_t k = 0;
+  while (k + 1 < path.size() && path[k + 1].start <= t) ++k;
+  return path[k].margin;
+}
+
+/// Margin grown s = age + t seconds after an observation: min(e s + a s^2 / 2, cap s).
+inline double grownMargin(double velocity_error, double max_accel, double speed_cap, double age,
+                          double t) {
+  const double s = age + t;
+  const double quadratic = velocity_error * s + 0.5 * max_accel * s * s;
+  return std::isinf(speed_cap) ? quadratic : std::min(quadratic, speed_cap * s);
 }
 
 // ------------------------------------------------------------------------------------------

@@ -14,6 +14,7 @@
 #include "random.hpp"
 #include "workspace_proximity/aabb.hpp"
 #include "workspace_proximity/body.hpp"
+#include "workspace_proximity/motion_path.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace wp_test {
@@ -93,6 +94,68 @@ inline wp::BodyMotion randomMotion(Rng& rng, double position, double speed, doub
   return m;
 }
 
+/// A random piecewise path over [0, horizon] starting at `start` (its pose; its twist is the
+/// first segment's unless `redraw_first`): `segments` segments with random increasing starts,
+/// each later one with a random twist (linear components within +-speed m/s, turning at up to
+/// `spin` rad/s about a random axis, or about z when `upright`). `continuous`: each segment
+/// starts where the previous one ends; otherwise up to 0.3 m away (and turned by up to 0.5 rad
+/// about a random axis, about z when upright). `margins`: each segment adds a margin in
+/// [0, 0.05] m.
+inline std::vector<wp::MotionSegment> randomPath(Rng& rng, const wp::BodyMotion& start, int segments,
+                                                 double horizon, double speed, double spin,
+                                                 bool upright, bool continuous, bool margins) {
+  std::vector<double> starts{0.0};
+  for (int k = 1; k < segments; ++k) starts.push_back(rng.uniform(0.02, horizon * 0.98));
+  std::sort(starts.begin(), starts.end());
+  starts.erase(std::unique(starts.begin(), starts.end()), starts.end());
+  std::vector<wp::MotionSegment> path;
+  wp::BodyMotion m = start;
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    if (k > 0) {
+      m = path.back().motion.advanced(starts[k] - starts[k - 1]);
+      if (!continuous) {
+        m.position += rng.vector(-0.3, 0.3);
+        const Eigen::Vector3d axis = upright ? Eigen::Vector3d::UnitZ()
+                                             : Eigen::Vector3d(rng.rotation() * Eigen::Vector3d::UnitX());
+        m.orientation = (Eigen::Quaterniond(Eigen::AngleAxisd(rng.uniform(-0.5, 0.5), axis)) * m.orientation).normalized();
+      }
+      const wp::BodyMotion twist = randomMotion(rng, 0.0, speed, spin, upright);
+      m.linear_velocity = twist.linear_velocity;
+      m.angular_velocity = twist.angular_velocity;
+    }
+    wp::MotionSegment segment;
+    segment.start = starts[k];
+    segment.motion = m;
+    segment.margin = margins ? rng.uniform(0.0, 0.05) : 0.0;
+    path.push_back(segment);
+  }
+  return path;
+}
+
+/// Keyframes of a turningLink() (the arm link swinging about the vertical at `omega` rad/s)
+/// over [0, horizon] from time t, as a path of `segments` equal segments: each segment goes in
+/// a straight line from one keyframe's centre to the next (the chord) while turning at the
+/// true rate, and adds as margin the bound on how far its points leave the true arc: a point
+/// at distance rho from the axis deviates from the chord by at most the sagitta
+/// rho (1 - cos(omega dt / 2)) <= rho omega^2 dt^2 / 8, rho at most radius + `reach` (the
+/// shape's bounding radius).
+inline void turningLinkPath(double t, double radius, double height, double omega, double phase,
+                            double horizon, int segments, double reach,
+                            std::vector<wp::MotionSegment>* path) {
+  path->resize(static_cast<std::size_t>(segments));
+  const double dt = horizon / segments;
+  const double sagitta = (radius + reach) * omega * omega * dt * dt / 8.0;
+  for (int k = 0; k < segments; ++k) {
+    wp::MotionSegment& s = (*path)[static_cast<std::size_t>(k)];
+    const wp::BodyMotion from = turningLink(t + k * dt, radius, height, omega, phase);
+    const wp::BodyMotion to = turningLink(t + (k + 1) * dt, radius, height, omega, phase);
+    s.start = k * dt;
+    s.motion = from;
+    s.motion.linear_velocity = (to.position - from.position) / dt;
+    s.margin = sagitta;
+  }
+}
+
 // ------------------------------------------------------------------------------------------
 // Worlds.
 
@@ -139,16 +202,32 @@ class RobotCell {
   int linkCount() const { return static_cast<int>(links_.size()); }
   wp::BodyHandle link(int i) const { return links_[static_cast<std::size_t>(i)].handle; }
 
+  /// From the next step on, each link follows its true arc as `segments` keyframed segments
+  /// over `horizon` (turningLinkPath) instead of one constant twist (0: constant twist).
+  void setKeyframes(int segments, double horizon) {
+    keyframes_ = segments;
+    keyframe_horizon_ = horizon;
+  }
+  /// From the next step on, every object's margin grows with `growth` (its age ignored).
+  void setObjectGrowth(const wp::MarginGrowth& growth) { growth_ = growth; }
+
   /// Poses the arm at time t (s) and walks every object dt (s) on.
   void step(double t, double dt) {
     for (const Link& l : links_) {
-      world_->setMotion(l.handle, turningLink(t, l.radius, l.height, kOmega, l.phase));
+      if (keyframes_ > 0) {
+        turningLinkPath(t, l.radius, l.height, kOmega, l.phase, keyframe_horizon_, keyframes_,
+                        kLinkReach, &path_);
+        world_->setPath(l.handle, path_.data(), keyframes_);
+      } else {
+        world_->setMotion(l.handle, turningLink(t, l.radius, l.height, kOmega, l.phase));
+      }
     }
     const Eigen::Vector3d lower(-kHalfWidth, -kHalfWidth, -kHalfWidth);
     const Eigen::Vector3d upper(kHalfWidth, kHalfWidth, kHalfWidth);
     for (Object& o : objects_) {
       o.walker.step(dt, lower, upper);
       world_->setMotion(o.handle, o.walker.motion());
+      if (!growth_.none()) world_->setGrowth(o.handle, growth_);
     }
   }
 
@@ -162,10 +241,17 @@ class RobotCell {
     Walker walker;
   };
 
+  // Bounding radius of a link box (half extents 0.13 x 0.06 x 0.06 m).
+  static constexpr double kLinkReach = 0.1555;
+
   wp::ProximityWorld* world_;
   Rng rng_;
   std::vector<Link> links_;
   std::vector<Object> objects_;
+  int keyframes_ = 0;
+  double keyframe_horizon_ = 2.0;
+  std::vector<wp::MotionSegment> path_;
+  wp::MarginGrowth growth_;
 };
 
 /// A box body with its motion, for scenes checked against the box oracles.

@@ -61,7 +61,18 @@ struct MonitorParams {
   bool require_all_links = false;
   double robot_margin = 0.02;     ///< m
   double velocity_window = 0.1;   ///< s of tf history for robot link velocities
-  double tf_timeout = 0.5;        ///< s; older robot transforms are not used
+  double tf_timeout = 0.5;        ///< s; older robot transforms (and joint states) are not used
+
+  /// Links moved by URDF joints are posed from sensor_msgs/JointState on joint_states with
+  /// forward kinematics (only when a URDF is loaded); false: every link from tf.
+  bool use_joint_states = true;
+  /// trajectory_msgs/JointTrajectory topic of the robot's planned motion; "" = none.
+  std::string trajectory_topic;
+  /// rad or m: a planned trajectory the joint states contradict by more is dropped.
+  double trajectory_tolerance = 0.1;
+  /// m: joint-space keyframes are spaced so that each straight segment stays within this of
+  /// the links' true arcs (where 16 segments allow; the bound is added to the margin anyway).
+  double joint_path_tolerance = 0.01;
 
   std::vector<std::pair<std::string, std::string>> ignore_pairs;
   std::vector<std::pair<std::string, std::string>> check_pairs;

@@ -26,6 +26,10 @@ class RobotBodies {
   /// is known, its motion is not (e.g. its velocity before enough history has arrived), so its
   /// pairs are stale and the status DEGRADED rather than the body read as standing still.
   bool pose(int i, const BodyMotion& motion, const std::string& stale_reason = std::string());
+  /// Body i follows a piecewise path over the horizon (ProximityWorld::setPath; the first
+  /// segment's pose is the pose now), e.g. keyframes of its joints' motion. Otherwise as pose().
+  bool posePath(int i, const MotionSegment* segments, int count,
+                const std::string& stale_reason = std::string());
   /// Body i cannot be posed this cycle: kept at its last pose without velocity, stale.
   void markUnknown(int i, const std::string& why);
   /// Removes every body from the world (after the clock went back); they are added again

@@ -4,9 +4,9 @@
 /// the order the recorder received the messages, one message at a time (memory does not grow
 /// with the bag's length).
 ///
-/// Replayed topics: /tf, /tf_static and the input topics (TrackedBoxArray). Joint states and
-/// trajectories are the next inputs (BagTopicKind has their place; the monitor does not use
-/// them yet, so the bag's topics of those types are listed but not read).
+/// Replayed topics: /tf, /tf_static and the input topics (TrackedBoxArray); and, when the
+/// replay poses the robot from its joints (replayJoints), the joint states and the planned
+/// trajectories topic.
 
 #include <cstdint>
 #include <memory>
@@ -15,6 +15,8 @@
 #include <vector>
 
 #include <rosbag/bag.h>
+#include <sensor_msgs/JointState.h>
+#include <trajectory_msgs/JointTrajectory.h>
 #include <tf2_msgs/TFMessage.h>
 #include <workspace_proximity/TrackedBoxArray.h>
 
@@ -45,8 +47,8 @@ enum class BagTopicKind : std::uint8_t {
   kTf,          ///< /tf: tf2_msgs/TFMessage
   kTfStatic,    ///< /tf_static: tf2_msgs/TFMessage, inserted as static transforms
   kArray,       ///< an input topic: workspace_proximity/TrackedBoxArray
-  kJointState,  ///< sensor_msgs/JointState: not replayed yet (extension point)
-  kTrajectory,  ///< trajectory_msgs/JointTrajectory: not replayed yet (extension point)
+  kJointState,  ///< sensor_msgs/JointState: replayed when replayJoints() names it
+  kTrajectory,  ///< trajectory_msgs/JointTrajectory: replayed when replayJoints() names it
   kOther,       ///< not used by the monitor
 };
 
@@ -64,6 +66,8 @@ class BagVisitor {
   virtual ~BagVisitor() = default;
   virtual void onTf(const tf2_msgs::TFMessage& msg, bool is_static, Stamp received) = 0;
   virtual void onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp received) = 0;
+  virtual void onJointState(const sensor_msgs::JointState& msg, Stamp received) {}
+  virtual void onTrajectory(const trajectory_msgs::JointTrajectory& msg, Stamp received) {}
 };
 
 class BagInput {
@@ -86,6 +90,12 @@ class BagInput {
   /// Messages the replay will read (tf, tf_static, input topics).
   std::uint64_t replayedMessages() const { return replayed_messages_; }
 
+  /// Also replays `joint_topic` (sensor_msgs/JointState) and `trajectory_topic`
+  /// (trajectory_msgs/JointTrajectory; "" = none), resolved names, when the bag has them with
+  /// those types. Returns the lines to warn about (a topic missing or of another type).
+  std::vector<std::string> replayJoints(const std::string& joint_topic,
+                                        const std::string& trajectory_topic);
+
   /// Streams the replayed topics to `visitor` in receive-time order. Throws ReplayError (kBag)
   /// when the bag turns out damaged midway (the messages before it were delivered).
   void stream(BagVisitor* visitor);
@@ -105,6 +115,8 @@ class BagInput {
   // pool of arrays per source recycled once the monitor has let go of them.
   std::vector<std::uint8_t> buffer_;
   tf2_msgs::TFMessage tf_;
+  sensor_msgs::JointState joint_state_;
+  trajectory_msgs::JointTrajectory trajectory_;
   std::vector<std::vector<boost::shared_ptr<TrackedBoxArray>>> array_pool_;
 };
 

@@ -16,6 +16,7 @@
 /// time (so rosconsole's throttled warnings count bag seconds).
 
 #include <chrono>
+#include <memory>
 #include <cstdint>
 #include <string>
 #include <unordered_set>
@@ -40,6 +41,9 @@ struct ReplaySetup {
   /// Problems lasting the whole run (Monitor::addPermanentIssue), e.g. a robot link the URDF
   /// model cannot represent: every cycle is DEGRADED with these lines, as in the node.
   std::vector<std::string> permanent_issues;
+  /// The URDF's text ("" = none): with ~use_joint_states the robot links its joints move are
+  /// posed from the bag's joint_states (and ~trajectory_topic), as in the node.
+  std::string urdf_xml;
 };
 
 /// Told of every cycle, in order.
@@ -101,6 +105,9 @@ class BagReplay : private BagVisitor {
  private:
   void onTf(const tf2_msgs::TFMessage& msg, bool is_static, Stamp received) override;
   void onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp received) override;
+  void onJointState(const sensor_msgs::JointState& msg, Stamp received) override;
+  void onTrajectory(const trajectory_msgs::JointTrajectory& msg, Stamp received) override;
+  void onInput(Stamp received);  // cycles due before it, the clock, the last input
   void cyclesBefore(Stamp t);  // every cycle due before t (skipping a long stretch without input)
   void runCycle(Stamp now);
   void advanceClock(Stamp t);  // ROS time and pacing
@@ -110,6 +117,7 @@ class BagReplay : private BagVisitor {
   tf2::BufferCore tf_;
   RejectionLog rejection_log_;
   MonitorPipeline pipeline_;
+  std::shared_ptr<const KinematicModel> joint_model_;  // set when links are posed from joints
   ContactEventArray contacts_;  // reused every cycle
   ReplaySink* sink_ = nullptr;
   ReplayStats stats_;

@@ -8,12 +8,15 @@
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
 
 #include "workspace_proximity/monitor/monitor.hpp"
+#include "workspace_proximity/ros/robot_joint_bridge.hpp"
 
 namespace workspace_proximity {
 
 /// Counters the ROS bridges keep themselves.
 struct BridgeCounters {
   std::uint64_t tf_failures = 0;  ///< arrays and robot poses tf could not transform
+  bool joints = false;            ///< robot links posed from joint states
+  JointBridgeCounters joint;      ///< their counters (when `joints`)
 };
 
 /// Fills `status` from the monitor's last report and counters, at `now`.

@@ -44,6 +44,8 @@ class ProximityMonitor {
   void cycle(const ros::Time& now);
 
  private:
+  // Robot links moved by URDF joints from joint_states (~use_joint_states with a URDF).
+  void enableJoints();
   void runCycle(const ros::Time& now);
   void publishSsm();
   // ~cycle_trigger: input. An array of the trigger source arrived: a cycle now, unless arrays

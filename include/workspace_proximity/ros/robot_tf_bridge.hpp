@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <tf2/buffer_core.h>
 
@@ -20,8 +21,15 @@ class RobotTfBridge {
   /// `monitor` and `tf` are borrowed.
   RobotTfBridge(Monitor* monitor, tf2::BufferCore* tf);
 
-  /// Poses every robot body at `now`.
+  /// Poses every robot body at `now`, except those another bridge poses (setClaimed).
   void update(Stamp now);
+  /// Robot body i is posed by another bridge (the joint states), not from tf.
+  void setClaimed(int i, bool claimed);
+
+  /// Motion of `frame` (times `offset`) in the fixed frame at `now`, as for a body: false with
+  /// the reason when tf cannot give it; a non-empty `stale` when its velocity is not known yet.
+  bool frameMotion(const std::string& frame, const Eigen::Isometry3d& offset, Stamp now,
+                   BodyMotion* motion, std::string* why, std::string* stale);
 
   /// Robot body poses tf could not give.
   std::uint64_t tfFailures() const { return tf_failures_; }
@@ -35,6 +43,7 @@ class RobotTfBridge {
   tf2::BufferCore* tf_;
   const MonitorParams& params_;
   std::uint64_t tf_failures_ = 0;
+  std::vector<std::uint8_t> claimed_;  // per robot body
 };
 
 }  // namespace workspace_proximity
