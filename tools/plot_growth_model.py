@@ -5,7 +5,7 @@ config/proximity_monitor.yaml, from the formula (README, "Tracked objects within
 
     margin + position_error + min(e s + a s^2 / 2, (v_max + |v|) s)
 
-    tools/plot_growth_model.py [OUT.png]
+    python3 tools/plot_growth_model.py [OUT.png]
 """
 import sys
 
