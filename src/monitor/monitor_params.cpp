@@ -19,14 +19,22 @@ void checkRange(std::vector<std::string>* errors, const std::string& name, doubl
 }
 
 void checkLabel(std::vector<std::string>* errors, const std::string& prefix,
-                const LabelSettings& l, bool check_margin) {
-  if (check_margin) checkRange(errors, prefix + "/margin", l.margin, 0.0, 10.0, "m");
+                const LabelSettings& l, bool track_label) {
+  if (track_label) checkRange(errors, prefix + "/margin", l.margin, 0.0, 10.0, "m");
   checkRange(errors, prefix + "/warning_time", l.warning_time, 0.0, 60.0, "s");
   checkRange(errors, prefix + "/critical_time", l.critical_time, 0.0, l.warning_time, "s");
   checkRange(errors, prefix + "/warning_distance", l.warning_distance, 0.0, 100.0, "m");
   checkRange(errors, prefix + "/critical_distance", l.critical_distance, 0.0, l.warning_distance,
              "m");
-  if (check_margin) checkRange(errors, prefix + "/ssm_min_speed", l.ssm_min_speed, 0.0, 20.0, "m/s");
+  // The approach speed and the growth of a track's margin (robot_thresholds never have them:
+  // readParams refuses the keys there). Ranges are dynamic_reconfigure's sliders and stay
+  // inside the core's Limits.
+  if (!track_label) return;
+  checkRange(errors, prefix + "/ssm_min_speed", l.ssm_min_speed, 0.0, 20.0, "m/s");
+  checkRange(errors, prefix + "/position_error", l.position_error, 0.0, 10.0, "m");
+  checkRange(errors, prefix + "/velocity_error", l.velocity_error, 0.0, 100.0, "m/s");
+  checkRange(errors, prefix + "/max_accel", l.max_accel, 0.0, 1000.0, "m/s^2");
+  checkRange(errors, prefix + "/max_speed", l.max_speed, 0.0, 100.0, "m/s (0: no speed cap)");
 }
 
 void checkNames(std::vector<std::string>* errors, const std::string& name,

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <exception>
 
+#include "workspace_proximity/monitor/track_growth.hpp"
+
 namespace workspace_proximity {
 namespace {
 
@@ -143,7 +145,7 @@ void TrackTable::update(const ArrayContext& array, int index, const BoxObservati
   t.motion = motion;
   const Shape shape = boxShape(box);
   if (needsResize(t.half, shape.half_extents)) {
-    world_->setShape(t.handle, shape, labels_->settings(t.settings).margin);
+    world_->setShape(t.handle, shape, trackMargin(labels_->settings(t.settings)));
     t.half = shape.half_extents;
   }
 }
@@ -159,7 +161,7 @@ void TrackTable::add(const ArrayContext& array, const BoxObservation& box, const
   t.half = shape.half_extents;
   t.array_serial = array_serial_;
   t.handle = world_->addBody(BodyDesc{t.key, t.label, BodyGroup::kObject, shape,
-                                      labels_->settings(t.settings).margin},
+                                      trackMargin(labels_->settings(t.settings))},
                              motion);
   const int added = size();
   setTrackOfSlot(t.handle.index, added);
@@ -190,7 +192,13 @@ void TrackTable::expire(Stamp now, double timeout) {
 
 void TrackTable::advance(Stamp now) {
   for (const Track& t : tracks_) {
-    world_->setMotion(t.handle, t.motion.advanced(secondsBetween(t.stamp, now)));
+    const double age = secondsBetween(t.stamp, now);
+    world_->setMotion(t.handle, t.motion.advanced(age));
+    // The uncertainty has grown since the measurement, not since now: the margin at the
+    // prediction instant is already R(age) wider (the label's settings are looked up every
+    // cycle, so live tuning applies at once; no growth: today's prediction, bit for bit).
+    world_->setGrowth(t.handle, trackGrowth(labels_->settings(t.settings),
+                                            t.motion.linear_velocity.norm(), age));
   }
 }
 
@@ -205,7 +213,7 @@ void TrackTable::refreshSettings(int max_tracks) {
   max_tracks_ = max_tracks;
   for (Track& t : tracks_) {
     t.settings = labels_->indexOf(t.label);
-    const double margin = labels_->settings(t.settings).margin;
+    const double margin = trackMargin(labels_->settings(t.settings));
     const BodyDesc& desc = world_->desc(t.handle);
     if (margin != desc.margin) world_->setShape(t.handle, desc.shape, margin);
   }

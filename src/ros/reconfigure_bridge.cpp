@@ -36,54 +36,44 @@ constexpr SsmField kSsmScalars[] = {
     {&Config::ssm_degraded_scale, &SsmParams::degraded_scale},
 };
 
-// A label group of the config: its six settings (no margin and no minimum approach speed for
-// the robot's thresholds: its margin is robot_margin, and it is not a tracked object).
-struct LabelFields {
-  double Config::*margin;
-  double Config::*warning_time;
-  double Config::*critical_time;
-  double Config::*warning_distance;
-  double Config::*critical_distance;
-  double Config::*ssm_min_speed;
+// A label group of the config: each slider and the label setting it tunes. The robot's group
+// has no margin (that is robot_margin), no approach speed and no growth (it is no track).
+struct LabelField {
+  double Config::*config;
+  double LabelSettings::*setting;
 };
-constexpr LabelFields kDefaultLabel{&Config::default_margin, &Config::default_warning_time,
-                                    &Config::default_critical_time,
-                                    &Config::default_warning_distance,
-                                    &Config::default_critical_distance,
-                                    &Config::default_ssm_min_speed};
-constexpr LabelFields kPersonLabel{&Config::person_margin, &Config::person_warning_time,
-                                   &Config::person_critical_time,
-                                   &Config::person_warning_distance,
-                                   &Config::person_critical_distance,
-                                   &Config::person_ssm_min_speed};
-constexpr LabelFields kRobotThresholds{nullptr, &Config::robot_warning_time,
-                                       &Config::robot_critical_time,
-                                       &Config::robot_warning_distance,
-                                       &Config::robot_critical_distance, nullptr};
+#define WP_LABEL_FIELD(group, name) {&Config::group##_##name, &LabelSettings::name}
+#define WP_TRACK_LABEL_FIELDS(group)                                                       \
+  WP_LABEL_FIELD(group, margin), WP_LABEL_FIELD(group, warning_time),                      \
+      WP_LABEL_FIELD(group, critical_time), WP_LABEL_FIELD(group, warning_distance),       \
+      WP_LABEL_FIELD(group, critical_distance), WP_LABEL_FIELD(group, ssm_min_speed),      \
+      WP_LABEL_FIELD(group, position_error), WP_LABEL_FIELD(group, velocity_error),        \
+      WP_LABEL_FIELD(group, max_accel), WP_LABEL_FIELD(group, max_speed)
+constexpr LabelField kDefaultLabel[] = {WP_TRACK_LABEL_FIELDS(default)};
+constexpr LabelField kPersonLabel[] = {WP_TRACK_LABEL_FIELDS(person)};
+constexpr LabelField kRobotThresholds[] = {
+    WP_LABEL_FIELD(robot, warning_time), WP_LABEL_FIELD(robot, critical_time),
+    WP_LABEL_FIELD(robot, warning_distance), WP_LABEL_FIELD(robot, critical_distance)};
+#undef WP_TRACK_LABEL_FIELDS
+#undef WP_LABEL_FIELD
 
-void put(const LabelSettings& l, const LabelFields& f, Config* c) {
-  if (f.margin != nullptr) c->*f.margin = l.margin;
-  c->*f.warning_time = l.warning_time;
-  c->*f.critical_time = l.critical_time;
-  c->*f.warning_distance = l.warning_distance;
-  c->*f.critical_distance = l.critical_distance;
-  if (f.ssm_min_speed != nullptr) c->*f.ssm_min_speed = l.ssm_min_speed;
+template <std::size_t N>
+void put(const LabelSettings& l, const LabelField (&fields)[N], Config* c) {
+  for (const LabelField& f : fields) c->*f.config = l.*f.setting;
 }
 
-LabelSettings get(const Config& c, const LabelFields& f, LabelSettings l) {
-  if (f.margin != nullptr) l.margin = c.*f.margin;
-  l.warning_time = c.*f.warning_time;
-  l.critical_time = c.*f.critical_time;
-  l.warning_distance = c.*f.warning_distance;
-  l.critical_distance = c.*f.critical_distance;
-  if (f.ssm_min_speed != nullptr) l.ssm_min_speed = c.*f.ssm_min_speed;
+template <std::size_t N>
+LabelSettings get(const Config& c, const LabelField (&fields)[N], LabelSettings l) {
+  for (const LabelField& f : fields) l.*f.setting = c.*f.config;
   return l;
 }
 
+// Equal in every setting the sliders tune.
 bool sameSettings(const LabelSettings& a, const LabelSettings& b) {
-  return a.margin == b.margin && a.warning_time == b.warning_time &&
-         a.critical_time == b.critical_time && a.warning_distance == b.warning_distance &&
-         a.critical_distance == b.critical_distance && a.ssm_min_speed == b.ssm_min_speed;
+  for (const LabelField& f : kDefaultLabel) {
+    if (a.*f.setting != b.*f.setting) return false;
+  }
+  return true;
 }
 
 }  // namespace

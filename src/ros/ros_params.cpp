@@ -81,19 +81,32 @@ void readPairs(const XmlRpcValue& root, const std::string& name,
   }
 }
 
-LabelSettings readLabel(const XmlRpcValue& v, const std::string& name, LabelSettings l) {
+// A label's settings (`track_label`), or the robot's thresholds: the robot has no margin
+// here (~robot_margin) and no growth (its motion comes from tf), so those keys are refused.
+LabelSettings readLabel(const XmlRpcValue& v, const std::string& name, LabelSettings l,
+                        bool track_label = true) {
   if (v.getType() != XmlRpcValue::TypeStruct) fail(name, "must be a dictionary");
   for (auto it = v.begin(); it != v.end(); ++it) {
     const std::string key = it->first;
     const double value = toDouble(it->second, name + "/" + key);
-    if (key == "margin") l.margin = value;
-    else if (key == "warning_time") l.warning_time = value;
+    if (key == "warning_time") l.warning_time = value;
     else if (key == "critical_time") l.critical_time = value;
     else if (key == "warning_distance") l.warning_distance = value;
     else if (key == "critical_distance") l.critical_distance = value;
-    else if (key == "ssm_min_speed") l.ssm_min_speed = value;
-    else fail(name + "/" + key, "unknown setting (margin, warning_time, critical_time, "
-                                "warning_distance, critical_distance, ssm_min_speed)");
+    else if (track_label && key == "margin") l.margin = value;
+    else if (track_label && key == "position_error") l.position_error = value;
+    else if (track_label && key == "velocity_error") l.velocity_error = value;
+    else if (track_label && key == "max_accel") l.max_accel = value;
+    else if (track_label && key == "max_speed") l.max_speed = value;
+    else if (track_label && key == "ssm_min_speed") l.ssm_min_speed = value;
+    else if (track_label) {
+      fail(name + "/" + key, "unknown setting (margin, warning_time, critical_time, "
+                             "warning_distance, critical_distance, position_error, "
+                             "velocity_error, max_accel, max_speed, ssm_min_speed)");
+    } else {
+      fail(name + "/" + key, "unknown setting (warning_time, critical_time, warning_distance, "
+                             "critical_distance; the robot's margin is ~robot_margin)");
+    }
   }
   return l;
 }
@@ -290,7 +303,7 @@ MonitorParams readParams(const XmlRpcValue& root) {
     }
   }
   if (const XmlRpcValue* v = member(root, "robot_thresholds")) {
-    p.robot_thresholds = readLabel(*v, "robot_thresholds", p.robot_thresholds);
+    p.robot_thresholds = readLabel(*v, "robot_thresholds", p.robot_thresholds, false);
   }
   return p;
 }

@@ -131,6 +131,40 @@ TEST(MonitorParams, TheTriggerSourceIsAnInputTopicAsListed) {
   EXPECT_TRUE(wp::validate(p).empty());
 }
 
+TEST(MonitorParams, EachBadGrowthSettingIsNamed) {
+  // A label's growth: negative or non-finite values are refused at start-up by name.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  struct Case {
+    const char* name;
+    void (*change)(wp::LabelSettings&, double);
+  };
+  const Case cases[] = {
+      {"labels/person/position_error", [](wp::LabelSettings& l, double x) { l.position_error = x; }},
+      {"labels/person/velocity_error", [](wp::LabelSettings& l, double x) { l.velocity_error = x; }},
+      {"labels/person/max_accel", [](wp::LabelSettings& l, double x) { l.max_accel = x; }},
+      {"labels/person/max_speed", [](wp::LabelSettings& l, double x) { l.max_speed = x; }},
+  };
+  for (const Case& c : cases) {
+    for (double bad : {-0.1, nan, inf, -inf, 1e6}) {
+      wp::MonitorParams p;
+      c.change(p.labels["person"], bad);
+      EXPECT_TRUE(mentions(wp::validate(p), c.name)) << c.name << " = " << bad;
+    }
+    wp::MonitorParams p;
+    c.change(p.labels["person"], 0.5);
+    EXPECT_TRUE(wp::validate(p).empty()) << c.name << " = 0.5";
+  }
+  // Zero everywhere is today's behaviour and valid; the robot's thresholds have no growth.
+  EXPECT_EQ(wp::LabelSettings().position_error, 0.0);
+  EXPECT_EQ(wp::LabelSettings().velocity_error, 0.0);
+  EXPECT_EQ(wp::LabelSettings().max_accel, 0.0);
+  EXPECT_EQ(wp::LabelSettings().max_speed, 0.0);
+  wp::MonitorParams p;
+  p.robot_thresholds.velocity_error = -1.0;  // never used for the robot: not checked
+  EXPECT_TRUE(wp::validate(p).empty());
+}
+
 TEST(MonitorParams, PairRulesComeFromIgnoreThenCheck) {
   wp::MonitorParams p;
   p.ignore_pairs = {{"label:person", "label:person"}};

@@ -259,6 +259,49 @@ TEST(Reconfigure, ConfigAndParametersRoundTrip) {
   EXPECT_EQ(sb.label("person").ssm_min_speed, 1.6);
 }
 
+TEST(Reconfigure, GrowthBoundsRoundTripAndSurviveOtherChanges) {
+  wp::MonitorParams p;
+  wp::LabelSettings person;
+  person.position_error = 0.05;
+  person.velocity_error = 0.3;
+  person.max_accel = 4.0;
+  person.max_speed = 2.0;
+  p.labels["person"] = person;
+  p.labels["default"].velocity_error = 0.1;
+  const wp::ProximityMonitorConfig c = wp::toConfig(p);
+  EXPECT_EQ(c.person_position_error, 0.05);
+  EXPECT_EQ(c.person_velocity_error, 0.3);
+  EXPECT_EQ(c.person_max_accel, 4.0);
+  EXPECT_EQ(c.person_max_speed, 2.0);
+  EXPECT_EQ(c.default_velocity_error, 0.1);
+  EXPECT_EQ(c.default_max_accel, 0.0);
+  // Changing something else keeps every bound (the config carries them all).
+  wp::ProximityMonitorConfig other = c;
+  other.horizon = 4.0;
+  other.person_warning_time = 2.0;
+  const wp::MonitorParams back = wp::applyConfig(p, other);
+  EXPECT_EQ(back.label("person").position_error, 0.05);
+  EXPECT_EQ(back.label("person").velocity_error, 0.3);
+  EXPECT_EQ(back.label("person").max_accel, 4.0);
+  EXPECT_EQ(back.label("person").max_speed, 2.0);
+  EXPECT_EQ(back.label("default").velocity_error, 0.1);
+  // A tuned bound applies; a person entry differing from the default only in its bounds is
+  // created.
+  wp::MonitorParams plain;
+  wp::ProximityMonitorConfig tuned = wp::toConfig(plain);
+  tuned.person_max_accel = 3.0;
+  const wp::MonitorParams t = wp::applyConfig(plain, tuned);
+  ASSERT_EQ(t.labels.count("person"), 1u);
+  EXPECT_EQ(t.labels.at("person").max_accel, 3.0);
+  // A negative one is refused by name.
+  tuned.person_max_accel = -1.0;
+  wp::MonitorParams next;
+  std::vector<std::string> errors;
+  EXPECT_FALSE(wp::checkConfig(plain, tuned, &next, &errors));
+  ASSERT_FALSE(errors.empty());
+  EXPECT_NE(errors[0].find("labels/person/max_accel"), std::string::npos) << errors[0];
+}
+
 TEST(Reconfigure, InvalidChangesAreRefusedWithTheReason) {
   const wp::MonitorParams p;
   wp::ProximityMonitorConfig c = wp::toConfig(p);

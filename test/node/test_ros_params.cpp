@@ -213,6 +213,46 @@ TEST(RosParams, LabelsInheritFromDefaultWhateverTheirOrder) {
   EXPECT_EQ(p.robot_thresholds.warning_time, builtin.warning_time);
 }
 
+TEST(RosParams, GrowthSettingsPerLabelInheritFromDefault) {
+  XmlRpcValue def = dict();
+  def["velocity_error"] = 0.2;
+  XmlRpcValue person = dict();
+  person["position_error"] = 0.1;
+  person["velocity_error"] = 0.3;
+  person["max_accel"] = 5;  // an integer is a number too
+  person["max_speed"] = 2.0;
+  XmlRpcValue labels = dict();
+  labels["default"] = def;
+  labels["person"] = person;
+  labels["forklift"] = labelDict(0.5);
+  XmlRpcValue root = dict();
+  root["labels"] = labels;
+
+  const wp::MonitorParams p = wp::readParams(root);
+  EXPECT_EQ(p.label("person").position_error, 0.1);
+  EXPECT_EQ(p.label("person").velocity_error, 0.3);
+  EXPECT_EQ(p.label("person").max_accel, 5.0);
+  EXPECT_EQ(p.label("person").max_speed, 2.0);
+  EXPECT_EQ(p.label("forklift").velocity_error, 0.2);  // inherited from default
+  EXPECT_EQ(p.label("forklift").max_accel, 0.0);
+  EXPECT_EQ(p.label("unlisted").velocity_error, 0.2);
+  EXPECT_TRUE(wp::validate(p).empty());
+  EXPECT_TRUE(wp::unknownParams(root).empty());
+
+  // A negative value reads, and validate() names it.
+  XmlRpcValue bad = dict();
+  bad["max_speed"] = -1.0;
+  XmlRpcValue bad_labels = dict();
+  bad_labels["person"] = bad;
+  XmlRpcValue bad_root = dict();
+  bad_root["labels"] = bad_labels;
+  bool named = false;
+  for (const std::string& e : wp::validate(wp::readParams(bad_root))) {
+    named = named || e.find("~labels/person/max_speed = -1") != std::string::npos;
+  }
+  EXPECT_TRUE(named);
+}
+
 TEST(RosParams, RobotBodiesWithOffsets) {
   XmlRpcValue offset = dict();
   offset["xyz"] = list({XmlRpcValue(0.1), XmlRpcValue(0), XmlRpcValue(-0.2)});
@@ -289,6 +329,26 @@ TEST(RosParams, EachWrongTypeOrStructureIsNamed) {
          XmlRpcValue l = dict();
          l["default"] = def;
          r["labels"] = l;
+       }},
+      {"~labels/person/max_accel: must be a number",
+       [](XmlRpcValue& r) {
+         XmlRpcValue person = dict();
+         person["max_accel"] = str("fast");
+         XmlRpcValue l = dict();
+         l["person"] = person;
+         r["labels"] = l;
+       }},
+      {"~robot_thresholds/velocity_error: unknown setting",
+       [](XmlRpcValue& r) {
+         XmlRpcValue t = dict();
+         t["velocity_error"] = 0.3;
+         r["robot_thresholds"] = t;
+       }},
+      {"~robot_thresholds/margin: unknown setting",
+       [](XmlRpcValue& r) {
+         XmlRpcValue t = dict();
+         t["margin"] = 0.3;
+         r["robot_thresholds"] = t;
        }},
       {"~robot_thresholds/critical_time: must be a number",
        [](XmlRpcValue& r) {

@@ -42,7 +42,9 @@ import replay_data  # noqa: E402
 BAG = os.path.join(ROOT, "test", "bags", "demo_cell.bag")
 EXPECTED = os.path.join(ROOT, "test", "bags", "demo_cell.episodes.csv")
 CONFIGS = [os.path.join(ROOT, "config", "proximity_monitor.yaml"),
-           os.path.join(ROOT, "config", "demo_monitor.yaml")]
+           os.path.join(ROOT, "config", "demo_monitor.yaml"),
+           # people at constant velocity, as reviewed and as the oracle predicts
+           os.path.join(ROOT, "test", "bags", "demo_cell_constant_velocity.yaml")]
 URDF = os.path.join(ROOT, "config", "demo_arm.urdf")
 REPLAY_BAG = None  # from the command line
 
@@ -58,9 +60,9 @@ ROBOT_MARGIN = 0.02
 TIP_RADIUS = 0.06  # config/demo_arm.urdf, link tool_tip
 
 
-def run_replay(out_dir, report=True, bag=BAG):
+def run_replay(out_dir, report=True, bag=BAG, configs=CONFIGS):
     cmd = [REPLAY_BAG, bag, "--urdf", URDF, "--out", out_dir]
-    for c in CONFIGS:
+    for c in configs:
         cmd += ["--config", c]
     if not report:
         cmd.append("--no-report")
@@ -249,6 +251,31 @@ class ReplayEpisodesTest(unittest.TestCase):
         self.assertEqual(s["cycles"], len(self.cycles))
         self.assertEqual(s["missing_frames"], [])
         self.assertGreaterEqual(s["speed_factor"], 1.0)  # sanity only; speed is measured in scripts/bench
+
+    def test_the_shipped_person_growth_only_brings_contacts_earlier(self):
+        # The shipped configuration (people's margins grow, README "Tracked objects within
+        # bounds"): a grown person contains the constant-velocity one at every instant, so
+        # every contact predicted without growth is predicted with it too, never later, at a
+        # level never lower; and a person's pair is reported at least as often.
+        out = os.path.join(self.tmp.name, "growth")
+        run = run_replay(out, report=False, configs=CONFIGS[:2])
+        self.assertEqual(run.returncode, 0, run.stderr.decode(errors="replace"))
+        grown = {}
+        for e in replay_data.read_events(os.path.join(out, "events.csv")):
+            if e.state != "END":
+                grown[(round(e.stamp * 1e9), e.pair)] = e
+        compared = 0
+        for e in self.events:
+            if e.state == "END":
+                continue
+            g = grown.get((round(e.stamp * 1e9), e.pair))
+            self.assertIsNotNone(g, "%s at %.3f s: lost with growth" % (e.pair, e.t))
+            self.assertLessEqual(g.time_to_contact, e.time_to_contact + 1e-6, e.pair)
+            self.assertGreaterEqual(replay_data.LEVEL_RANK[g.level], replay_data.LEVEL_RANK[e.level],
+                                    e.pair)
+            compared += 1
+        self.assertGreater(compared, 500)
+        self.assertGreater(len(grown), compared)  # people reached only through growth
 
     def test_compressed_copies_replay_identically(self):
         with open(os.path.join(self.out, "events.csv"), "rb") as f:

@@ -196,6 +196,14 @@ TEST(YamlParams, TheShippedConfigurationFiles) {
   EXPECT_EQ(p.robot_margin, defaults.robot_margin);
   EXPECT_TRUE(p.ignore_pairs.empty());
   EXPECT_EQ(p.label("person").margin, 0.20);
+  // The documented bounds of people (README, "Tracked objects within bounds"); other labels
+  // keep the constant-velocity prediction.
+  EXPECT_EQ(p.label("person").position_error, 0.05);
+  EXPECT_EQ(p.label("person").velocity_error, 0.3);
+  EXPECT_EQ(p.label("person").max_accel, 4.0);
+  EXPECT_EQ(p.label("person").max_speed, 2.0);
+  EXPECT_EQ(p.label("forklift").velocity_error, 0.0);
+  EXPECT_EQ(p.label("default").max_accel, 0.0);
   EXPECT_EQ(p.label("forklift").critical_time, 1.0);
   EXPECT_EQ(p.robot_thresholds.warning_distance, 0.3);
   // The demo's overlay on top, as demo.launch loads them.

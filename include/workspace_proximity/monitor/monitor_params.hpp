@@ -26,6 +26,16 @@ struct LabelSettings {
   /// m/s, speed and separation monitoring: the approach speed v_h assumed at least (1.6 is the
   /// standard's walking speed for people whose motion is not measured); 0: as tracked.
   double ssm_min_speed = 0.0;
+
+  // How far a track of this label can stray from its constant-velocity prediction (every one
+  // 0 by default: no growth, today's prediction). The margin grows as
+  //   m(s) = margin + position_error + R(s),  R(s) = min(e s + a s^2 / 2, (v_max + |v|) s)
+  // s seconds after the track's measurement stamp (track_growth.hpp); v_max = 0: no cap.
+  // Not used for the robot (robot_thresholds).
+  double position_error = 0.0;  ///< m, tracker position error, added to the margin
+  double velocity_error = 0.0;  ///< e, m/s, tracker velocity error
+  double max_accel = 0.0;       ///< a, m/s^2, largest acceleration of an object of this label
+  double max_speed = 0.0;       ///< v_max, m/s, largest speed of such an object; 0: no speed cap
 };
 
 /// A robot body declared in ~robot_bodies or taken from the URDF.

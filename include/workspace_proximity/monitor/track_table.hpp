@@ -53,12 +53,13 @@ class TrackTable {
              Drop* last_drop = nullptr);
   /// Drops tracks whose stamp is older than `timeout` seconds at `now` (their pairs END).
   void expire(Stamp now, double timeout);
-  /// Latency compensation: every track's body is moved from its own stamp to `now`.
+  /// Latency compensation: every track's body is moved from its own stamp to `now`, and its
+  /// margin grows from that stamp on as its label says (track_growth.hpp).
   void advance(Stamp now);
   /// Removes every track (their pairs END at the next predict).
   void clear();
   /// The label table or the cap changed (live tuning): every track looks its settings up
-  /// again and takes its label's margin now. A lower cap applies to arrays from now on.
+  /// again and takes its label's margin (+ position_error) now, its growth at advance(). A lower cap applies to arrays from now on.
   void refreshSettings(int max_tracks);
 
   int size() const { return static_cast<int>(tracks_.size()); }

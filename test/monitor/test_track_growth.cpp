@@ -1,0 +1,277 @@
+// Tracked objects within bounds, ROS-free: a label's position_error, velocity_error,
+// max_accel and max_speed grow its tracks' margins through the monitor's cycle. Every
+// expected number is worked out by hand from the model: an object standing still at face gap
+// g from a static box first touches it when margin + position_error + R(s) = g, with
+// R(s) = min(e s + a s^2 / 2, (v_max + |v|) s) and s counted from the measurement stamp.
+// The defaults (all 0) are checked against a world built by hand without any growth, bit for
+// bit.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "workspace_proximity/monitor/monitor.hpp"
+#include "workspace_proximity/monitor/track_growth.hpp"
+
+namespace wp = workspace_proximity;
+
+namespace {
+
+constexpr wp::Stamp kSecond = 1000000000;
+constexpr wp::Stamp kT0 = 1000 * kSecond;
+// The narrow phase stops within its distance tolerance (1e-5 m) of contact: at the growth
+// rates here (>= 1 m/s) that is at most 1e-5 s early, and never late.
+constexpr double kEarly = 2e-5;  // s
+constexpr double kLate = 1e-9;   // s, rounding only
+
+wp::MonitorParams params(const wp::LabelSettings& person) {
+  wp::MonitorParams p;
+  p.horizon = 5.0;
+  p.robot_margin = 0.0;
+  p.labels["default"].margin = 0.0;
+  p.labels["person"] = person;
+  return p;
+}
+
+wp::LabelSettings person(double velocity_error, double max_accel, double max_speed) {
+  wp::LabelSettings l;
+  l.margin = 0.0;
+  l.velocity_error = velocity_error;
+  l.max_accel = max_accel;
+  l.max_speed = max_speed;
+  return l;
+}
+
+// A robot "wall": 1 m thick along x (faces at x = +-0.5), 100 m long along y, posed at the
+// origin and standing still.
+wp::RobotBodySpec wall() {
+  wp::RobotBodySpec s;
+  s.name = "wall";
+  s.frame = "base";
+  s.shape = wp::Shape::box({0.5, 50.0, 0.5});
+  return s;
+}
+
+struct Fixture {
+  explicit Fixture(const wp::LabelSettings& p, const std::string& label = "person")
+      : monitor(params(p), {wall()}, {"/boxes"}, false, nullptr), clock(&monitor.timing()),
+        label(label) {
+    EXPECT_TRUE(monitor.robot().pose(0, wp::BodyMotion()));
+  }
+  // A 1 m cube whose near face is `gap` m from the wall's face at x = 0.5, moving at
+  // (vx, vy), observed at `stamp`.
+  void object(double gap, double vx, double vy, wp::Stamp stamp, wp::Stamp now) {
+    wp::BoxObservation b;
+    b.id = "p1";
+    b.label = label;
+    b.position = {0.5 + gap + 0.5, 0, 0};
+    b.dimensions = {1, 1, 1};
+    b.linear_velocity = {vx, vy, 0};
+    monitor.noteReceipt(0, now);
+    ASSERT_TRUE(monitor.acceptStamp(0, stamp, now));
+    monitor.ingest(0, stamp, Eigen::Isometry3d::Identity(), {b});
+  }
+  const wp::PairEvent& only(wp::Stamp now) {
+    const wp::CycleReport& r = monitor.cycle(now, &clock);
+    EXPECT_EQ(r.eventCount(), 1u);
+    return r.event(0);
+  }
+  bool none(wp::Stamp now) { return monitor.cycle(now, &clock).eventCount() == 0; }
+
+  wp::Monitor monitor;
+  wp::StageClock clock;
+  std::string label;
+};
+
+// Never late, at most kEarly early.
+void expectFirstContact(const wp::PairEvent& e, double analytic, const char* what) {
+  EXPECT_LE(e.time_to_contact, analytic + kLate) << what;
+  EXPECT_GE(e.time_to_contact, analytic - kEarly) << what;
+}
+
+}  // namespace
+
+TEST(TrackGrowth, VelocityErrorAloneReachesAStandingPersonsGapAtGapOverError) {
+  // e = 1.6 m/s, no acceleration term, zero margins, standing 1.6 m from the wall:
+  // R(s) = 1.6 s reaches 1.6 m at s = 1.0 s after the measurement.
+  Fixture f(person(1.6, 0.0, 0.0));
+  f.object(1.6, 0.0, 0.0, kT0, kT0);
+  const wp::PairEvent& e = f.only(kT0);
+  expectFirstContact(e, 1.0, "measured now");
+  EXPECT_NEAR(e.distance, 1.6, 1e-9);  // nothing has grown yet
+  // Without growth a standing person is no contact at all.
+  Fixture plain(person(0.0, 0.0, 0.0));
+  plain.object(1.6, 0.0, 0.0, kT0, kT0);
+  EXPECT_TRUE(plain.none(kT0));
+}
+
+TEST(TrackGrowth, GrowthCountsFromTheMeasurementStampEitherSide) {
+  // Measured 0.2 s before the cycle: 0.2 s of the 1.0 s have passed, and 0.32 m of the margin
+  // has grown already.
+  Fixture late(person(1.6, 0.0, 0.0));
+  late.object(1.6, 0.0, 0.0, kT0 - kSecond / 5, kT0);
+  const wp::PairEvent& e = late.only(kT0);
+  expectFirstContact(e, 0.8, "measured 0.2 s ago");
+  EXPECT_NEAR(e.distance, 1.6 - 0.32, 1e-9);
+  // Stamped 0.2 s ahead of the cycle (within ~max_future): extrapolated backwards, as
+  // uncertain as forwards, so also 0.8 s.
+  Fixture ahead(person(1.6, 0.0, 0.0));
+  ahead.object(1.6, 0.0, 0.0, kT0 + kSecond / 5, kT0);
+  expectFirstContact(ahead.only(kT0), 0.8, "stamped 0.2 s ahead");
+}
+
+TEST(TrackGrowth, MaxAccelAloneReachesAtTheSquareRoot) {
+  // a = 2 m/s^2: R(s) = s^2 reaches 1 m at s = 1.0 s.
+  Fixture f(person(0.0, 2.0, 0.0));
+  f.object(1.0, 0.0, 0.0, kT0, kT0);
+  expectFirstContact(f.only(kT0), 1.0, "a = 2, gap 1");
+  // Both terms: e = 0.5, a = 2, gap 1.5: 0.5 s + s^2 = 1.5 -> s = (-0.5 + sqrt(6.25)) / 2 = 1.
+  Fixture both(person(0.5, 2.0, 0.0));
+  both.object(1.5, 0.0, 0.0, kT0, kT0);
+  expectFirstContact(both.only(kT0), 1.0, "e = 0.5, a = 2, gap 1.5");
+}
+
+TEST(TrackGrowth, MaxSpeedCapsTheGrowthAtSpeedBoundPlusCurrentSpeed) {
+  // a = 4 m/s^2, v_max = 1 m/s, standing: R(s) = min(2 s^2, 1 s), the cap from s = 0.5 s on.
+  // Gap 1.5 m: capped at s = 1.5 s (uncapped 2 s^2 would reach it at 0.866 s).
+  Fixture standing(person(0.0, 4.0, 1.0));
+  standing.object(1.5, 0.0, 0.0, kT0, kT0);
+  expectFirstContact(standing.only(kT0), 1.5, "standing, capped");
+  // Walking along the wall at 1 m/s (never approaching it at constant velocity): the cap is
+  // v_max + |v| = 2 m/s, R(s) = min(2 s^2, 2 s), the cap from s = 1 s on. Gap 3 m: s = 1.5 s
+  // (a cap of v_max alone would give 3.0 s, none 1.22 s).
+  Fixture walking(person(0.0, 4.0, 1.0));
+  walking.object(3.0, 0.0, 1.0, kT0, kT0);
+  expectFirstContact(walking.only(kT0), 1.5, "walking along, capped at v_max + |v|");
+  // A cap alone does not grow anything.
+  Fixture cap_only(person(0.0, 0.0, 1.0));
+  cap_only.object(0.5, 0.0, 0.0, kT0, kT0);
+  EXPECT_TRUE(cap_only.none(kT0));
+}
+
+TEST(TrackGrowth, PositionErrorIsAddedToTheMargin) {
+  // Approaching at 1 m/s from a gap of 2 m, margin 0.1 + position_error 0.4: touching when the
+  // gap is 0.5 m, at 1.5 s; the distance now is 2 - 0.5 = 1.5 m.
+  wp::LabelSettings l = person(0.0, 0.0, 0.0);
+  l.margin = 0.1;
+  l.position_error = 0.4;
+  Fixture f(l);
+  f.object(2.0, -1.0, 0.0, kT0, kT0);
+  const wp::PairEvent& e = f.only(kT0);
+  EXPECT_NEAR(e.time_to_contact, 1.5, 1e-6);
+  EXPECT_NEAR(e.distance, 1.5, 1e-9);
+  EXPECT_EQ(f.monitor.world().desc(f.monitor.tracks().track(0).handle).margin, 0.5);
+}
+
+TEST(TrackGrowth, SeparationStaysTheConstantVelocityValue) {
+  // Approaching at 1 m/s from 1 m with e = 0.5 m/s: first contact of the grown shapes when
+  // 1 - s = 0.5 s, s = 2/3; the constant-velocity contact (1 m cube through a 1 m wall) ends
+  // at (1 + 2) / 1 = 3 s, and that is the separation reported.
+  Fixture f(person(0.5, 0.0, 0.0));
+  f.object(1.0, -1.0, 0.0, kT0, kT0);
+  const wp::PairEvent& e = f.only(kT0);
+  expectFirstContact(e, 2.0 / 3.0, "approaching with growth");
+  EXPECT_NEAR(e.time_to_separation, 3.0, 1e-4);
+  // A standing person that only the growth reaches has no constant-velocity contact: the
+  // separation is the first contact itself, never earlier.
+  Fixture standing(person(1.6, 0.0, 0.0));
+  standing.object(1.6, 0.0, 0.0, kT0, kT0);
+  const wp::PairEvent& s = standing.only(kT0);
+  EXPECT_EQ(s.time_to_separation, s.time_to_contact);
+}
+
+TEST(TrackGrowth, OnlyTheLabelsTracksGrow) {
+  // The settings are the person label's: a box of another label at the same place is not
+  // reached.
+  Fixture f(person(1.6, 0.0, 0.0), "pallet");
+  f.object(1.6, 0.0, 0.0, kT0, kT0);
+  EXPECT_TRUE(f.none(kT0));
+}
+
+TEST(TrackGrowth, LiveTuningAppliesAtTheNextCycle) {
+  Fixture f(person(0.0, 0.0, 0.0));
+  f.object(1.6, 0.0, 0.0, kT0, kT0);
+  EXPECT_TRUE(f.none(kT0));
+  wp::MonitorParams p = f.monitor.params();
+  p.labels["person"].velocity_error = 1.6;
+  p.labels["person"].position_error = 0.8;
+  f.monitor.setParams(p);
+  // Margin 0.8 now, 0.8 m left for R(s) = 1.6 s: s = 0.5 s after the stamp, 0.1 s ago.
+  f.object(1.6, 0.0, 0.0, kT0 + kSecond / 10, kT0 + kSecond / 10);
+  expectFirstContact(f.only(kT0 + kSecond / 5), 0.4, "after tuning");
+  // Back to zero: no growth, no contact (the pair ENDs).
+  p.labels["person"].velocity_error = 0.0;
+  p.labels["person"].position_error = 0.0;
+  f.monitor.setParams(p);
+  EXPECT_EQ(f.only(kT0 + kSecond / 4).state, wp::ContactState::kEnd);
+  EXPECT_TRUE(f.none(kT0 + kSecond * 3 / 10));
+}
+
+TEST(TrackGrowth, DefaultsGiveTodaysEventsBitForBit) {
+  // Default settings (every growth term 0) against a world built by hand from the same bodies
+  // and motions, without setGrowth: the events are equal to the last bit.
+  struct Scene {
+    double gap, vx, vy;
+    wp::Stamp stamp;
+  };
+  const Scene scenes[] = {{4.0, -2.0, 0.0, kT0 - kSecond / 10},
+                          {0.7, -0.3, 0.4, kT0 - kSecond / 30},
+                          {0.0, 0.0, 0.0, kT0},
+                          {1.2, -1.0, -0.5, kT0 - kSecond / 7}};
+  for (const Scene& s : scenes) {
+    wp::LabelSettings defaults;
+    defaults.margin = 0.1;
+    defaults.max_speed = 2.0;  // a cap without growth terms changes nothing either
+    Fixture f(defaults);
+    f.object(s.gap, s.vx, s.vy, s.stamp, kT0);
+    const wp::PairEvent& e = f.only(kT0);
+
+    wp::WorldConfig config;
+    config.rules = wp::makePairRules(f.monitor.params());
+    wp::ProximityWorld world(config);
+    world.addBody(wp::BodyDesc{"wall", "robot", wp::BodyGroup::kRobot, wall().shape, 0.0},
+                  wp::BodyMotion());
+    wp::BodyMotion m;
+    m.position = {0.5 + s.gap + 0.5, 0, 0};
+    m.linear_velocity = {s.vx, s.vy, 0};
+    world.addBody(wp::BodyDesc{"p1", "person", wp::BodyGroup::kObject,
+                               wp::Shape::box({0.5, 0.5, 0.5}), 0.1},
+                  m.advanced(wp::secondsBetween(s.stamp, kT0)));
+    const std::vector<wp::PairEvent>& expected = world.predict(5.0);
+    ASSERT_EQ(expected.size(), 1u);
+    EXPECT_EQ(e.time_to_contact, expected[0].time_to_contact);
+    EXPECT_EQ(e.time_to_separation, expected[0].time_to_separation);
+    EXPECT_EQ(e.distance, expected[0].distance);
+    EXPECT_EQ(e.closing_speed, expected[0].closing_speed);
+    EXPECT_TRUE(e.normal == expected[0].normal);
+    EXPECT_TRUE(e.point_a == expected[0].point_a);
+    EXPECT_TRUE(e.point_b == expected[0].point_b);
+  }
+}
+
+TEST(TrackGrowth, GrowthOfALabel) {
+  wp::LabelSettings l;
+  EXPECT_TRUE(wp::trackGrowth(l, 1.0, 0.3).none());
+  l.velocity_error = 0.3;
+  l.max_accel = 3.0;
+  l.max_speed = 2.0;
+  l.position_error = 0.05;
+  l.margin = 0.1;
+  EXPECT_DOUBLE_EQ(wp::trackMargin(l), 0.15);
+  const wp::MarginGrowth g = wp::trackGrowth(l, 1.2, -0.1);
+  ASSERT_TRUE(g.valid());
+  EXPECT_EQ(g.speed_cap, 3.2);
+  EXPECT_EQ(g.age, 0.1);
+  // R(0.1 + 0.4) = min(0.3 * 0.5 + 1.5 * 0.25, 3.2 * 0.5) = 0.525
+  EXPECT_NEAR(g.at(0.4), 0.525, 1e-12);
+  l.max_speed = 0.0;  // no cap
+  EXPECT_EQ(wp::trackGrowth(l, 1.2, 0.0).speed_cap, std::numeric_limits<double>::infinity());
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
