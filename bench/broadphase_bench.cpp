@@ -29,6 +29,7 @@
 #include <sys/utsname.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -72,6 +73,10 @@
 #include "workspace_proximity/body.hpp"
 #include "workspace_proximity/sweep_and_prune.hpp"
 #include "workspace_proximity/swept_bounds.hpp"
+
+#ifdef WP_BENCH_BASELINE_SAP
+#include "baseline/baseline_sap.hpp"
+#endif
 
 // ---------------------------------------------------------------------------------------------
 // Heap accounting.
@@ -672,6 +677,58 @@ class OursPeer : public Peer {
   std::vector<OurBroadPhase::ProxyId> id_;
 };
 
+#ifdef WP_BENCH_BASELINE_SAP
+// Another version's SweepAndPrune (-DWP_BENCH_BASELINE=<source tree>, bench/baseline/), driven
+// exactly as OursPeer drives ours.
+class BaselinePeer : public Peer {
+ public:
+  void setup(const SceneState& s) override {
+    slot_of_.reserve(2 * static_cast<std::size_t>(s.slots()) + 64);
+    id_.assign(s.slots(), -1);
+    for (int i = 0; i < s.slots(); ++i)
+      if (s.alive[i]) create(s, i);
+    sap_.update();
+  }
+  void cycle(const SceneState& s) override {
+    for (int i : s.destroyed) sap_.destroy(id_[i]);
+    for (int i : s.moved) sap_.move(id_[i], bounds(s.box[i]).data());
+    for (int i : s.created) create(s, i);
+    sap_.update();
+    std::size_t count = 0, stride = 0;
+    const std::int32_t* p = sap_.pairs(&count, &stride);
+    std::uint64_t sum = 0;
+    for (std::size_t k = 0; k < count; ++k, p += stride)
+      sum += slot_of_[p[0]] ^ (static_cast<std::uint64_t>(slot_of_[p[1]]) << 7);
+    checksum += sum;
+  }
+  void collect(std::vector<PairCode>* out) const override {
+    std::size_t count = 0, stride = 0;
+    const std::int32_t* p = sap_.pairs(&count, &stride);
+    for (std::size_t k = 0; k < count; ++k, p += stride) out->push_back(pairCode(slot_of_[p[0]], slot_of_[p[1]]));
+  }
+  std::size_t reported() const override {
+    std::size_t count = 0, stride = 0;
+    sap_.pairs(&count, &stride);
+    return count;
+  }
+  bool rebuilt() const { return sap_.rebuilt(); }
+
+ private:
+  static std::array<double, 6> bounds(const wp::Aabb& b) {
+    return {b.lower.x(), b.lower.y(), b.lower.z(), b.upper.x(), b.upper.y(), b.upper.z()};
+  }
+  void create(const SceneState& s, int i) {
+    const std::int32_t id = sap_.create(bounds(s.box[i]).data());
+    if (static_cast<std::size_t>(id) >= slot_of_.size()) slot_of_.resize(id + 1, 0);
+    slot_of_[id] = static_cast<std::uint32_t>(i);
+    id_[i] = id;
+  }
+  wp_bench::BaselineSap sap_;
+  std::vector<std::int32_t> id_;
+  std::vector<std::uint32_t> slot_of_;
+};
+#endif
+
 // Base of the peers that keep their own copy of the boxes by slot and start from scratch.
 class ScratchPeer : public Peer {
  public:
@@ -1034,6 +1091,10 @@ struct PeerDef {
 std::vector<PeerDef> allPeers() {
   std::vector<PeerDef> peers;
   peers.push_back({"ours (SweepAndPrune)", [] { return std::make_unique<OursPeer>(); }, 1.3, 1 << 30});
+#ifdef WP_BENCH_BASELINE_SAP
+  // Another version's SweepAndPrune (say a branch under review), same process, same scenes.
+  peers.push_back({"ours as in the baseline (WP_BENCH_BASELINE)", [] { return std::make_unique<BaselinePeer>(); }, 1.3, 1 << 30});
+#endif
   peers.push_back({"sort-and-sweep (scratch)", [] { return std::make_unique<SortSweepPeer>(); }, 1.7, 1 << 30});
   peers.push_back({"brute force", [] { return std::make_unique<BrutePeer>(); }, 2.0, 1 << 30});
   peers.push_back({"CGAL box_self_intersection_d", [] { return std::make_unique<CgalPeer>(); }, 1.5, 1 << 30});
@@ -1285,6 +1346,9 @@ class Runner {
                 const std::map<int, std::vector<PairCode>>& reference, Slot* slot) {
     Result& r = slot->r;
     auto* ours = dynamic_cast<OursPeer*>(slot->peer.get());
+#ifdef WP_BENCH_BASELINE_SAP
+    auto* baseline = dynamic_cast<BaselinePeer*>(slot->peer.get());
+#endif
     heap::Scope scope(slot->owner);
     for (int b = 0; b < block && slot->done < slot->target; ++b) {
       const int c = slot->done++;
@@ -1300,6 +1364,9 @@ class Runner {
         slot->times.push_back(dt);
         slot->allocs += heap::g_count;
         if (ours && ours->broadPhase().stats().rebuilt) ++slot->rebuilds;
+#ifdef WP_BENCH_BASELINE_SAP
+        if (baseline && baseline->rebuilt()) ++slot->rebuilds;
+#endif
       }
       slot->timed += dt;
       // Warm-up cycles may be slower (the first moves of a fat-leaf tree re-insert every leaf).
@@ -1457,7 +1524,7 @@ std::string table(const ConfigDef& config, const std::vector<Result>& results, s
   for (const Result& r : results) {
     if (!r.ran) continue;
     if (best == 0.0 || r.median_us < best) best = r.median_us;
-    if (isOurs(r)) ours = r.median_us;
+    if (isOurs(r) && ours == 0.0) ours = r.median_us;  // the first "ours" row: this version
   }
   o << "### " << config.label << "\n\nReference: " << ref_pairs << " pairs at the first checked cycle.\n\n";
   o << "| peer | median µs | p99 µs | ns/body | pairs | allocs/cycle | peak heap MiB | vs reference | ×best | ×ours | cycles |\n";

@@ -6,6 +6,10 @@
 // (each link with the matching linear and angular velocity), plus N tracked objects (people
 // 0.5 x 0.5 x 1.8 m, every tenth a 2.4 x 1.2 x 2.0 m forklift) walking at 0.3-1.5 m/s in a
 // 16 m square around it, bouncing at the walls, margins 0.2 / 0.3 / 0.02 m. 30 Hz steps.
+// Second table: the node's load as scripts/bench-node makes it (load_generator's walkers: N
+// upright boxes, people 0.5 x 0.5 x 1.8 m and every tenth a 2.4 x 1.2 x 2.0 m forklift, at
+// 0.3-1.5 m/s in a square of side 3 sqrt(N) m, the node's label margins 0.2 / 0.3 m, no
+// robot), horizon 2 s: the node's predict stage without ROS.
 
 #include <algorithm>
 #include <chrono>
@@ -38,16 +42,58 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
 }
 
-Result run(int links, int objects, double horizon, int cycles) {
-  wp::WorldConfig config;
-  config.time_pair_stages = true;  // the stage split is what this benchmark reports
-  wp::ProximityWorld world(config);
-  wp_test::RobotCell cell(&world, links, objects);
+// load_generator's walkers (src/tools/load_generator.cpp) as the node turns them into bodies.
+class NodeWalkers {
+ public:
+  NodeWalkers(wp::ProximityWorld* world, int count, std::uint32_t seed = 11)
+      : world_(world), half_(1.5 * std::sqrt(static_cast<double>(count))) {
+    wp_test::Rng rng(seed);
+    for (int i = 0; i < count; ++i) {
+      const bool forklift = i % 10 == 0;
+      const double heading = rng.uniform(0, 2 * M_PI), speed = rng.uniform(0.3, 1.5);
+      Walker w;
+      w.position = Eigen::Vector3d(rng.uniform(-half_, half_), rng.uniform(-half_, half_),
+                                   forklift ? 1.0 : 0.9);
+      w.velocity = Eigen::Vector3d(speed * std::cos(heading), speed * std::sin(heading), 0.0);
+      w.handle = world->addBody({"walker_" + std::to_string(i), forklift ? "forklift" : "person",
+                                 wp::BodyGroup::kObject,
+                                 wp::Shape::box(forklift ? Eigen::Vector3d(1.2, 0.6, 1.0)
+                                                         : Eigen::Vector3d(0.25, 0.25, 0.9)),
+                                 forklift ? 0.3 : 0.2},
+                                wp::BodyMotion());
+      walkers_.push_back(w);
+    }
+  }
+  void step(double dt) {
+    for (Walker& w : walkers_) {
+      w.position += w.velocity * dt;
+      for (int k = 0; k < 2; ++k) {
+        if (std::abs(w.position[k]) > half_) w.velocity[k] = -w.velocity[k];
+      }
+      wp::BodyMotion m;
+      m.position = w.position;
+      m.linear_velocity = w.velocity;
+      world_->setMotion(w.handle, m);
+    }
+  }
+
+ private:
+  struct Walker {
+    Eigen::Vector3d position, velocity;
+    wp::BodyHandle handle;
+  };
+  wp::ProximityWorld* world_;
+  double half_;
+  std::vector<Walker> walkers_;
+};
+
+template <class Scene>
+Result measure(wp::ProximityWorld& world, Scene&& step, double horizon, int cycles) {
   std::vector<double> total;
-  Result r{links, objects, horizon, 0, 0, {0, 0, 0, 0, 0}, 0, 0, 0, 0};
+  Result r{0, 0, horizon, 0, 0, {0, 0, 0, 0, 0}, 0, 0, 0, 0};
   const int warmup = 30;
   for (int c = 0; c < warmup + cycles; ++c) {
-    cell.step(c / 30.0, 1.0 / 30.0);
+    step(c);
     const auto start = std::chrono::steady_clock::now();
     world.predict(horizon);
     const double us =
@@ -65,6 +111,27 @@ Result run(int links, int objects, double horizon, int cycles) {
   }
   r.median_us = percentile(total, 0.5);
   r.p99_us = percentile(total, 0.99);
+  return r;
+}
+
+Result run(int links, int objects, double horizon, int cycles) {
+  wp::WorldConfig config;
+  config.time_pair_stages = true;  // the stage split is what this benchmark reports
+  wp::ProximityWorld world(config);
+  wp_test::RobotCell cell(&world, links, objects);
+  Result r = measure(world, [&](int c) { cell.step(c / 30.0, 1.0 / 30.0); }, horizon, cycles);
+  r.links = links;
+  r.objects = objects;
+  return r;
+}
+
+Result runWalkers(int count, double horizon, int cycles, bool stage_timers) {
+  wp::WorldConfig config;
+  config.time_pair_stages = stage_timers;
+  wp::ProximityWorld world(config);
+  NodeWalkers walkers(&world, count);
+  Result r = measure(world, [&](int) { walkers.step(1.0 / 30.0); }, horizon, cycles);
+  r.objects = count;
   return r;
 }
 
@@ -197,14 +264,17 @@ int main(int argc, char** argv) {
   std::string out;
   int cycles = 600;
   bool joints_only = false;  // only the joint-space rows (issue 10)
+  bool walkers_only = false;  // only the node's load (issue 14)
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc) out = argv[++i];
     else if (a == "--quick") cycles = 150;
     else if (a == "--joints-only") joints_only = true;
+    else if (a == "--walkers") walkers_only = true;
   }
   std::ostringstream md;
-  if (!joints_only) {
+  const bool cell_rows = !joints_only && !walkers_only;
+  if (cell_rows) {
     md << "# Pipeline benchmark (robot cell through the whole core)\n\n"
        << "Per cycle, after 30 warm-up cycles, " << cycles << " cycles each. Stage times are "
         "means; the stage timers themselves cost a little.\n\n"
@@ -213,7 +283,7 @@ int main(int argc, char** argv) {
        << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   }
   for (int links : {30, 60}) {
-    if (joints_only) break;
+    if (!cell_rows) break;
     for (int objects : {10, 100, 200}) {
       for (double horizon : {0.0, 0.5, 2.0}) {
         const Result r = run(links, objects, horizon, cycles);
@@ -229,9 +299,31 @@ int main(int argc, char** argv) {
       }
     }
   }
+  if (!joints_only) {
+    md << "\n## The node's load: load_generator's walkers, horizon 2 s\n\n"
+       << "What `scripts/bench-node` feeds the node (no robot; see the top of pipeline_bench.cpp), "
+          "through the core alone. predict = median of ProximityWorld::predict per cycle without "
+          "the per-pair stage timers, as the node runs it; the stage split (means) comes from a "
+          "second run with them.\n\n"
+       << "| objects | predict median µs | predict p99 µs | bounds | broad | axis TOI | narrow | "
+          "events | broad pairs | candidates | contacts | distance queries |\n"
+       << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (int count : {100, 1000, 2000}) {
+      const Result plain = runWalkers(count, 2.0, cycles, false);
+      const Result r = runWalkers(count, 2.0, cycles, true);
+      char line[512];
+      std::snprintf(line, sizeof line,
+                    "| %d | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.0f | %.0f | %.0f | %.0f |\n",
+                    count, plain.median_us, plain.p99_us, r.stage_us[0], r.stage_us[1], r.stage_us[2],
+                    r.stage_us[3], r.stage_us[4], r.pairs, r.candidates, r.contacts, r.queries);
+      md << line;
+      std::fputs(line, stderr);
+    }
+  }
   // The arm from its joints (issue 10): cost per cycle, arm posing included, against the same
   // arm as constant twists.
-  md << "\n## Robot cell with joint-space prediction\n\n"
+  if (!walkers_only) {
+    md << "\n## Robot cell with joint-space prediction\n\n"
      << "The arm posed every cycle (included in the time): constant twists per link (setMotion, "
         "as from tf) or the JointPredictor's keyframed paths from the chains' joint readings "
         "(setPath; ~joint_path_tolerance 0.01 m, at most 16 segments). Target: joint-space at "
@@ -239,7 +331,9 @@ int main(int argc, char** argv) {
      << "| links | objects | horizon s | constant twist median µs | p99 µs | joint-space median µs "
         "| p99 µs | ratio of medians | median paired ratio | segments | broad pairs twist / joint | contacts twist / joint |\n"
      << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  }
   for (int objects : {100, 200}) {
+    if (walkers_only) break;
     for (double horizon : {0.5, 2.0}) {
       const ArmResult a = runArm(60, objects, horizon, cycles);
       char line[512];
