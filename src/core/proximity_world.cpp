@@ -227,8 +227,11 @@ void ProximityWorld::setGrowth(BodyHandle body, const MarginGrowth& growth) {
     throw std::invalid_argument("ProximityWorld::setGrowth: body '" + b.desc.id +
                                 "' has a negative, non-finite or out-of-range margin growth");
   }
+  const bool grows = !growth.none();
   b.growth = growth;
-  b.grows = !growth.none();
+  // Tracks set their growth every cycle: one that neither grew nor grows keeps its bounds.
+  if (!grows && !b.grows) return;
+  b.grows = grows;
   b.dirty = true;
 }
 
