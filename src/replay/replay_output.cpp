@@ -61,6 +61,17 @@ void appendNumber(std::string* line, double v, const char* format = "%.6f") {
   *line += buf;
 }
 
+// The next field of a row: a comma, then the field.
+void nextField(std::string* line, const std::string& s) {
+  line->push_back(',');
+  appendField(line, s);
+}
+
+void nextNumber(std::string* line, double v) {
+  line->push_back(',');
+  appendNumber(line, v);
+}
+
 // "1795429779.220000000": exact, whatever the epoch.
 void appendStamp(std::string* line, Stamp s) {
   char buf[48];
@@ -159,22 +170,14 @@ void ReplayWriter::onCycle(const CycleReport& report, const ContactEventArray& c
     l = stamp_t;
     l.push_back(',');
     l += stateName(e.state);
-    l.push_back(',');
-    appendField(&l, e.id_a);
-    l.push_back(',');
-    appendField(&l, e.id_b);
-    l.push_back(',');
-    appendField(&l, e.label_a);
-    l.push_back(',');
-    appendField(&l, e.label_b);
-    l.push_back(',');
-    appendNumber(&l, e.time_to_contact);
-    l.push_back(',');
-    appendNumber(&l, e.time_to_separation);
-    l.push_back(',');
-    appendNumber(&l, e.distance);
-    l.push_back(',');
-    appendNumber(&l, e.closing_speed);
+    nextField(&l, e.id_a);
+    nextField(&l, e.id_b);
+    nextField(&l, e.label_a);
+    nextField(&l, e.label_b);
+    nextNumber(&l, e.time_to_contact);
+    nextNumber(&l, e.time_to_separation);
+    nextNumber(&l, e.distance);
+    nextNumber(&l, e.closing_speed);
     l.push_back(',');
     l += levelName(e.level);
     l += e.stale ? ",1\n" : ",0\n";
@@ -198,22 +201,15 @@ void ReplayWriter::onCycle(const CycleReport& report, const ContactEventArray& c
   // (empty fields when it is off, or for the pair when nothing is within reach).
   const SsmVerdict& v = report.ssm;
   if (v.enabled) {
-    l.push_back(',');
-    appendNumber(&l, v.speed_scale);
-    l.push_back(',');
-    appendNumber(&l, v.raw_scale);
+    nextNumber(&l, v.speed_scale);
+    nextNumber(&l, v.raw_scale);
     const ProximityWorld& world = monitor.world();
     if (v.limited && world.contains(v.robot) && world.contains(v.object)) {
-      l.push_back(',');
-      appendField(&l, world.desc(v.robot).id);
-      l.push_back(',');
-      appendField(&l, world.desc(v.object).id);
-      l.push_back(',');
-      appendNumber(&l, v.separation);
-      l.push_back(',');
-      appendNumber(&l, v.required_separation);
-      l.push_back(',');
-      appendNumber(&l, v.approach_speed);
+      nextField(&l, world.desc(v.robot).id);
+      nextField(&l, world.desc(v.object).id);
+      nextNumber(&l, v.separation);
+      nextNumber(&l, v.required_separation);
+      nextNumber(&l, v.approach_speed);
     } else {
       l += ",,,,,";
     }
