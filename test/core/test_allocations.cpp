@@ -1,40 +1,18 @@
 // Steady-state cycles of the broad phase and of event tracking allocate nothing.
-// Every global operator new in this test binary is counted.
+// Every global operator new in this test binary is counted (test/shared/allocation_counter).
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
-#include <new>
 #include <algorithm>
 #include <vector>
 
+#include "allocation_counter.hpp"
 #include "random.hpp"
 #include "scenes.hpp"
 #include "workspace_proximity/event_tracker.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 #include "workspace_proximity/sweep_and_prune.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-// malloc/free behind replaced global new/delete: GCC's -Wmismatched-new-delete cannot see
-// that they pair up.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
 
 namespace wp = workspace_proximity;
 
@@ -88,14 +66,14 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
   for (int i = 0; i < 5; ++i) cycle(20.0, true);
   for (int i = 0; i < 50; ++i) cycle(0.05, true);
 
-  const long before = g_allocations.load();
+  const long before = wp_test::allocationCount();
   bool rebuilt = false;
   for (int i = 0; i < 200; ++i) {
     cycle(i % 50 == 0 ? 20.0 : 0.05, true);
     rebuilt |= sap.stats().rebuilt;
   }
   EXPECT_TRUE(rebuilt);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(wp_test::allocationCount() - before, 0);
 }
 
 TEST(Allocations, EventTrackerSteadyStateAllocatesNothing) {
@@ -119,9 +97,9 @@ TEST(Allocations, EventTrackerSteadyStateAllocatesNothing) {
     tracker.endCycle();
   };
   for (int i = 0; i < 500; ++i) cycle();
-  const long before = g_allocations.load();
+  const long before = wp_test::allocationCount();
   for (int i = 0; i < 2000; ++i) cycle();
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(wp_test::allocationCount() - before, 0);
 }
 
 // The whole pipeline, FCL narrow phase included, while bodies are predicted to meet but do
@@ -141,10 +119,10 @@ TEST(Allocations, WorldPredictAllocatesNothingWhileNothingOverlapsYet) {
     predicted += world.stats().contacts;
   };
   for (int k = 0; k < 100; ++k) cycle(k);
-  const long before = g_allocations.load();
+  const long before = wp_test::allocationCount();
   for (int k = 100; k < 200; ++k) cycle(k);
   EXPECT_GT(predicted, 0);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(wp_test::allocationCount() - before, 0);
 }
 
 // The world's own pair cache (maintained from the broad phase's began and ended pairs), the
@@ -168,9 +146,9 @@ TEST(Allocations, WorldPairCacheAllocatesNothingWhilePairsComeAndGo) {
   began = ended = 0;
   broad_min = 1 << 30;
   broad_max = 0;
-  const long before = g_allocations.load();
+  const long before = wp_test::allocationCount();
   for (int k = 3000; k < 3600; ++k) cycle(k);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(wp_test::allocationCount() - before, 0);
   // The pair sets did change all along: the cache saw pairs begin and end.
   EXPECT_GT(began, 100);
   EXPECT_GT(ended, 100);
@@ -193,9 +171,9 @@ TEST(Allocations, WorldNearPairsAllocateNothing) {
   for (int k = 0; k < 3000; ++k) cycle(k);
   near_min = 1 << 30;
   near_max = 0;
-  const long before = g_allocations.load();
+  const long before = wp_test::allocationCount();
   for (int k = 3000; k < 3600; ++k) cycle(k);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(wp_test::allocationCount() - before, 0);
   EXPECT_GT(near_max, 0);
   EXPECT_GT(near_max - near_min, 2);  // pairs came and went
 }
@@ -221,9 +199,9 @@ TEST(Allocations, PathsAndGrowingMarginsAllocateNothing) {
   };
   for (int k = 0; k < 1500; ++k) cycle(k);
   contacts = 0;
-  const long before = g_allocations.load();
+  const long before = wp_test::allocationCount();
   for (int k = 1500; k < 1800; ++k) cycle(k);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(wp_test::allocationCount() - before, 0);
   EXPECT_GT(contacts, 3000);
 }
 

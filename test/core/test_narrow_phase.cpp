@@ -691,18 +691,25 @@ TEST(NarrowPhasePredict, TumblingBoxesWithMargins) {
   return ::testing::AssertionSuccess();
 }
 
+/// One pair predicted against the oracle: the prediction, whether the oracle saw contact, and
+/// then its bisected first and last contact times (s).
+struct OracleRun {
+  ContactPrediction p;
+  bool touches = false;
+  double first = 0.0, last = 0.0;
+};
+
 /// The pair predicted over [0, 1] against a sampled oracle: every sampled contact covered
-/// (zero false negatives). When the oracle sees contact (`*touches`), `first` and `last` get
-/// its bisected contact times.
+/// (zero false negatives). When the oracle sees contact (`run->touches`), `run->first` and
+/// `run->last` get its bisected contact times.
 ::testing::AssertionResult predictAgainstOracle(const NarrowPhase& phase, const MovingBody& a,
                                                 const MovingBody& b,
                                                 const std::function<bool(double)>& touching,
-                                                ContactPrediction* p, bool* touches,
-                                                double* first, double* last) {
-  *p = predict(a, b, 0.0, 1.0, phase);
-  const ::testing::AssertionResult covered = coversSampledContacts(*p, touching, touches);
-  if (!covered || !*touches) return covered;
-  if (!oracle::contactTimes(touching, 0.0, 1.0, 1e-3, first, last)) {
+                                                OracleRun* run) {
+  run->p = predict(a, b, 0.0, 1.0, phase);
+  const ::testing::AssertionResult covered = coversSampledContacts(run->p, touching, &run->touches);
+  if (!covered || !run->touches) return covered;
+  if (!oracle::contactTimes(touching, 0.0, 1.0, 1e-3, &run->first, &run->last)) {
     return ::testing::AssertionFailure() << "the oracle's samples and its bisection disagree";
   }
   return ::testing::AssertionSuccess();
@@ -729,12 +736,11 @@ void checkRandomPairs(unsigned seed, int pairs, ShapeOf shape_of, double max_mar
   for (int i = 0; i < pairs; ++i) {
     const MovingBody a = randomBody(rng, shape_of, (i % 2) ? max_margin : 0.0);
     const MovingBody b = randomBody(rng, shape_of, (i % 2) ? max_margin : 0.0);
-    ContactPrediction p;
-    bool any = false;
-    double first = 0.0, last = 0.0;
-    ASSERT_TRUE(predictAgainstOracle(phase, a, b, make_oracle(a, b), &p, &any, &first, &last))
-        << "pair " << i;
-    if (!any) {
+    OracleRun r;
+    ASSERT_TRUE(predictAgainstOracle(phase, a, b, make_oracle(a, b), &r)) << "pair " << i;
+    const ContactPrediction& p = r.p;
+    const double first = r.first, last = r.last;
+    if (!r.touches) {
       false_alarms += p.contact;
       continue;
     }
@@ -772,12 +778,11 @@ TEST(NarrowPhasePredict, RandomTranslatingBoxesHaveNoFalseNegatives) {
     const bool margins = i % 2 == 1;
     const MovingBody a = body(margins ? rng.uniform(0.0, 0.2) : 0.0);
     const MovingBody b = body(margins ? rng.uniform(0.0, 0.2) : 0.0);
-    ContactPrediction p;
-    bool any = false;
-    double first = 0.0, last = 0.0;
-    ASSERT_TRUE(predictAgainstOracle(phase, a, b, boxContactOracle(a, b), &p, &any, &first, &last))
-        << "pair " << i;
-    if (!any) continue;
+    OracleRun r;
+    ASSERT_TRUE(predictAgainstOracle(phase, a, b, boxContactOracle(a, b), &r)) << "pair " << i;
+    const ContactPrediction& p = r.p;
+    const double first = r.first, last = r.last;
+    if (!r.touches) continue;
     ++with_contact;
     tight_first += p.time_to_contact >= first - 1e-3;
     if (!margins) {
@@ -826,12 +831,11 @@ TEST(UprightBoxes, RandomYawingAndTranslatingPairsHaveNoFalseNegatives) {
     MovingBody b = upright_body(rng, max_margin);
     if (i % 3 == 0) b.motion.angular_velocity.setZero();  // one translating
     if (i % 6 == 0) a.motion.angular_velocity.setZero();  // both: moving axis test + advancement
-    ContactPrediction p;
-    bool any = false;
-    double first = 0.0, last = 0.0;
-    ASSERT_TRUE(predictAgainstOracle(phase, a, b, boxContactOracle(a, b), &p, &any, &first, &last))
-        << "pair " << i;
-    if (!any) continue;
+    OracleRun r;
+    ASSERT_TRUE(predictAgainstOracle(phase, a, b, boxContactOracle(a, b), &r)) << "pair " << i;
+    const ContactPrediction& p = r.p;
+    const double first = r.first, last = r.last;
+    if (!r.touches) continue;
     ++with_contact;
     EXPECT_LE(p.time_to_contact, first) << "pair " << i;
     EXPECT_GE(p.time_to_separation, last) << "pair " << i;

@@ -6,8 +6,6 @@
 // differences, stale and missing readings, plan checks and the contradiction rule.
 
 #include <cmath>
-#include <cstdlib>
-#include <new>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -15,24 +13,10 @@
 
 #include <gtest/gtest.h>
 
+#include "allocation_counter.hpp"  // test/shared
 #include "workspace_proximity/monitor/joint_predictor.hpp"
 
 namespace wp = workspace_proximity;
-
-// Heap allocations in this binary, counted (the steady-state test below).
-namespace {
-std::size_t g_allocations = 0;
-}  // namespace
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -392,9 +376,9 @@ TEST(JointPredictor, SteadyStateCyclesAllocateNothing) {
     f.predictor.predict(now, 2.0, wp::BodyMotion());
   };
   for (int c = 0; c < 10; ++c) cycle(c);  // sizes the buffers
-  const std::size_t before = g_allocations;
+  const long before = wp_test::allocationCount();
   for (int c = 10; c < 200; ++c) cycle(c);
-  EXPECT_EQ(g_allocations - before, 0u);
+  EXPECT_EQ(wp_test::allocationCount() - before, 0);
   EXPECT_TRUE(f.predictor.hasPlan());
   EXPECT_EQ(f.predictor.body(2).state, wp::JointPathState::kMoving);
 }

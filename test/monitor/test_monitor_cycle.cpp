@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "monitor_scenes.hpp"  // test/shared
 #include "workspace_proximity/monitor/monitor.hpp"
 
 namespace wp = workspace_proximity;
@@ -25,22 +26,12 @@ bool mentions(const std::vector<std::string>& lines, const std::string& text) {
 }
 
 wp::MonitorParams params() {
-  wp::MonitorParams p;
-  p.horizon = 5.0;
-  p.robot_margin = 0.0;
-  p.labels["default"].margin = 0.0;
-  p.labels["person"] = wp::LabelSettings{0.0, 2.5, 0.5, 0.1, 0.05};
+  wp::MonitorParams p = wp_test::marginFreeParams(5.0, wp::LabelSettings{0.0, 2.5, 0.5, 0.1, 0.05});
   p.robot_thresholds = wp::LabelSettings{0.0, 1.0, 0.4, 0.1, 0.05};
   return p;
 }
 
-wp::RobotBodySpec post() {
-  wp::RobotBodySpec s;
-  s.name = "post";
-  s.frame = "base";
-  s.shape = wp::Shape::box({0.5, 0.5, 0.5});
-  return s;
-}
+wp::RobotBodySpec post() { return wp_test::robotBox("post", {0.5, 0.5, 0.5}); }
 
 struct Fixture {
   Fixture() : monitor(params(), {post()}, {"/boxes"}, false, nullptr), clock(&monitor.timing()) {}

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "monitor_scenes.hpp"  // test/shared
 #include "workspace_proximity/monitor/monitor.hpp"
 
 namespace wp = workspace_proximity;
@@ -24,23 +25,15 @@ constexpr wp::Stamp kT0 = 1000 * kSecond;
 
 wp::Stamp at(double seconds) { return kT0 + wp::nanoseconds(seconds); }
 
+// ~ssm/ with the defaults: T_r 0.1, T_s 0.3, C 0.1, Z_d 0.1, Z_r 0.02.
 wp::MonitorParams params() {
-  wp::MonitorParams p;
-  p.horizon = 2.0;
-  p.robot_margin = 0.0;
-  p.labels["default"].margin = 0.0;
-  p.labels["person"] = wp::LabelSettings{0.0, 1.0, 0.4, 0.5, 0.2};
-  return p;  // ~ssm/ with the defaults: T_r 0.1, T_s 0.3, C 0.1, Z_d 0.1, Z_r 0.02
+  return wp_test::marginFreeParams(2.0, wp::LabelSettings{0.0, 1.0, 0.4, 0.5, 0.2});
 }
 
+// The bridge would apply the offset; here the body's pose is its centre.
 wp::RobotBodySpec box(const std::string& name, const Eigen::Vector3d& centre,
                       const Eigen::Vector3d& half) {
-  wp::RobotBodySpec s;
-  s.name = name;
-  s.frame = "base";
-  s.shape = wp::Shape::box(half);
-  s.offset.translation() = centre;  // the bridge would apply it; here the pose is the centre
-  return s;
+  return wp_test::robotBox(name, half, centre);
 }
 
 struct Person {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "monitor_scenes.hpp"  // test/shared
 #include "workspace_proximity/monitor/monitor.hpp"
 #include "workspace_proximity/monitor/track_growth.hpp"
 
@@ -28,12 +29,7 @@ constexpr double kEarly = 2e-5;  // s
 constexpr double kLate = 1e-9;   // s, rounding only
 
 wp::MonitorParams params(const wp::LabelSettings& person) {
-  wp::MonitorParams p;
-  p.horizon = 5.0;
-  p.robot_margin = 0.0;
-  p.labels["default"].margin = 0.0;
-  p.labels["person"] = person;
-  return p;
+  return wp_test::marginFreeParams(5.0, person);
 }
 
 wp::LabelSettings person(double velocity_error, double max_accel, double max_speed) {
@@ -47,13 +43,7 @@ wp::LabelSettings person(double velocity_error, double max_accel, double max_spe
 
 // A robot "wall": 1 m thick along x (faces at x = +-0.5), 100 m long along y, posed at the
 // origin and standing still.
-wp::RobotBodySpec wall() {
-  wp::RobotBodySpec s;
-  s.name = "wall";
-  s.frame = "base";
-  s.shape = wp::Shape::box({0.5, 50.0, 0.5});
-  return s;
-}
+wp::RobotBodySpec wall() { return wp_test::robotBox("wall", {0.5, 50.0, 0.5}); }
 
 struct Fixture {
   explicit Fixture(const wp::LabelSettings& p, const std::string& label = "person")
