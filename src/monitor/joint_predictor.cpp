@@ -460,7 +460,9 @@ void JointPredictor::predict(Stamp now, double horizon, const BodyMotion& base) 
     joint_ok_[j] = 0;
     velocity_ok_[j] = 0;
     if (!r.seen) {
-      joint_why_[j] = "no joint state for joint '" + joints[j].name + "' yet";
+      // Say how to get out of it: a URDF without a joint_states publisher is a common set-up.
+      joint_why_[j] = "no joint state for joint '" + joints[j].name +
+                      "' yet (joint_states not published? ~use_joint_states: false poses the links from tf)";
       continue;
     }
     const double age = secondsBetween(r.stamp, now);
