@@ -29,8 +29,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (Collector, DiagnosticsCollector, TrackedBox,  # noqa: E402
-                             TrackedBoxArray, diag_values)
+from wp_node_testlib import (DiagnosticsCollector, TrackedBox, TrackedBoxArray,  # noqa: E402
+                             connected_collector, diag_values)
 
 ERROR = 2
 PERIOD_MS = 1.0
@@ -60,9 +60,8 @@ def heavy_scene():
 
 class DiagnosticsOverrunTest(unittest.TestCase):
     def test_error_on_overrun(self):
-        col = Collector()
         diags = DiagnosticsCollector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         pub = rospy.Publisher("tracked_objects", TrackedBoxArray, queue_size=1)
         scene = heavy_scene()
         stop = threading.Event()

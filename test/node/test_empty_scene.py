@@ -15,7 +15,7 @@ import rospy  # noqa: E402
 import rostest  # noqa: E402
 from visualization_msgs.msg import Marker  # noqa: E402
 
-from wp_node_testlib import Collector, check_array_basics, degraded_about  # noqa: E402
+from wp_node_testlib import (check_array_basics, connected_collector, degraded_about)  # noqa: E402
 
 RATE = 20.0
 WINDOW = 3.0
@@ -23,8 +23,7 @@ WINDOW = 3.0
 
 class EmptySceneTest(unittest.TestCase):
     def test_empty_arrays_at_rate(self):
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         start = rospy.Time.now()
         rospy.sleep(WINDOW)
         end = rospy.Time.now()

@@ -19,9 +19,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (BEGIN, Collector, PlanarTransformed, ScenePublisher,  # noqa: E402
-                             Track, broadcast_static, check_array_basics, check_scene_events,
-                             events_for, state_sequence)
+from wp_node_testlib import (BEGIN, PlanarTransformed, ScenePublisher, Track,  # noqa: E402
+                             broadcast_static, check_array_basics, check_scene_events,
+                             connected_collector, events_for, state_sequence)
 
 HORIZON = 2.0
 LATENCY = 0.05
@@ -31,8 +31,7 @@ class EventLifecycleTest(unittest.TestCase):
     def test_begin_ongoing_end(self):
         tf_pub = broadcast_static([("world", "tracker", (10.0, 0.0, 0.0),
                                     (0.0, 0.0, 1.5707963267948966))])
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         a = Track("box_a", "default", (0.0, 0.0, 0.0), (1, 1, 1))
         b = Track("box_b", "default", (-4.0, 0.0, 0.0), (1, 1, 1), (1.0, 0.0, 0.0))
         scene = ScenePublisher("tracked_objects", [a, b], frame_id="tracker", latency=LATENCY)

@@ -31,10 +31,10 @@ import rospy  # noqa: E402
 import rostest  # noqa: E402
 from geometry_msgs.msg import Vector3  # noqa: E402
 
-from wp_node_testlib import (END, TIME_TOL, Collector, DiagnosticsCollector,  # noqa: E402
-                             Track, TrackedBoxArray, aabb_prediction, check_array_basics,
-                             check_event_numbers, check_face_contact, diag_values,
-                             events_for, fmt_event)
+from wp_node_testlib import (END, TIME_TOL, DiagnosticsCollector, Track,  # noqa: E402
+                             TrackedBoxArray, aabb_prediction, check_array_basics,
+                             check_event_numbers, check_face_contact, connected_collector,
+                             diag_values, events_for, fmt_event)
 
 HORIZON = 10.0
 RATE = 30.0
@@ -101,9 +101,8 @@ class Flooder(object):
 
 class FloodTest(unittest.TestCase):
     def test_flood(self):
-        col = Collector()
         diags = DiagnosticsCollector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         a = Track("a", "default", (-5.0, 0.0, 0.0), (1, 1, 1), (0.5, 0.0, 0.0))
         b = Track("b", "default", (5.0, 0.0, 0.0), (1, 1, 1), (-0.5, 0.0, 0.0))
         probe = NoVelocity("probe", "default", (-4.5, 5.0, 0.0), (1, 1, 1), (PROBE_V, 0, 0))

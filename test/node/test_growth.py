@@ -14,7 +14,6 @@ stamp of the array the node used: the predicted instant (header.stamp + time_to_
 must be S + T for one of the published stamps S (within 2 ms; the array's period is 50 ms),
 never later, and the distance then is gap - R(header.stamp - S) for that same S.
 """
-import math
 import os
 import sys
 import unittest
@@ -24,8 +23,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, Collector, ScenePublisher, Track,  # noqa: E402
-                             broadcast_static, check_array_basics, fmt_event)
+from wp_node_testlib import (END, ScenePublisher, Track, broadcast_static,  # noqa: E402
+                             check_array_basics, connected_collector, fmt_event)
 
 MATCH_TOL = 2e-3   # s: which published stamp the node used
 LATE_TOL = 1e-6    # s: never late (the narrow phase stops within 1e-5 m, i.e. early)
@@ -53,8 +52,7 @@ class RecordingPublisher(ScenePublisher):
 class GrowthTest(unittest.TestCase):
     def test_growth(self):
         tf_pub = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         cube = (1.0, 1.0, 1.0)
         tracks = [
             Track("p", "person", (0.5 + 1.6 + 0.5, 0.0, 1.0), cube),

@@ -18,19 +18,17 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (BEGIN, END, TIME_TOL, Collector, ContactEventArray,  # noqa: E402
-                             ScenePublisher, Track,
-                             aabb_prediction, check_array_basics, check_face_contact,
-                             events_for, expected_level, fmt_event, node_labels,
-                             state_sequence)
+from wp_node_testlib import (BEGIN, END, TIME_TOL, ContactEventArray, ScenePublisher,  # noqa: E402
+                             Track, aabb_prediction, check_array_basics, check_face_contact,
+                             connected_collector, events_for, expected_level, fmt_event,
+                             node_labels, state_sequence)
 
 HORIZON = 10.0
 
 
 class HeadOnTest(unittest.TestCase):
     def test_head_on_analytic(self):
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         half = (0.5, 0.5, 0.5)
         thresholds = node_labels()["default"]
         a = Track("a", "default", (-2.5, 0.3, 1.0), (1, 1, 1), (1.0, 0.0, 0.0))

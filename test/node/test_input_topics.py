@@ -17,8 +17,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (Collector, ScenePublisher, Track, check_array_basics,  # noqa: E402
-                             check_scene_events, degraded_about, events_for, fmt_event)
+from wp_node_testlib import (ScenePublisher, Track, check_array_basics,  # noqa: E402
+                             check_scene_events, connected_collector, degraded_about, events_for,
+                             fmt_event)
 
 HORIZON = 5.0
 LEFT, RIGHT = "/cam_left/7", "/cam_right/objects/7"
@@ -36,8 +37,7 @@ class Renamed(object):
 
 class InputTopicsTest(unittest.TestCase):
     def test_two_topics_same_id(self):
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         left = Track("7", "default", (-2.0, 0.0, 0.0), (1, 1, 1), (1.0, 0.0, 0.0))
         right = Track("7", "default", (2.0, 0.0, 0.0), (1, 1, 1))
         stray = Track("8", "default", (0.0, 0.0, 0.0), (1, 1, 1))

@@ -24,8 +24,9 @@ import rostest  # noqa: E402
 
 from wp_joint_testlib import (OBJ_HALF, OBJ_R, OMEGA, JointStatePublisher,  # noqa: E402
                               contact_angle, straight_line_contact)
-from wp_node_testlib import (END, Collector, ContactEventArray, ScenePublisher,  # noqa: E402
-                             Track, check_array_basics, degraded_about, events_for, fmt_event)
+from wp_node_testlib import (END, ContactEventArray, ScenePublisher, Track,  # noqa: E402
+                             check_array_basics, connected_collector, degraded_about, events_for,
+                             fmt_event)
 
 import math  # noqa: E402
 
@@ -48,8 +49,7 @@ class JointSwingTest(unittest.TestCase):
         self.assertLess(contact_angle(PHI), PHI)
         self.assertGreater(contact_angle(PHI), LIMIT, "the stopped arm must stay clear")
 
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         scene = ScenePublisher("tracked_objects", [box_on_arc("obj", 0.0), box_on_arc("obj2", 2.0)],
                                latency=0.05)
         scene.start(rospy.Time.now())

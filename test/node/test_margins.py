@@ -20,8 +20,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (Collector, StaticBody, Track, broadcast_static,  # noqa: E402
-                             check_array_basics, check_scene_events, node_labels, run_scene)
+from wp_node_testlib import (StaticBody, Track, broadcast_static, check_array_basics,  # noqa: E402
+                             check_scene_events, connected_collector, node_labels, run_scene)
 
 HORIZON = 5.0
 
@@ -40,8 +40,7 @@ class Inflated(object):
 class MarginsTest(unittest.TestCase):
     def test_margins(self):
         tf_pub = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         pillar = StaticBody("pillar", "robot", (0.0, 0.0, 1.0), (0.2, 0.2, 1.0))
         tracks = [
             Track("walker", "person", (-2.45, 0.0, 1.0), (0.5, 0.5, 0.5), (0.5, 0.0, 0.0)),

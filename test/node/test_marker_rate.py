@@ -13,15 +13,14 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import Collector, ScenePublisher, Track  # noqa: E402
+from wp_node_testlib import (ScenePublisher, Track, connected_collector)  # noqa: E402
 
 RATE, MARKER_RATE, WINDOW = 20.0, 5.0, 4.0
 
 
 class MarkerRateTest(unittest.TestCase):
     def test_markers_throttled(self):
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         box = Track("box", "default", (0.0, 0.0, 0.5), (1, 1, 1), (0.3, 0.0, 0.0))
         scene = ScenePublisher("tracked_objects", [box])
         scene.start()

@@ -26,9 +26,9 @@ import rospy  # noqa: E402
 import rostest  # noqa: E402
 from visualization_msgs.msg import Marker  # noqa: E402
 
-from wp_node_testlib import (MARKER_NAMESPACES, Collector, ScenePublisher, StaticBody,  # noqa: E402
-                             Track, broadcast_static, check_array_basics, events_for, pt,
-                             vnorm, vsub)
+from wp_node_testlib import (MARKER_NAMESPACES, ScenePublisher, StaticBody, Track,  # noqa: E402
+                             broadcast_static, check_array_basics, connected_collector, events_for,
+                             pt, vnorm, vsub)
 
 LIFETIME = 0.7
 
@@ -36,8 +36,7 @@ LIFETIME = 0.7
 class MarkersTest(unittest.TestCase):
     def test_markers(self):
         tf_pub = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         column = StaticBody("column", "robot", (0.0, 0.0, 1.0), (0.2, 0.2, 1.0))
         walker = Track("walker", "default", (-2.45, 0.0, 1.0), (0.5, 0.5, 0.5), (0.5, 0.0, 0.0))
         crate = Track("crate", "default", (5.0, 5.0, 0.5), (1, 1, 1))

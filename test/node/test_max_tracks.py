@@ -17,8 +17,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, TIME_TOL, Collector, ScenePublisher, Track,  # noqa: E402
-                             broadcast_static, check_array_basics, events_for, fmt_event)
+from wp_node_testlib import (END, TIME_TOL, ScenePublisher, Track, broadcast_static,  # noqa: E402
+                             check_array_basics, connected_collector, events_for, fmt_event)
 
 NEAR = "/src_b/near"
 
@@ -26,8 +26,7 @@ NEAR = "/src_b/near"
 class MaxTracksTest(unittest.TestCase):
     def test_nearest_tracks_win(self):
         tf_pub = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         far = ScenePublisher("src_a", [Track("f1", "default", (30.0, 0.0, 1.0), (1, 1, 1)),
                                        Track("f2", "default", (-30.0, 0.0, 1.0), (1, 1, 1))],
                              latency=0.05)

@@ -16,14 +16,13 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, Collector, Track,  # noqa: E402
-                             check_array_basics, events_for, fmt_event, run_scene)
+from wp_node_testlib import (END, Track, check_array_basics, connected_collector,  # noqa: E402
+                             events_for, fmt_event, run_scene)
 
 
 class NearMissTest(unittest.TestCase):
     def test_near_miss_gives_no_event(self):
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         tracks = [
             Track("miss_a", "default", (0.0, 0.0, 0.0), (1, 1, 1)),
             Track("miss_b", "default", (-2.0, 4.05, 0.0), (1, 1, 1), (1.0, -1.0, 0.0)),

@@ -21,8 +21,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (Collector, StaticBody, Track, broadcast_static,  # noqa: E402
-                             check_array_basics, check_scene_events, fmt_event, node_labels,
+from wp_node_testlib import (StaticBody, Track, broadcast_static, check_array_basics,  # noqa: E402
+                             check_scene_events, connected_collector, fmt_event, node_labels,
                              run_scene)
 
 HORIZON = 5.0
@@ -34,8 +34,7 @@ class RobotBodiesYamlTest(unittest.TestCase):
             ("world", "base_link", (0.0, 0.0, 0.5), (0.0, 0.0, 0.0)),
             ("base_link", "tool0", (0.0, 0.0, 1.0), (0.0, 0.0, 1.5707963267948966)),
         ])
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         gripper = StaticBody("gripper", "robot", (0.0, 0.1, 1.5), (0.1, 0.2, 0.1))
         base = StaticBody("base", "robot", (0.0, 0.0, 0.5), (0.5, 0.5, 0.5))
         flange = StaticBody("flange", "robot", (0.0, 0.0, 1.5), (0.05, 0.05, 0.05))

@@ -24,10 +24,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, TIME_TOL, Collector, ContactEventArray,  # noqa: E402
-                             ScenePublisher, TfBroadcaster, Track, check_array_basics,
-                             degraded_about,
-                             events_for, fmt_event, state_sequence)
+from wp_node_testlib import (END, TIME_TOL, ContactEventArray, ScenePublisher,  # noqa: E402
+                             TfBroadcaster, Track, check_array_basics, connected_collector,
+                             degraded_about, events_for, fmt_event, state_sequence)
 
 SLIDER_SPEED = 0.5
 OBJ_SPEED = 0.2
@@ -38,8 +37,7 @@ TF_TIMEOUT = 0.5
 
 class RobotMovingTfTest(unittest.TestCase):
     def test_moving_robot_link(self):
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         # t0 lies 1 s ahead: the publishers connect and the node gathers tf history first.
         t0 = rospy.Time.now() + rospy.Duration(1.0)
         carriage = TfBroadcaster(

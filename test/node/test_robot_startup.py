@@ -20,8 +20,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, TIME_TOL, Collector, ContactEventArray,  # noqa: E402
-                             ScenePublisher, TfBroadcaster, Track, check_array_basics,
+from wp_node_testlib import (END, TIME_TOL, ContactEventArray, ScenePublisher,  # noqa: E402
+                             TfBroadcaster, Track, check_array_basics, connected_collector,
                              degraded_about, events_for, fmt_event)
 
 SPEED = 0.5
@@ -31,8 +31,7 @@ WINDOW = 0.5
 
 class RobotStartupTest(unittest.TestCase):
     def test_moving_link_at_start_is_never_read_as_still(self):
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         scene = ScenePublisher("tracked_objects", [Track("obj", "default", (2.0, 0.0, 0.0),
                                                          (1, 1, 1), (0.0, 0.0, 0.0))],
                                latency=0.05)

@@ -20,8 +20,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (Collector, StaticBody, Track, broadcast_static,  # noqa: E402
-                             check_array_basics, check_scene_events, fmt_event, run_scene)
+from wp_node_testlib import (StaticBody, Track, broadcast_static, check_array_basics,  # noqa: E402
+                             check_scene_events, connected_collector, fmt_event, run_scene)
 
 HORIZON = 5.0
 
@@ -36,8 +36,7 @@ class RobotUrdfTest(unittest.TestCase):
             ("base_link", "beam", (0.0, 3.0, 1.0), (0.0, 0.0, 1.5707963267948966)),
             ("base_link", "camera_link", (0.0, 0.0, 3.0), (0.0, 0.0, 0.0)),
         ])
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         robot = [
             StaticBody("base_link", "robot", (0.0, 0.0, 0.25), (0.3, 0.3, 0.25)),
             StaticBody("tool", "robot", (0.1, 0.0, 2.0), (0.1, 0.05, 0.05)),

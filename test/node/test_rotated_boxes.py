@@ -20,9 +20,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, TIME_TOL, Collector, Track,  # noqa: E402
-                             check_array_basics, events_for, fmt_event, pt, quat_from_rpy,
-                             vadd, vdot, vscale, run_scene)
+from wp_node_testlib import (END, TIME_TOL, Track, check_array_basics,  # noqa: E402
+                             connected_collector, events_for, fmt_event, pt, quat_from_rpy,
+                             run_scene, vadd, vdot, vscale)
 
 HORIZON = 5.0
 S = 1.0 / math.sqrt(2.0)
@@ -34,8 +34,7 @@ C = S + 0.1 + CUBE_GAP   # distance of the -45 degree stick's centre from the cu
 
 class RotatedBoxesTest(unittest.TestCase):
     def test_rotated_boxes(self):
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         q45 = quat_from_rpy(0, 0, math.pi / 4)
         qm45 = quat_from_rpy(0, 0, -math.pi / 4)
         stick = (3.0, 0.2, 0.2)

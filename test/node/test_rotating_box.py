@@ -18,8 +18,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, TIME_TOL, Collector, Track,  # noqa: E402
-                             check_array_basics, events_for, fmt_event, run_scene)
+from wp_node_testlib import (END, TIME_TOL, Track, check_array_basics,  # noqa: E402
+                             connected_collector, events_for, fmt_event, run_scene)
 
 HORIZON = 5.0
 HALF_L, HALF_W = 1.0, 0.05
@@ -50,8 +50,7 @@ YAW_SEPARATE = bisect(lambda y: reach(y) - FACE, 0.06, 1.2)
 class RotatingBoxTest(unittest.TestCase):
     def test_rotating_stick(self):
         self.assertAlmostEqual(YAW_CONTACT, -0.371, delta=2e-3)
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         stick = Track("stick", "default", (0.0, 0.0, 0.0), (2 * HALF_L, 2 * HALF_W, 0.1),
                       yaw=YAW0, yaw_rate=RATE)
         wall = Track("wall", "default", (FACE + 0.5, 0.0, 0.0), (1.0, 3.0, 1.0))

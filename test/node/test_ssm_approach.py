@@ -35,8 +35,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (END, Collector, SafetyStatus, ScenePublisher,  # noqa: E402
-                             SsmCollector, Track, aligned, broadcast_static, events_for,
+from wp_node_testlib import (END, SafetyStatus, ScenePublisher, SsmCollector, Track,  # noqa: E402
+                             aligned, broadcast_static, connected_collector, events_for,
                              ssm_required, ssm_scale)
 
 HOLD = 0.5
@@ -51,8 +51,7 @@ class SsmApproachTest(unittest.TestCase):
     def test_approach_stand_leave(self):
         tf_pub = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
         ssm = SsmCollector()
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         person = Track("p1", "person", (0.5 + 0.25 + 4.0, 0.0, 0.9), (0.5, 0.5, 1.8),
                        (-1.0, 0.0, 0.0))
         scene = ScenePublisher("tracked_objects", [person], latency=0.05)

@@ -25,8 +25,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (Collector, ContactEventArray, SafetyStatus,  # noqa: E402
-                             ScenePublisher, SsmCollector, TfBroadcaster, Track)
+from wp_node_testlib import (ContactEventArray, SafetyStatus, ScenePublisher,  # noqa: E402
+                             SsmCollector, TfBroadcaster, Track, connected_collector)
 
 CAP = 0.3
 
@@ -34,8 +34,7 @@ CAP = 0.3
 class SsmDegradedTest(unittest.TestCase):
     def test_degraded_caps_the_scale(self):
         ssm = SsmCollector()
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         carriage = TfBroadcaster("world", "carriage", lambda stamp: (0.0, 0.0, 0.0))
         person = Track("p1", "person", (5.0, 0.0, 0.9), (0.5, 0.5, 1.8))
         scene = ScenePublisher("tracked_objects", [person], latency=0.05)

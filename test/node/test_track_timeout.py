@@ -20,16 +20,15 @@ import rospy  # noqa: E402
 import rostest  # noqa: E402
 from visualization_msgs.msg import Marker  # noqa: E402
 
-from wp_node_testlib import (END, Collector, ScenePublisher, Track,  # noqa: E402
-                             check_array_basics, events_for, fmt_event, state_sequence)
+from wp_node_testlib import (END, ScenePublisher, Track, check_array_basics,  # noqa: E402
+                             connected_collector, events_for, fmt_event, state_sequence)
 
 BODY_NAMESPACES = ("bodies", "swept", "velocity")
 
 
 class TrackTimeoutTest(unittest.TestCase):
     def test_track_timeout(self):
-        col = Collector()
-        self.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+        col = connected_collector(self)
         anchor = Track("anchor", "default", (0.0, 0.0, 0.0), (1, 1, 1))
         mover = Track("mover", "default", (-4.0, 0.0, 0.0), (1, 1, 1), (1.0, 0.0, 0.0))
         far = Track("far", "default", (20.0, 20.0, 0.0), (1, 1, 1))

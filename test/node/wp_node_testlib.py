@@ -251,6 +251,14 @@ class ScenePublisher(object):
             self._thread.join(2.0)
 
 
+def connected_collector(tc, **kwargs):
+    """A Collector (Collector's arguments) once the node publishes contacts; the test `tc`
+    fails if it never does."""
+    col = Collector(**kwargs)
+    tc.assertTrue(col.wait_for_node(), "proximity_monitor published no contacts")
+    return col
+
+
 def run_scene(collector, tracks, seconds, skip, latency=0.05, topic="tracked_objects"):
     """Publishes `tracks` for `seconds` from t0 (when the node is connected) and returns
     (t0, the contact arrays stamped from t0 + skip on)."""
