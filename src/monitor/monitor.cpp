@@ -120,7 +120,7 @@ void Monitor::buildStatus(Stamp now) {
   // A source is silent after ~source_timeout, and never later than ~track_timeout: by then
   // its tracks are gone, and an empty scene from a silent source must not read as clear.
   sources_.silentLines(now, std::min(params_.source_timeout, params_.track_timeout),
-                       &report_.status_lines);
+                       params_.track_timeout, &report_.status_lines);
   robot_.statusLines(&report_.status_lines);
   for (const std::string& line : permanent_issues_) report_.status_lines.push_back(line);
   report_.degraded = !report_.status_lines.empty();

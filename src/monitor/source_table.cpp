@@ -43,13 +43,20 @@ Drop SourceTable::checkStamp(int i, Stamp stamp, Stamp now, double max_future,
   return Drop::kCount;
 }
 
-void SourceTable::silentLines(Stamp now, double silent_after, std::vector<std::string>* lines) const {
+void SourceTable::silentLines(Stamp now, double silent_after, double track_timeout,
+                              std::vector<std::string>* lines) const {
   for (const Source& s : sources_) {
     if (s.last_receipt == 0) {
       lines->push_back("source " + s.name + ": no data yet");
     } else if (secondsBetween(s.last_receipt, now) > silent_after) {
       lines->push_back("source " + s.name +
                        format(": no data for %.2f s", secondsBetween(s.last_receipt, now)));
+    } else if (s.last_stamp != 0 && secondsBetween(s.last_stamp, now) > track_timeout) {
+      // Its tracks expire by their stamps, which lag the arrays' arrival by the tracker's
+      // latency: on the same clock, so that an emptied scene is never read as clear.
+      lines->push_back("source " + s.name +
+                       format(": newest array stamped %.2f s ago (> ~track_timeout)",
+                              secondsBetween(s.last_stamp, now)));
     } else if (s.last_used == 0 || secondsBetween(s.last_used, now) > silent_after) {
       // Arrays arrive but none is used (an unreachable frame, bad stamps, only bad boxes):
       // as unknown as silence.

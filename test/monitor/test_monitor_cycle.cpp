@@ -119,6 +119,22 @@ TEST(MonitorCycle, StatusIsDegradedForEveryUnknownInputAndOkWhenAllIsFresh) {
   EXPECT_TRUE(f.monitor.world().motion(f.monitor.robot().handle(0)).linear_velocity.isZero());
 }
 
+TEST(MonitorCycle, ASilentSourceIsDegradedNoLaterThanItsTracksExpire) {
+  // Tracks expire by their stamps, the source's silence counts from the arrays' arrival: with a
+  // tracker latency of 0.1 s the person's track is gone 0.4 s after the last arrival, before
+  // min(source_timeout, track_timeout) = 0.5 s of silence. That emptied scene must not be clear.
+  Fixture f;
+  f.posePost();
+  f.person(5.0, 0.0, kT0 - kSecond / 10, kT0);
+  EXPECT_FALSE(f.cycle(kT0 + kSecond / 10).degraded);
+  f.posePost();
+  const wp::CycleReport& r = f.cycle(kT0 + 45 * kSecond / 100);
+  EXPECT_EQ(f.monitor.tracks().size(), 0);
+  EXPECT_TRUE(r.degraded);
+  EXPECT_TRUE(mentions(r.status_lines, "source /boxes: newest array stamped 0.55 s ago"))
+      << (r.status_lines.empty() ? "" : r.status_lines[0]);
+}
+
 TEST(MonitorCycle, ASourceWhoseArraysAreAllDroppedIsAsUnknownAsASilentOne) {
   Fixture f;
   f.posePost();

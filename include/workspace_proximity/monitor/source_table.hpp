@@ -51,7 +51,10 @@ class SourceTable {
   /// One status line per source that never sent anything, has been silent for more than
   /// `silent_after` seconds at `now`, or whose arrays have all been dropped for that long,
   /// appended to `lines`.
-  void silentLines(Stamp now, double silent_after, std::vector<std::string>* lines) const;
+  /// `track_timeout` (s): a source whose newest used array is stamped longer ago than this is
+  /// silent too (its tracks, which expire by stamp, are gone).
+  void silentLines(Stamp now, double silent_after, double track_timeout,
+                   std::vector<std::string>* lines) const;
 
   /// Forgets receipts, stamps and rates (after the clock went back).
   void reset();
