@@ -31,6 +31,28 @@ struct BoxScene {
   }
 };
 
+// The smallest and largest of the values seen.
+struct Range {
+  int lo = 1 << 30;
+  int hi = 0;
+  void see(int v) {
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  int spread() const { return hi - lo; }
+};
+
+// Runs `cycle(k)` for k < 3 000 (the warm-up reaches the peak counts), then `restart()` (what
+// the test counts starts again), then k = 3 000 ... 3 599; the heap allocations of those 600.
+template <class Cycle, class Restart>
+long steadyAllocations(Cycle&& cycle, Restart&& restart) {
+  for (int k = 0; k < 3000; ++k) cycle(k);
+  restart();
+  const long before = wp_test::allocationCount();
+  for (int k = 3000; k < 3600; ++k) cycle(k);
+  return wp_test::allocationCount() - before;
+}
+
 }  // namespace
 
 TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
@@ -132,27 +154,21 @@ TEST(Allocations, WorldPredictAllocatesNothingWhileNothingOverlapsYet) {
 TEST(Allocations, WorldPairCacheAllocatesNothingWhilePairsComeAndGo) {
   wp::ProximityWorld world;
   wp_test::RobotCell cell(&world, 30, 200);
-  int began = 0, ended = 0, broad_min = 1 << 30, broad_max = 0;
+  int began = 0, ended = 0;
+  Range broad;
   auto cycle = [&](int k) {
     cell.step(k / 30.0, 1.0 / 30.0);
     for (const wp::PairEvent& e : world.predict(2.0)) {
       began += e.state == wp::ContactState::kBegin;
       ended += e.state == wp::ContactState::kEnd;
     }
-    broad_min = std::min(broad_min, world.stats().broad_pairs);
-    broad_max = std::max(broad_max, world.stats().broad_pairs);
+    broad.see(world.stats().broad_pairs);
   };
-  for (int k = 0; k < 3000; ++k) cycle(k);
-  began = ended = 0;
-  broad_min = 1 << 30;
-  broad_max = 0;
-  const long before = wp_test::allocationCount();
-  for (int k = 3000; k < 3600; ++k) cycle(k);
-  EXPECT_EQ(wp_test::allocationCount() - before, 0);
+  EXPECT_EQ(steadyAllocations(cycle, [&] { began = ended = 0; broad = Range(); }), 0);
   // The pair sets did change all along: the cache saw pairs begin and end.
   EXPECT_GT(began, 100);
   EXPECT_GT(ended, 100);
-  EXPECT_GT(broad_max - broad_min, 10);
+  EXPECT_GT(broad.spread(), 10);
 }
 
 // The same cell with every link reaching 1.5 m (speed and separation monitoring's reach):
@@ -161,21 +177,15 @@ TEST(Allocations, WorldNearPairsAllocateNothing) {
   wp::ProximityWorld world;
   wp_test::RobotCell cell(&world, 30, 200);
   for (int i = 0; i < cell.linkCount(); ++i) world.setReach(cell.link(i), 1.5);
-  int near_min = 1 << 30, near_max = 0;
+  Range near;
   auto cycle = [&](int k) {
     cell.step(k / 30.0, 1.0 / 30.0);
     world.predict(2.0);
-    near_min = std::min(near_min, world.stats().near_pairs);
-    near_max = std::max(near_max, world.stats().near_pairs);
+    near.see(world.stats().near_pairs);
   };
-  for (int k = 0; k < 3000; ++k) cycle(k);
-  near_min = 1 << 30;
-  near_max = 0;
-  const long before = wp_test::allocationCount();
-  for (int k = 3000; k < 3600; ++k) cycle(k);
-  EXPECT_EQ(wp_test::allocationCount() - before, 0);
-  EXPECT_GT(near_max, 0);
-  EXPECT_GT(near_max - near_min, 2);  // pairs came and went
+  EXPECT_EQ(steadyAllocations(cycle, [&] { near = Range(); }), 0);
+  EXPECT_GT(near.hi, 0);
+  EXPECT_GT(near.spread(), 2);  // pairs came and went
 }
 
 // The same cell with the arm on keyframed paths (ten segments per link over the horizon) and

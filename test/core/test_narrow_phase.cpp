@@ -144,18 +144,27 @@ void expectOnBoxSurface(const Vector3d& p, const Obb& box, const char* which) {
   EXPECT_LE(pointBoxDepth(p, box), 1e-7) << which << " point inside its box";
 }
 
-void checkBoxPair(const NarrowPhase& phase, const Obb& a, const Obb& b) {
-  const double truth = boxBoxDistance(a, b);
-  const ShapeDistance d = boxDistance(phase, a, b);
+// A separated pair's answer against the oracle's distance `truth`: the distance within
+// `tolerance` (relative above 1 m), witness points on their boxes and `truth` apart, a unit
+// normal (within `unit_tolerance`) from a to b once the gap exceeds `direction_floor`.
+// Works for ShapeDistance and UprightBoxDistance alike.
+template <class Distance>
+void expectSeparatedAnswer(const Distance& d, const Obb& a, const Obb& b, double truth,
+                           double tolerance, double unit_tolerance, double direction_floor) {
   ASSERT_FALSE(d.overlapping);
-  ASSERT_NEAR(d.distance, truth, 1e-6 * std::max(1.0, truth));
+  ASSERT_NEAR(d.distance, truth, tolerance * std::max(1.0, truth));
   expectOnBoxSurface(d.point_a, a, "a");
   expectOnBoxSurface(d.point_b, b, "b");
-  EXPECT_NEAR((d.point_b - d.point_a).norm(), truth, 1e-6 * std::max(1.0, truth));
-  EXPECT_NEAR(d.normal.norm(), 1.0, 1e-9);
-  if (truth > 1e-6) {
+  EXPECT_NEAR((d.point_b - d.point_a).norm(), truth, tolerance * std::max(1.0, truth));
+  EXPECT_NEAR(d.normal.norm(), 1.0, unit_tolerance);
+  if (truth > direction_floor) {
     EXPECT_GT(d.normal.dot(d.point_b - d.point_a), 0.0);
   }
+}
+
+void checkBoxPair(const NarrowPhase& phase, const Obb& a, const Obb& b) {
+  const double truth = boxBoxDistance(a, b);
+  expectSeparatedAnswer(boxDistance(phase, a, b), a, b, truth, 1e-6, 1e-9, 1e-6);
 }
 
 TEST(NarrowPhaseDistance, RandomBoxPairsMatchExactOracle) {
@@ -440,13 +449,7 @@ TEST(UprightBoxes, RandomPairsMatchExactOracleAndFcl) {
     }
     const double truth = boxBoxDistance(a, b);
     if (truth < 1e-9) continue;  // touching: either verdict is right
-    ASSERT_FALSE(d.overlapping);
-    ASSERT_NEAR(d.distance, truth, 1e-9 * std::max(1.0, truth));
-    expectOnBoxSurface(d.point_a, a, "a");
-    expectOnBoxSurface(d.point_b, b, "b");
-    EXPECT_NEAR((d.point_b - d.point_a).norm(), truth, 1e-9 * std::max(1.0, truth));
-    EXPECT_NEAR(d.normal.norm(), 1.0, 1e-12);
-    EXPECT_GT(d.normal.dot(d.point_b - d.point_a), 0.0);
+    ASSERT_NO_FATAL_FAILURE(expectSeparatedAnswer(d, a, b, truth, 1e-9, 1e-12, 0.0));
     // FCL's GJK, straight: agrees within its own tolerance.
     fcl::DistanceRequestd request(true, false, 0.0, 0.0, 1e-9, fcl::GST_INDEP);
     fcl::DistanceResultd result;
@@ -512,6 +515,16 @@ TEST(UprightBoxes, OverlappingPairsGiveAPointInBothAndAWayOut) {
 // ------------------------------------------------------------------------------------------
 // predict(): translation only, closed form.
 
+// The first contact never later than `first` + `slack` and at most `tolerance` earlier; the
+// separation never earlier than `last` - `slack` and at most `tolerance` later (s).
+void expectContactWindow(const ContactPrediction& p, double first, double last, double tolerance,
+                         double slack = 1e-12) {
+  EXPECT_LE(p.time_to_contact, first + slack);
+  EXPECT_GE(p.time_to_contact, first - tolerance);
+  EXPECT_GE(p.time_to_separation, last - slack);
+  EXPECT_LE(p.time_to_separation, last + tolerance);
+}
+
 TEST(NarrowPhasePredict, HeadOnBoxesExactContactAndSeparation) {
   // Unit cubes 3 m apart closing at 0.7 + 0.6 m/s: gap 2 m, contact at 2 / 1.3 s; they pass
   // through each other and separate when the gap on the far side is 0 again: 4 / 1.3 s.
@@ -522,10 +535,7 @@ TEST(NarrowPhasePredict, HeadOnBoxesExactContactAndSeparation) {
   const ContactPrediction p = predict(a, b, 0.0, 10.0);
   const double truth_contact = 2.0 / 1.3, truth_separation = 4.0 / 1.3;
   ASSERT_TRUE(p.contact);
-  EXPECT_LE(p.time_to_contact, truth_contact + 1e-12);
-  EXPECT_GE(p.time_to_contact, truth_contact - 1e-5);
-  EXPECT_GE(p.time_to_separation, truth_separation - 1e-12);
-  EXPECT_LE(p.time_to_separation, truth_separation + 1e-5);
+  expectContactWindow(p, truth_contact, truth_separation, 1e-5);
   EXPECT_NEAR(p.distance, 2.0, 1e-9);
   EXPECT_NEAR(p.closing_speed, 1.3, 1e-9);
   EXPECT_TRUE(p.normal.isApprox(Vector3d::UnitX(), 1e-9));
@@ -540,10 +550,7 @@ TEST(NarrowPhasePredict, ObliqueApproachConvergesWithinAMillisecond) {
                      motion(Vector3d(3, 1.2, 0), Vector3d(-1, -0.2, 0)));
   const ContactPrediction p = predict(a, b, 0.0, 6.0);
   ASSERT_TRUE(p.contact);
-  EXPECT_LE(p.time_to_contact, 2.0 + 1e-12);
-  EXPECT_GE(p.time_to_contact, 2.0 - 1e-3);
-  EXPECT_GE(p.time_to_separation, 4.0 - 1e-12);
-  EXPECT_LE(p.time_to_separation, 4.0 + 1e-3);
+  expectContactWindow(p, 2.0, 4.0, 1e-3);
 }
 
 TEST(NarrowPhasePredict, MarginsShiftContactTime) {
@@ -554,10 +561,7 @@ TEST(NarrowPhasePredict, MarginsShiftContactTime) {
                      motion(Vector3d(3, 0, 0), Vector3d(-1, 0, 0)), 0.2);
   const ContactPrediction p = predict(a, b, 0.0, 5.0);
   ASSERT_TRUE(p.contact);
-  EXPECT_LE(p.time_to_contact, 0.85 + 1e-12);
-  EXPECT_GE(p.time_to_contact, 0.85 - 1e-5);
-  EXPECT_GE(p.time_to_separation, 2.15 - 1e-12);
-  EXPECT_LE(p.time_to_separation, 2.15 + 1e-5);
+  expectContactWindow(p, 0.85, 2.15, 1e-5);
   EXPECT_NEAR(p.distance, 1.7, 1e-9);  // the inflated gap now
 }
 
@@ -643,10 +647,7 @@ void expectMatchesOracle(const MovingBody& a, const MovingBody& b, double t0, do
   ASSERT_TRUE(oracle::contactTimes(boxContactOracle(a, b), t0, t1, 1e-4, &first, &last));
   const ContactPrediction p = predict(a, b, t0, t1);
   ASSERT_TRUE(p.contact);
-  EXPECT_LE(p.time_to_contact, first);
-  EXPECT_GE(p.time_to_contact, first - max_early);
-  EXPECT_GE(p.time_to_separation, last);
-  EXPECT_LE(p.time_to_separation, last + max_early);
+  expectContactWindow(p, first, last, max_early, 0.0);
 }
 
 TEST(NarrowPhasePredict, RotatingBarSweepsIntoBox) {
@@ -833,13 +834,11 @@ TEST(UprightBoxes, RandomYawingAndTranslatingPairsHaveNoFalseNegatives) {
     if (i % 6 == 0) a.motion.angular_velocity.setZero();  // both: moving axis test + advancement
     OracleRun r;
     ASSERT_TRUE(predictAgainstOracle(phase, a, b, boxContactOracle(a, b), &r)) << "pair " << i;
-    const ContactPrediction& p = r.p;
-    const double first = r.first, last = r.last;
     if (!r.touches) continue;
     ++with_contact;
-    EXPECT_LE(p.time_to_contact, first) << "pair " << i;
-    EXPECT_GE(p.time_to_separation, last) << "pair " << i;
-    tight += p.time_to_contact >= first - 1e-3;
+    EXPECT_LE(r.p.time_to_contact, r.first) << "pair " << i;
+    EXPECT_GE(r.p.time_to_separation, r.last) << "pair " << i;
+    tight += r.p.time_to_contact >= r.first - 1e-3;
   }
   EXPECT_GT(with_contact, 200);
   EXPECT_GE(tight, with_contact * 95 / 100);

@@ -398,49 +398,47 @@ void checkScenes(int scenes, int n, const SceneOptions& o, unsigned seed, SceneC
   }
 }
 
-TEST(PiecewiseMotion, RandomTurningPathsMissNothingNeverLateNeverEarly) {
-  SceneCounts counts;
-  checkScenes(16, 10, SceneOptions(), 101, &counts);
-  EXPECT_GT(counts.contacts, 150);
-  EXPECT_GT(counts.tight_first, counts.contacts * 8 / 10);
+// The random-scene cases: what each varies, and what its counts must reach so that the scenes
+// exercised what they are about (enough contacts or growing pairs, enough tight first contacts).
+struct RandomSceneCase {
+  const char* name;
+  SceneOptions options;
+  int scenes;
+  unsigned seed;
+  bool count_growth_pairs;  // the floor applies to pairs with a growing body, else to contacts
+  int tight_tenths;         // tight first contacts > this many tenths of the contacts (0: any)
+};
+
+SceneOptions sceneOptions(bool continuous, bool upright, bool rotate, double growth_share) {
+  SceneOptions o;
+  o.continuous = continuous;  // false: segments start anywhere near where the last one ended
+  o.upright = upright;        // the closed form's path (and Newton steps where they translate)
+  o.rotate = rotate;
+  o.growth_share = growth_share;
+  return o;
 }
 
-TEST(PiecewiseMotion, RandomBrokenPathsMissNothingNeverLateNeverEarly) {
-  SceneOptions o;
-  o.continuous = false;  // segments start anywhere near where the last one ended
+class RandomScenes : public ::testing::TestWithParam<RandomSceneCase> {};
+
+TEST_P(RandomScenes, MissNothingNeverLateNeverEarly) {
+  const RandomSceneCase& c = GetParam();
   SceneCounts counts;
-  checkScenes(16, 10, o, 102, &counts);
-  EXPECT_GT(counts.contacts, 150);
+  checkScenes(c.scenes, 10, c.options, c.seed, &counts);
+  EXPECT_GT(c.count_growth_pairs ? counts.growth_pairs : counts.contacts, 150);
+  if (c.tight_tenths > 0) EXPECT_GT(counts.tight_first, counts.contacts * c.tight_tenths / 10);
 }
 
-TEST(PiecewiseMotion, RandomUprightPathsMissNothingNeverLateNeverEarly) {
-  SceneOptions o;
-  o.upright = true;  // the closed form's path (and Newton steps where they translate)
-  SceneCounts counts;
-  checkScenes(16, 10, o, 103, &counts);
-  EXPECT_GT(counts.contacts, 150);
-  EXPECT_GT(counts.tight_first, counts.contacts * 8 / 10);
-}
-
-TEST(PiecewiseMotion, RandomGrowingMarginsMissNothingNeverLate) {
-  SceneOptions o;
-  o.growth_share = 0.6;
-  SceneCounts counts;
-  checkScenes(10, 10, o, 104, &counts);
-  EXPECT_GT(counts.growth_pairs, 150);
-  EXPECT_GT(counts.tight_first, counts.contacts * 8 / 10);
-}
-
-TEST(PiecewiseMotion, RandomTranslatingUprightBoxesWithGrowthAreTight) {
-  SceneOptions o;
-  o.rotate = false;
-  o.upright = true;  // exact gaps: Newton steps where the growth is linear
-  o.growth_share = 0.6;
-  SceneCounts counts;
-  checkScenes(10, 10, o, 105, &counts);
-  EXPECT_GT(counts.growth_pairs, 150);
-  EXPECT_GT(counts.tight_first, counts.contacts * 9 / 10);
-}
+INSTANTIATE_TEST_SUITE_P(
+    PiecewiseMotion, RandomScenes,
+    ::testing::Values(
+        RandomSceneCase{"TurningPaths", sceneOptions(true, false, true, 0.0), 16, 101, false, 8},
+        RandomSceneCase{"BrokenPaths", sceneOptions(false, false, true, 0.0), 16, 102, false, 0},
+        RandomSceneCase{"UprightPaths", sceneOptions(true, true, true, 0.0), 16, 103, false, 8},
+        RandomSceneCase{"GrowingMargins", sceneOptions(true, false, true, 0.6), 10, 104, true, 8},
+        // Exact gaps: Newton steps where the growth is linear.
+        RandomSceneCase{"TranslatingUprightGrowing", sceneOptions(true, true, false, 0.6), 10, 105,
+                        true, 9}),
+    [](const ::testing::TestParamInfo<RandomSceneCase>& info) { return std::string(info.param.name); });
 
 // ------------------------------------------------------------------------------------------
 // Swept bounds of a path hold the body, margins and growth at every instant.
@@ -505,6 +503,17 @@ struct PostAndPerson {
   }
 };
 
+// Growth of velocity error `e` (m/s) and acceleration bound `a` (m/s^2), capped at `cap` (m/s),
+// measured `age` s before the prediction instant.
+wp::MarginGrowth growth(double e, double a, double cap = kInf, double age = 0.0) {
+  wp::MarginGrowth g;
+  g.velocity_error = e;
+  g.max_accel = a;
+  g.speed_cap = cap;
+  g.age = age;
+  return g;
+}
+
 // A growing pair's first contact at the analytic `expected` s: reported, never later, at most
 // 0.1 ms earlier.
 ::testing::AssertionResult firstContactAt(const wp::PairEvent* e, double expected) {
@@ -519,9 +528,7 @@ struct PostAndPerson {
 TEST(GrowingMargin, VelocityErrorReachesAStandingPersonsGapAtGapOverError) {
   // 1.6 m/s of velocity error, standing 1.6 m away: the uncertainty reaches the post at 1 s.
   PostAndPerson scene(1.6, 0.0);
-  wp::MarginGrowth g;
-  g.velocity_error = 1.6;
-  const wp::PairEvent* e = scene.predict(g);
+  const wp::PairEvent* e = scene.predict(growth(1.6, 0.0));
   ASSERT_TRUE(firstContactAt(e, 1.0));
   // Standing still: the constant-velocity shapes never touch, so the separation is the contact.
   EXPECT_DOUBLE_EQ(e->time_to_separation, e->time_to_contact);
@@ -531,39 +538,27 @@ TEST(GrowingMargin, VelocityErrorReachesAStandingPersonsGapAtGapOverError) {
 TEST(GrowingMargin, AccelerationReachesAStandingPersonsGapAtSqrtTwoGapOverAccel) {
   // 2 m/s^2 from rest, 1 m away: a t^2 / 2 = 1 at 1 s.
   PostAndPerson scene(1.0, 0.0);
-  wp::MarginGrowth g;
-  g.max_accel = 2.0;
-  const wp::PairEvent* e = scene.predict(g);
-  ASSERT_TRUE(firstContactAt(e, 1.0));
+  ASSERT_TRUE(firstContactAt(scene.predict(growth(0.0, 2.0)), 1.0));
 }
 
 TEST(GrowingMargin, TheSpeedCapAndTheAgeShiftTheContact) {
   {
     // min(2 t^2, t): the cap takes over at 0.5 s; 1.5 m is reached at 1.5 s on the line.
     PostAndPerson scene(1.5, 0.0);
-    wp::MarginGrowth g;
-    g.max_accel = 4.0;
-    g.speed_cap = 1.0;
-    const wp::PairEvent* e = scene.predict(g);
-    ASSERT_TRUE(firstContactAt(e, 1.5));
+    ASSERT_TRUE(firstContactAt(scene.predict(growth(0.0, 4.0, 1.0)), 1.5));
   }
   {
     // Observed 0.25 s before the prediction instant: 1.6 (0.25 + t) = 1.6 at t = 0.75, and
     // the distance now already includes the 0.4 m grown since.
     PostAndPerson scene(1.6, 0.0);
-    wp::MarginGrowth g;
-    g.velocity_error = 1.6;
-    g.age = 0.25;
-    const wp::PairEvent* e = scene.predict(g);
+    const wp::PairEvent* e = scene.predict(growth(1.6, 0.0, kInf, 0.25));
     ASSERT_TRUE(firstContactAt(e, 0.75));
     EXPECT_NEAR(e->distance, 1.2, 1e-9);
   }
   {
     // Beyond the horizon: nothing.
     PostAndPerson scene(1.6, 0.0);
-    wp::MarginGrowth g;
-    g.velocity_error = 0.5;
-    EXPECT_EQ(scene.predict(g), nullptr);
+    EXPECT_EQ(scene.predict(growth(0.5, 0.0)), nullptr);
   }
 }
 
@@ -572,9 +567,7 @@ TEST(GrowingMargin, AWalkingPersonIsReachedEarlierAndLeavesAtTheConstantVelocity
   // combined width along x). With 0.5 m/s of velocity error: first contact where
   // 1 - t = 0.5 t, t = 2/3; the separation stays the constant-velocity 1.7.
   PostAndPerson scene(1.0, 1.0);
-  wp::MarginGrowth g;
-  g.velocity_error = 0.5;
-  const wp::PairEvent* e = scene.predict(g);
+  const wp::PairEvent* e = scene.predict(growth(0.5, 0.0));
   ASSERT_TRUE(firstContactAt(e, 2.0 / 3.0));
   EXPECT_GE(e->time_to_separation, 1.7 - 1e-12);
   EXPECT_LE(e->time_to_separation, 1.7 + 1e-4);

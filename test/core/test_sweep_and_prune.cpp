@@ -504,14 +504,21 @@ TEST(SweepAndPrune, SmallMotionSortsIncrementallyLargeJumpsRebuild) {
 // ---------------------------------------------------------------------------------------------
 // Random scenes against brute force.
 
-TEST(SweepAndPrune, RandomExactScenesEqualBruteForce) {
-  Rng rng(20240601);
+// `scenes` random scenes from `seed`, each checked against brute force; their totals.
+RunStats runScenes(unsigned seed, int scenes, bool exact) {
+  Rng rng(seed);
   RunStats stats;
-  for (int scene = 0; scene < 500; ++scene) {
+  for (int scene = 0; scene < scenes; ++scene) {
     SCOPED_TRACE(testing::Message() << "scene " << scene);
-    runScene(rng, true, &stats);
-    if (::testing::Test::HasFatalFailure()) return;
+    runScene(rng, exact, &stats);
+    if (::testing::Test::HasFatalFailure()) break;
   }
+  return stats;
+}
+
+TEST(SweepAndPrune, RandomExactScenesEqualBruteForce) {
+  const RunStats stats = runScenes(20240601, 500, true);
+  if (::testing::Test::HasFatalFailure()) return;
   std::printf("exact scenes: %d updates, %d rebuilds, %lld pairs, %lld began, %lld ended\n",
               stats.updates, stats.rebuilds, static_cast<long long>(stats.pairs_total),
               static_cast<long long>(stats.began), static_cast<long long>(stats.ended));
@@ -524,13 +531,8 @@ TEST(SweepAndPrune, RandomExactScenesEqualBruteForce) {
 }
 
 TEST(SweepAndPrune, RandomDoubleScenesContainBruteForce) {
-  Rng rng(777001);
-  RunStats stats;
-  for (int scene = 0; scene < 300; ++scene) {
-    SCOPED_TRACE(testing::Message() << "scene " << scene);
-    runScene(rng, false, &stats);
-    if (::testing::Test::HasFatalFailure()) return;
-  }
+  const RunStats stats = runScenes(777001, 300, false);
+  if (::testing::Test::HasFatalFailure()) return;
   std::printf("double scenes: %d updates, %d rebuilds, %lld pairs (%lld within float "
               "rounding of touching), %lld began, %lld ended\n",
               stats.updates, stats.rebuilds, static_cast<long long>(stats.pairs_total),

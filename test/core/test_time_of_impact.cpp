@@ -244,31 +244,42 @@ TEST(BoxContactInterval, AxesMustOverlapSimultaneously) {
 // Brute force on random cases: every sampled t with contact lies inside the returned
 // interval (conservative), and the ends match the bisected true ends within 1e-9.
 
+// The draws of the random brute-force cases.
+struct Draws {
+  explicit Draws(unsigned seed) : rng(seed) {}
+  double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+  bool oneInTen() { return std::uniform_int_distribution<int>(0, 9)(rng) == 0; }
+  std::mt19937_64 rng;
+};
+
+// Conservative: every instant of [0, h] sampled `steps` times at which `overlaps` holds lies
+// inside `got`.
+template <class Overlaps>
+void expectSampledContactsInside(const TimeInterval& got, double h, int steps, Overlaps overlaps) {
+  for (int i = 0; i <= steps; ++i) {
+    const double t = h * i / steps;
+    if (overlaps(t)) {
+      ASSERT_FALSE(got.empty()) << "contact at t=" << t;
+      ASSERT_LE(got.first, t);
+      ASSERT_GE(got.last, t);
+    }
+  }
+}
+
 TEST(AxisContactInterval, MatchesBruteForceOnRandomCases) {
-  std::mt19937_64 rng(12345);
-  std::uniform_real_distribution<double> pos(-10.0, 10.0), len(0.0, 4.0), vel(-5.0, 5.0),
-      hor(0.1, 5.0);
-  std::uniform_int_distribution<int> pick(0, 9);
+  Draws draw(12345);
   const int kSteps = 2000;
   for (int trial = 0; trial < 3000; ++trial) {
-    double lo_a = pos(rng), hi_a = lo_a + (pick(rng) == 0 ? 0.0 : len(rng));
-    double lo_b = pos(rng), hi_b = lo_b + (pick(rng) == 0 ? 0.0 : len(rng));
-    double v_a = vel(rng), v_b = pick(rng) == 0 ? v_a : vel(rng);
-    double h = hor(rng);
+    double lo_a = draw.uniform(-10, 10), hi_a = lo_a + (draw.oneInTen() ? 0.0 : draw.uniform(0, 4));
+    double lo_b = draw.uniform(-10, 10), hi_b = lo_b + (draw.oneInTen() ? 0.0 : draw.uniform(0, 4));
+    double v_a = draw.uniform(-5, 5), v_b = draw.oneInTen() ? v_a : draw.uniform(-5, 5);
+    double h = draw.uniform(0.1, 5);
     SCOPED_TRACE(testing::Message() << "trial " << trial << " A=[" << lo_a << "," << hi_a
                                     << "] va=" << v_a << " B=[" << lo_b << "," << hi_b
                                     << "] vb=" << v_b << " H=" << h);
     TimeInterval got = axisContactInterval(lo_a, hi_a, v_a, lo_b, hi_b, v_b);
     auto pred = [&](double t) { return axisOverlapAt(lo_a, hi_a, v_a, lo_b, hi_b, v_b, t); };
-    // Conservative: every sampled contact time is inside the returned interval.
-    for (int i = 0; i <= kSteps; ++i) {
-      double t = h * i / kSteps;
-      if (pred(t)) {
-        ASSERT_FALSE(got.empty());
-        ASSERT_LE(got.first, t);
-        ASSERT_GE(got.last, t);
-      }
-    }
+    ASSERT_NO_FATAL_FAILURE(expectSampledContactsInside(got, h, kSteps, pred));
     // Tight: clipped ends equal the true ends. Rounding of the predicate near a transition
     // blurs the true end by ~eps * |coordinate| / |relative velocity|.
     double dv = std::abs(v_a - v_b);
@@ -325,23 +336,20 @@ TEST(AxisContactInterval, EnclosesExactIntervalFromQuadPrecision) {
 }
 
 TEST(BoxContactInterval, MatchesBruteForceOnRandomCases) {
-  std::mt19937_64 rng(777);
-  std::uniform_real_distribution<double> pos(-4.0, 4.0), half(0.0, 2.0), vel(-4.0, 4.0),
-      hor(0.05, 4.0);
-  std::uniform_int_distribution<int> pick(0, 9);
+  Draws draw(777);
   const int kSteps = 2000;
   int nonempty = 0;
   for (int trial = 0; trial < 3000; ++trial) {
     Box3 a, b;
     for (int k = 0; k < 3; ++k) {
-      a.c[k] = pos(rng);
-      b.c[k] = pos(rng);
-      a.h[k] = pick(rng) == 0 ? 0.0 : half(rng);
-      b.h[k] = half(rng);
-      a.v[k] = vel(rng);
-      b.v[k] = pick(rng) == 0 ? a.v[k] : vel(rng);
+      a.c[k] = draw.uniform(-4, 4);
+      b.c[k] = draw.uniform(-4, 4);
+      a.h[k] = draw.oneInTen() ? 0.0 : draw.uniform(0, 2);
+      b.h[k] = draw.uniform(0, 2);
+      a.v[k] = draw.uniform(-4, 4);
+      b.v[k] = draw.oneInTen() ? a.v[k] : draw.uniform(-4, 4);
     }
-    double h = hor(rng);
+    double h = draw.uniform(0.05, 4);
     SCOPED_TRACE(testing::Message() << "trial " << trial);
     TimeInterval got = boxContactInterval(a.c, a.h, a.v, b.c, b.h, b.v, h);
     // The box version is already clipped to [0, H].
@@ -350,14 +358,7 @@ TEST(BoxContactInterval, MatchesBruteForceOnRandomCases) {
       EXPECT_LE(got.last, h);
     }
     auto pred = [&](double t) { return boxOverlapAt(a, b, t); };
-    for (int i = 0; i <= kSteps; ++i) {
-      double t = h * i / kSteps;
-      if (pred(t)) {
-        ASSERT_FALSE(got.empty()) << "contact at t=" << t;
-        ASSERT_LE(got.first, t);
-        ASSERT_GE(got.last, t);
-      }
-    }
+    ASSERT_NO_FATAL_FAILURE(expectSampledContactsInside(got, h, kSteps, pred));
     double min_dv = kInf;
     for (int k = 0; k < 3; ++k) {
       double dv = std::abs(a.v[k] - b.v[k]);
