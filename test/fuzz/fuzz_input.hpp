@@ -45,6 +45,14 @@ inline std::string str(const Eigen::Vector3d& v) {
     if (!(cond)) ::wp_fuzz::fail(#cond, (detail));                       \
   } while (0)
 
+/// The entry of `table` picked by the bits of `byte` from bit `shift` up (as many bits as the
+/// table's size, a power of two, needs): one input byte chooses several settings.
+template <class T, std::size_t N>
+T pickByBits(const T (&table)[N], std::uint8_t byte, int shift) {
+  static_assert(N > 0 && (N & (N - 1)) == 0, "table size must be a power of two");
+  return table[(byte >> shift) & (N - 1)];
+}
+
 class Input {
  public:
   Input(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
@@ -219,5 +227,14 @@ class Input {
   std::size_t size_;
   std::size_t pos_ = 0;
 };
+
+/// The fuzzer's whole run for one input: a `Harness` built from it, then run.
+template <class Harness>
+int runHarness(const std::uint8_t* data, std::size_t size) {
+  Input in(data, size);
+  Harness harness(in);
+  harness.run();
+  return 0;
+}
 
 }  // namespace wp_fuzz

@@ -95,10 +95,10 @@ class Harness {
     const std::uint8_t b = in.byte();
     wp::SweepAndPruneConfig c;
     static const int capacities[] = {1, 2, 5, 256};
-    c.initial_proxy_capacity = capacities[b & 3];
-    c.initial_pair_capacity = capacities[(b >> 2) & 3];
+    c.initial_proxy_capacity = wp_fuzz::pickByBits(capacities, b, 0);
+    c.initial_pair_capacity = wp_fuzz::pickByBits(capacities, b, 2);
     static const double factors[] = {1.0, 0.0, 0.05, 0.5, 2.0, 1e9, 1e-3, 1.0};
-    c.rebuild_factor = factors[(b >> 4) & 7];
+    c.rebuild_factor = wp_fuzz::pickByBits(factors, b, 4);
     return c;
   }
 
@@ -323,8 +323,5 @@ class Harness {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  Input in(data, size);
-  Harness harness(in);
-  harness.run();
-  return 0;
+  return wp_fuzz::runHarness<Harness>(data, size);
 }

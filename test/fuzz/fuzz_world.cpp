@@ -181,12 +181,12 @@ class Harness {
   static wp::WorldConfig makeConfig(Input& in) {
     const std::uint8_t b = in.byte();
     wp::WorldConfig c;
-    static const int capacities[] = {1, 2, 3, 256};
-    c.initial_body_capacity = capacities[b & 3];
-    c.initial_pair_capacity = capacities[(b >> 2) & 3];
-    c.initial_event_capacity = capacities[(b >> 4) & 3];
     static const double factors[] = {1.0, 0.0, 0.05, 1e9};
-    c.broad_phase.rebuild_factor = factors[(b >> 6) & 3];
+    c.broad_phase.rebuild_factor = wp_fuzz::pickByBits(factors, b, 6);
+    static const int capacities[] = {1, 2, 3, 256};
+    c.initial_body_capacity = wp_fuzz::pickByBits(capacities, b, 0);
+    c.initial_pair_capacity = wp_fuzz::pickByBits(capacities, b, 2);
+    c.initial_event_capacity = wp_fuzz::pickByBits(capacities, b, 4);
     const std::uint8_t n = in.byte();
     if (n & 1) c.narrow_phase.max_iterations = 1 + (n >> 5);
     if (n & 2) c.narrow_phase.distance_tolerance = 1e-3;
@@ -583,8 +583,5 @@ class Harness {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  Input in(data, size);
-  Harness harness(in);
-  harness.run();
-  return 0;
+  return wp_fuzz::runHarness<Harness>(data, size);
 }
