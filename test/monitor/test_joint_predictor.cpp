@@ -79,6 +79,12 @@ struct Fixture {
     add(1, Eigen::Vector3d(0.3, 0, 0), Eigen::Vector3d(0.3, 0.05, 0.05));
     add(2, Eigen::Vector3d(0.1, 0, 0), Eigen::Vector3d(0.1, 0.1, 0.1));
   }
+  // The elbow and wrist (joints 1, 2) read standing at zero at kNow: a plan then moves only
+  // the shoulder.
+  void holdElbowAndWrist() {
+    predictor.observe(1, kNow, 0.0, 0.0);
+    predictor.observe(2, kNow, 0.0, 0.0);
+  }
   void add(int link, const Eigen::Vector3d& at, const Eigen::Vector3d& half) {
     Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();
     offset.translation() = at;
@@ -175,8 +181,7 @@ TEST(JointPredictor, AJointStopsAtItsLimit) {
   Fixture f;
   // Shoulder at 1.5 rad turning at 1 rad/s: reaches its upper limit 2.0 at t = 0.5 and stays.
   f.predictor.observe(0, kNow, 1.5, 1.0);
-  f.predictor.observe(1, kNow, 0.0, 0.0);
-  f.predictor.observe(2, kNow, 0.0, 0.0);
+  f.holdElbowAndWrist();
   f.predictor.predict(kNow, 2.0, wp::BodyMotion());
   f.expectWithinMargin([](double t, double* q) {
     q[0] = std::min(2.0, 1.5 + t);
@@ -217,8 +222,7 @@ TEST(JointPredictor, FiniteDifferencesWhenVelocityIsNotMeasured) {
 TEST(JointPredictor, LatencyIsCompensatedFromTheReadingsStamp) {
   Fixture f;
   f.predictor.observe(0, kNow - kSecond / 5, 0.0, 1.0);  // 0.2 s old: at 0.2 rad now
-  f.predictor.observe(1, kNow, 0.0, 0.0);
-  f.predictor.observe(2, kNow, 0.0, 0.0);
+  f.holdElbowAndWrist();
   f.predictor.predict(kNow, 1.0, wp::BodyMotion());
   f.expectWithinMargin([](double t, double* q) {
     q[0] = 0.2 + t;
@@ -281,8 +285,7 @@ TEST(JointPredictor, FollowsAPlanWithAStopAndHoldsItsEnd) {
 TEST(JointPredictor, APlanStampedAheadStartsLater) {
   Fixture f;
   f.predictor.observe(0, kNow, 0.3, 0.0);
-  f.predictor.observe(1, kNow, 0.0, 0.0);
-  f.predictor.observe(2, kNow, 0.0, 0.0);
+  f.holdElbowAndWrist();
   wp::JointPlan plan = shoulderPlan(kNow + kSecond / 2);
   plan.positions[0] = 0.3;  // its first point is where the arm is
   ASSERT_EQ(f.predictor.setPlan(plan, kNow), "");
@@ -319,8 +322,7 @@ TEST(JointPredictor, APlanTheReadingsContradictIsDropped) {
   wp::JointPredictorParams params;
   params.trajectory_tolerance = 0.1;
   Fixture f(params);
-  f.predictor.observe(1, kNow, 0.0, 0.0);
-  f.predictor.observe(2, kNow, 0.0, 0.0);
+  f.holdElbowAndWrist();
   ASSERT_EQ(f.predictor.setPlan(shoulderPlan(kNow), kNow), "");
   // At 0.25 s the plan has the shoulder at 0.5 rad: a reading of 0.45 is within tolerance.
   f.predictor.observe(0, kNow + kSecond / 4, 0.45, 0.0);

@@ -15,6 +15,16 @@ bool mentions(const std::vector<std::string>& errors, const std::string& name) {
   }
   return false;
 }
+
+// A gripper body "g": a box of half extents `half` (m) on `frame`, `offset_x` m along x.
+wp::RobotBodySpec gripper(const char* frame, const Eigen::Vector3d& half, double offset_x = 0.0) {
+  wp::RobotBodySpec b;
+  b.name = "g";
+  b.frame = frame;
+  b.shape = wp::Shape::box(half);
+  b.offset.translation() = Eigen::Vector3d(offset_x, 0, 0);
+  return b;
+}
 }  // namespace
 
 TEST(MonitorParams, DefaultsAreValid) { EXPECT_TRUE(wp::validate(wp::MonitorParams()).empty()); }
@@ -47,36 +57,14 @@ TEST(MonitorParams, EachBadValueIsNamed) {
       {"robot_thresholds/warning_distance",
        [](wp::MonitorParams& p) { p.robot_thresholds.warning_distance = -2; }},
       {"~robot_bodies[0]/size",
-       [](wp::MonitorParams& p) {
-         wp::RobotBodySpec b;
-         b.name = "g";
-         b.frame = "tool0";
-         b.shape = wp::Shape::box({0.1, 0, 0.1});
-         p.robot_bodies.push_back(b);
-       }},
+       [](wp::MonitorParams& p) { p.robot_bodies.push_back(gripper("tool0", {0.1, 0, 0.1})); }},
       {"~robot_bodies[0]/frame",
-       [](wp::MonitorParams& p) {
-         wp::RobotBodySpec b;
-         b.name = "g";
-         b.shape = wp::Shape::box({0.1, 0.1, 0.1});
-         p.robot_bodies.push_back(b);
-       }},
+       [](wp::MonitorParams& p) { p.robot_bodies.push_back(gripper("", {0.1, 0.1, 0.1})); }},
       {"~robot_bodies[0]/frame = '/tool0'",
-       [](wp::MonitorParams& p) {
-         wp::RobotBodySpec b;
-         b.name = "g";
-         b.frame = "/tool0";
-         b.shape = wp::Shape::box({0.1, 0.1, 0.1});
-         p.robot_bodies.push_back(b);
-       }},
+       [](wp::MonitorParams& p) { p.robot_bodies.push_back(gripper("/tool0", {0.1, 0.1, 0.1})); }},
       {"~robot_bodies[0]/offset",
        [](wp::MonitorParams& p) {
-         wp::RobotBodySpec b;
-         b.name = "g";
-         b.frame = "tool0";
-         b.shape = wp::Shape::box({0.1, 0.1, 0.1});
-         b.offset.translation() = Eigen::Vector3d(1e300, 0, 0);
-         p.robot_bodies.push_back(b);
+         p.robot_bodies.push_back(gripper("tool0", {0.1, 0.1, 0.1}, 1e300));
        }},
       {"~ignore_pairs", [](wp::MonitorParams& p) { p.ignore_pairs.push_back({"colour:red", "*"}); }},
       {"~cycle_trigger = 'sometimes'", [](wp::MonitorParams& p) { p.cycle_trigger = "sometimes"; }},

@@ -82,6 +82,22 @@ void expectFirstContact(const wp::PairEvent& e, double analytic, const char* wha
   EXPECT_GE(e.time_to_contact, analytic - kEarly) << what;
 }
 
+// One object of `l`'s label at `gap` m from the wall, moving at (vx, vy), measured at
+// `stamp`: its one event, seen by a cycle at kT0, first touches at `analytic` s.
+void expectOnlyContactAt(const wp::LabelSettings& l, double gap, double vx, double vy,
+                         double analytic, const char* what, wp::Stamp stamp = kT0) {
+  Fixture f(l);
+  f.object(gap, vx, vy, stamp, kT0);
+  expectFirstContact(f.only(kT0), analytic, what);
+}
+
+// The same object, standing: no event at all.
+bool noContact(const wp::LabelSettings& l, double gap) {
+  Fixture f(l);
+  f.object(gap, 0.0, 0.0, kT0, kT0);
+  return f.none(kT0);
+}
+
 }  // namespace
 
 TEST(TrackGrowth, VelocityErrorAloneReachesAStandingPersonsGapAtGapOverError) {
@@ -93,9 +109,7 @@ TEST(TrackGrowth, VelocityErrorAloneReachesAStandingPersonsGapAtGapOverError) {
   expectFirstContact(e, 1.0, "measured now");
   EXPECT_NEAR(e.distance, 1.6, 1e-9);  // nothing has grown yet
   // Without growth a standing person is no contact at all.
-  Fixture plain(person(0.0, 0.0, 0.0));
-  plain.object(1.6, 0.0, 0.0, kT0, kT0);
-  EXPECT_TRUE(plain.none(kT0));
+  EXPECT_TRUE(noContact(person(0.0, 0.0, 0.0), 1.6));
 }
 
 TEST(TrackGrowth, GrowthCountsFromTheMeasurementStampEitherSide) {
@@ -108,38 +122,28 @@ TEST(TrackGrowth, GrowthCountsFromTheMeasurementStampEitherSide) {
   EXPECT_NEAR(e.distance, 1.6 - 0.32, 1e-9);
   // Stamped 0.2 s ahead of the cycle (within ~max_future): extrapolated backwards, as
   // uncertain as forwards, so also 0.8 s.
-  Fixture ahead(person(1.6, 0.0, 0.0));
-  ahead.object(1.6, 0.0, 0.0, kT0 + kSecond / 5, kT0);
-  expectFirstContact(ahead.only(kT0), 0.8, "stamped 0.2 s ahead");
+  expectOnlyContactAt(person(1.6, 0.0, 0.0), 1.6, 0.0, 0.0, 0.8, "stamped 0.2 s ahead",
+                      kT0 + kSecond / 5);
 }
 
 TEST(TrackGrowth, MaxAccelAloneReachesAtTheSquareRoot) {
   // a = 2 m/s^2: R(s) = s^2 reaches 1 m at s = 1.0 s.
-  Fixture f(person(0.0, 2.0, 0.0));
-  f.object(1.0, 0.0, 0.0, kT0, kT0);
-  expectFirstContact(f.only(kT0), 1.0, "a = 2, gap 1");
+  expectOnlyContactAt(person(0.0, 2.0, 0.0), 1.0, 0.0, 0.0, 1.0, "a = 2, gap 1");
   // Both terms: e = 0.5, a = 2, gap 1.5: 0.5 s + s^2 = 1.5 -> s = (-0.5 + sqrt(6.25)) / 2 = 1.
-  Fixture both(person(0.5, 2.0, 0.0));
-  both.object(1.5, 0.0, 0.0, kT0, kT0);
-  expectFirstContact(both.only(kT0), 1.0, "e = 0.5, a = 2, gap 1.5");
+  expectOnlyContactAt(person(0.5, 2.0, 0.0), 1.5, 0.0, 0.0, 1.0, "e = 0.5, a = 2, gap 1.5");
 }
 
 TEST(TrackGrowth, MaxSpeedCapsTheGrowthAtSpeedBoundPlusCurrentSpeed) {
   // a = 4 m/s^2, v_max = 1 m/s, standing: R(s) = min(2 s^2, 1 s), the cap from s = 0.5 s on.
   // Gap 1.5 m: capped at s = 1.5 s (uncapped 2 s^2 would reach it at 0.866 s).
-  Fixture standing(person(0.0, 4.0, 1.0));
-  standing.object(1.5, 0.0, 0.0, kT0, kT0);
-  expectFirstContact(standing.only(kT0), 1.5, "standing, capped");
+  expectOnlyContactAt(person(0.0, 4.0, 1.0), 1.5, 0.0, 0.0, 1.5, "standing, capped");
   // Walking along the wall at 1 m/s (never approaching it at constant velocity): the cap is
   // v_max + |v| = 2 m/s, R(s) = min(2 s^2, 2 s), the cap from s = 1 s on. Gap 3 m: s = 1.5 s
   // (a cap of v_max alone would give 3.0 s, none 1.22 s).
-  Fixture walking(person(0.0, 4.0, 1.0));
-  walking.object(3.0, 0.0, 1.0, kT0, kT0);
-  expectFirstContact(walking.only(kT0), 1.5, "walking along, capped at v_max + |v|");
+  expectOnlyContactAt(person(0.0, 4.0, 1.0), 3.0, 0.0, 1.0, 1.5,
+                      "walking along, capped at v_max + |v|");
   // A cap alone does not grow anything.
-  Fixture cap_only(person(0.0, 0.0, 1.0));
-  cap_only.object(0.5, 0.0, 0.0, kT0, kT0);
-  EXPECT_TRUE(cap_only.none(kT0));
+  EXPECT_TRUE(noContact(person(0.0, 0.0, 1.0), 0.5));
 }
 
 TEST(TrackGrowth, PositionErrorIsAddedToTheMargin) {
