@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <tuple>
 
 #include "workspace_proximity/ros/contact_publisher.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
@@ -77,14 +78,11 @@ TEST(Conversions, PairEventRoundTripsThroughTheMessage) {
   EXPECT_EQ(msg.state, wp::ContactEvent::ONGOING);
   EXPECT_EQ(msg.level, wp::ContactEvent::WARNING);
   const wp::PairEvent back = wp::fromMsg(msg);
-  EXPECT_EQ(back.state, e.state);
-  EXPECT_EQ(back.time_to_contact, e.time_to_contact);
-  EXPECT_EQ(back.time_to_separation, e.time_to_separation);
-  EXPECT_EQ(back.distance, e.distance);
-  EXPECT_EQ(back.point_a, e.point_a);
-  EXPECT_EQ(back.point_b, e.point_b);
-  EXPECT_EQ(back.normal, e.normal);
-  EXPECT_EQ(back.closing_speed, e.closing_speed);
+  // Every field comes back unchanged.
+  EXPECT_EQ(std::tie(back.state, back.time_to_contact, back.time_to_separation, back.distance,
+                     back.closing_speed),
+            std::tie(e.state, e.time_to_contact, e.time_to_separation, e.distance, e.closing_speed));
+  EXPECT_EQ(std::tie(back.point_a, back.point_b, back.normal), std::tie(e.point_a, e.point_b, e.normal));
 }
 
 TEST(Conversions, ContactsMessageCarriesTheReport) {
@@ -269,12 +267,10 @@ TEST(Reconfigure, GrowthBoundsRoundTripAndSurviveOtherChanges) {
   p.labels["person"] = person;
   p.labels["default"].velocity_error = 0.1;
   const wp::ProximityMonitorConfig c = wp::toConfig(p);
-  EXPECT_EQ(c.person_position_error, 0.05);
-  EXPECT_EQ(c.person_velocity_error, 0.3);
-  EXPECT_EQ(c.person_max_accel, 4.0);
-  EXPECT_EQ(c.person_max_speed, 2.0);
-  EXPECT_EQ(c.default_velocity_error, 0.1);
-  EXPECT_EQ(c.default_max_accel, 0.0);
+  EXPECT_EQ(std::tie(c.person_position_error, c.person_velocity_error, c.person_max_accel,
+                     c.person_max_speed),
+            std::make_tuple(0.05, 0.3, 4.0, 2.0));
+  EXPECT_EQ(std::tie(c.default_velocity_error, c.default_max_accel), std::make_tuple(0.1, 0.0));
   // Changing something else keeps every bound (the config carries them all).
   wp::ProximityMonitorConfig other = c;
   other.horizon = 4.0;

@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 
+#include "params_expectations.hpp"  // test/shared
 #include "workspace_proximity/ros/ros_params.hpp"
 
 namespace wp = workspace_proximity;
@@ -31,6 +32,13 @@ XmlRpcValue list(std::initializer_list<XmlRpcValue> items) {
 
 XmlRpcValue str(const char* s) { return XmlRpcValue(std::string(s)); }
 
+// A dictionary of one entry: nested settings in one expression.
+XmlRpcValue with(const char* key, const XmlRpcValue& value) {
+  XmlRpcValue v = dict();
+  v[key] = value;
+  return v;
+}
+
 // The message readParams throws for `root`, or "" when it does not throw.
 std::string errorOf(const XmlRpcValue& root) {
   try {
@@ -53,11 +61,7 @@ TEST(RosParams, NothingSetGivesTheDefaults) {
   const wp::MonitorParams defaults;
   for (const XmlRpcValue& root : {XmlRpcValue(), dict()}) {
     const wp::MonitorParams p = wp::readParams(root);
-    EXPECT_EQ(p.fixed_frame, defaults.fixed_frame);
-    EXPECT_EQ(p.rate, defaults.rate);
-    EXPECT_EQ(p.horizon, defaults.horizon);
-    EXPECT_EQ(p.max_tracks, defaults.max_tracks);
-    EXPECT_EQ(p.use_robot_description, defaults.use_robot_description);
+    wp_test::expectSameScalars(p, defaults);
     EXPECT_TRUE(p.input_topics.empty());
     EXPECT_TRUE(p.robot_bodies.empty());
     EXPECT_EQ(p.labels.size(), 1u);
@@ -126,18 +130,29 @@ TEST(RosParams, SpeedSeparationAndTheCycleTrigger) {
   XmlRpcValue root = dict();
   root["cycle_trigger"] = str("input");
   root["trigger_source"] = str("/lidar/boxes");
+  // The numbers under ~ssm/: each as set here and its default when not set.
+  struct SsmNumber {
+    const char* key;
+    double wp::SsmParams::*field;
+    double set;
+    double fallback;
+  };
+  const SsmNumber numbers[] = {
+      {"reaction_time", &wp::SsmParams::reaction_time, 0.05, 0.1},
+      {"stopping_time", &wp::SsmParams::stopping_time, 1.0, 0.3},
+      {"intrusion_distance", &wp::SsmParams::intrusion_distance, 0.2, 0.1},
+      {"sensor_uncertainty", &wp::SsmParams::sensor_uncertainty, 0.15, 0.1},
+      {"robot_uncertainty", &wp::SsmParams::robot_uncertainty, 0.01, 0.02},
+      {"robot_max_speed", &wp::SsmParams::robot_max_speed, 0.5, 1.0},
+      {"max_increase_rate", &wp::SsmParams::max_increase_rate, 2.0, 0.5},
+      {"hold_time", &wp::SsmParams::hold_time, 1.5, 0.5},
+      {"degraded_scale", &wp::SsmParams::degraded_scale, 0.1, 0.0},
+  };
   XmlRpcValue ssm = dict();
   ssm["enabled"] = false;
   ssm["labels"] = list({str("person")});
-  ssm["reaction_time"] = 0.05;
+  for (const SsmNumber& n : numbers) ssm[n.key] = n.set;
   ssm["stopping_time"] = 1;  // an integer is a number too
-  ssm["intrusion_distance"] = 0.2;
-  ssm["sensor_uncertainty"] = 0.15;
-  ssm["robot_uncertainty"] = 0.01;
-  ssm["robot_max_speed"] = 0.5;
-  ssm["max_increase_rate"] = 2.0;
-  ssm["hold_time"] = 1.5;
-  ssm["degraded_scale"] = 0.1;
   ssm["stop_trajectory_topics"] = list({str("/arm/command")});
   ssm["stop_event_topics"] = list({str("/trajectory_execution_event"), str("/other")});
   ssm["cmd_vel_in"] = str("cmd_vel_raw");
@@ -152,15 +167,7 @@ TEST(RosParams, SpeedSeparationAndTheCycleTrigger) {
   EXPECT_EQ(p.trigger_source, "/lidar/boxes");
   EXPECT_FALSE(p.ssm.enabled);
   EXPECT_EQ(p.ssm.labels, std::vector<std::string>{"person"});
-  EXPECT_EQ(p.ssm.reaction_time, 0.05);
-  EXPECT_EQ(p.ssm.stopping_time, 1.0);
-  EXPECT_EQ(p.ssm.intrusion_distance, 0.2);
-  EXPECT_EQ(p.ssm.sensor_uncertainty, 0.15);
-  EXPECT_EQ(p.ssm.robot_uncertainty, 0.01);
-  EXPECT_EQ(p.ssm.robot_max_speed, 0.5);
-  EXPECT_EQ(p.ssm.max_increase_rate, 2.0);
-  EXPECT_EQ(p.ssm.hold_time, 1.5);
-  EXPECT_EQ(p.ssm.degraded_scale, 0.1);
+  for (const SsmNumber& n : numbers) EXPECT_EQ(p.ssm.*n.field, n.set) << n.key;
   EXPECT_EQ(p.ssm.stop_trajectory_topics, std::vector<std::string>{"/arm/command"});
   EXPECT_EQ(p.ssm.stop_event_topics.size(), 2u);
   EXPECT_EQ(p.ssm.cmd_vel_in, "cmd_vel_raw");
@@ -171,15 +178,7 @@ TEST(RosParams, SpeedSeparationAndTheCycleTrigger) {
   const wp::MonitorParams d = wp::readParams(dict());
   EXPECT_TRUE(d.ssm.enabled);
   EXPECT_EQ(d.cycle_trigger, "timer");
-  EXPECT_EQ(d.ssm.reaction_time, 0.1);
-  EXPECT_EQ(d.ssm.stopping_time, 0.3);
-  EXPECT_EQ(d.ssm.intrusion_distance, 0.1);
-  EXPECT_EQ(d.ssm.sensor_uncertainty, 0.1);
-  EXPECT_EQ(d.ssm.robot_uncertainty, 0.02);
-  EXPECT_EQ(d.ssm.robot_max_speed, 1.0);
-  EXPECT_EQ(d.ssm.max_increase_rate, 0.5);
-  EXPECT_EQ(d.ssm.hold_time, 0.5);
-  EXPECT_EQ(d.ssm.degraded_scale, 0.0);
+  for (const SsmNumber& n : numbers) EXPECT_EQ(d.ssm.*n.field, n.fallback) << n.key;
   EXPECT_TRUE(wp::unknownParams(root).empty()) << ::testing::PrintToString(wp::unknownParams(root));
 }
 
@@ -309,70 +308,27 @@ TEST(RosParams, EachWrongTypeOrStructureIsNamed) {
        }},
       {"~labels: must be a dictionary of labels", [](XmlRpcValue& r) { r["labels"] = str("x"); }},
       {"~labels/person: must be a dictionary",
-       [](XmlRpcValue& r) {
-         XmlRpcValue l = dict();
-         l["person"] = 0.2;
-         r["labels"] = l;
-       }},
+       [](XmlRpcValue& r) { r["labels"] = with("person", 0.2); }},
       {"~labels/person/margin: must be a number",
-       [](XmlRpcValue& r) {
-         XmlRpcValue person = dict();
-         person["margin"] = str("big");
-         XmlRpcValue l = dict();
-         l["person"] = person;
-         r["labels"] = l;
-       }},
+       [](XmlRpcValue& r) { r["labels"] = with("person", with("margin", str("big"))); }},
       {"~labels/default/colour: unknown setting",
-       [](XmlRpcValue& r) {
-         XmlRpcValue def = dict();
-         def["colour"] = 1.0;
-         XmlRpcValue l = dict();
-         l["default"] = def;
-         r["labels"] = l;
-       }},
+       [](XmlRpcValue& r) { r["labels"] = with("default", with("colour", 1.0)); }},
       {"~labels/person/max_accel: must be a number",
-       [](XmlRpcValue& r) {
-         XmlRpcValue person = dict();
-         person["max_accel"] = str("fast");
-         XmlRpcValue l = dict();
-         l["person"] = person;
-         r["labels"] = l;
-       }},
+       [](XmlRpcValue& r) { r["labels"] = with("person", with("max_accel", str("fast"))); }},
       {"~robot_thresholds/velocity_error: unknown setting",
-       [](XmlRpcValue& r) {
-         XmlRpcValue t = dict();
-         t["velocity_error"] = 0.3;
-         r["robot_thresholds"] = t;
-       }},
+       [](XmlRpcValue& r) { r["robot_thresholds"] = with("velocity_error", 0.3); }},
       {"~robot_thresholds/margin: unknown setting",
-       [](XmlRpcValue& r) {
-         XmlRpcValue t = dict();
-         t["margin"] = 0.3;
-         r["robot_thresholds"] = t;
-       }},
+       [](XmlRpcValue& r) { r["robot_thresholds"] = with("margin", 0.3); }},
       {"~robot_thresholds/critical_time: must be a number",
-       [](XmlRpcValue& r) {
-         XmlRpcValue t = dict();
-         t["critical_time"] = list({});
-         r["robot_thresholds"] = t;
-       }},
+       [](XmlRpcValue& r) { r["robot_thresholds"] = with("critical_time", list({})); }},
       {"~robot_bodies: must be a list", [](XmlRpcValue& r) { r["robot_bodies"] = dict(); }},
       {"~ssm: must be a dictionary", [](XmlRpcValue& r) { r["ssm"] = 1.0; }},
       {"~ssm/hold_time: must be a number",
-       [](XmlRpcValue& r) {
-         r["ssm"] = dict();
-         r["ssm"]["hold_time"] = str("long");
-       }},
+       [](XmlRpcValue& r) { r["ssm"] = with("hold_time", str("long")); }},
       {"~ssm/enabled: must be true or false",
-       [](XmlRpcValue& r) {
-         r["ssm"] = dict();
-         r["ssm"]["enabled"] = str("yes");
-       }},
+       [](XmlRpcValue& r) { r["ssm"] = with("enabled", str("yes")); }},
       {"~ssm/stop_event_topics: must be a list of strings",
-       [](XmlRpcValue& r) {
-         r["ssm"] = dict();
-         r["ssm"]["stop_event_topics"] = str("/stop");
-       }},
+       [](XmlRpcValue& r) { r["ssm"] = with("stop_event_topics", str("/stop")); }},
       {"~cycle_trigger: must be a string", [](XmlRpcValue& r) { r["cycle_trigger"] = 1; }},
       {"~robot_bodies[0]: must be a dictionary",
        [](XmlRpcValue& r) { r["robot_bodies"] = list({str("gripper")}); }},

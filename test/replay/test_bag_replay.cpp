@@ -171,14 +171,21 @@ class BagReplayTest : public ::testing::Test {
  protected:
   void SetUp() override { dir_ = tempDir(); }
   void TearDown() override { std::system(("rm -rf '" + dir_ + "'").c_str()); }
+  // Writes the default scene, `seconds` long, to scene.bag in the test's folder; its path.
+  std::string sceneBag(double seconds) {
+    SceneOptions o;
+    o.seconds = seconds;
+    const std::string path = dir_ + "/scene.bag";
+    writeScene(path, o);
+    return path;
+  }
   std::string dir_;
 };
 
 }  // namespace
 
 TEST_F(BagReplayTest, CyclesEventsAndLevelsMatchTheClosedForm) {
-  const std::string path = dir_ + "/scene.bag";
-  writeScene(path, SceneOptions());
+  const std::string path = sceneBag(SceneOptions().seconds);
   wp::ReplaySetup s = setup();
   wp::BagInput bag(path, s.topics);
   EXPECT_EQ(bag.begin(), kT0);
@@ -239,10 +246,7 @@ TEST_F(BagReplayTest, CyclesEventsAndLevelsMatchTheClosedForm) {
 }
 
 TEST_F(BagReplayTest, PacingDoesNotChangeTheResult) {
-  const std::string path = dir_ + "/scene.bag";
-  SceneOptions o;
-  o.seconds = 3.0;
-  writeScene(path, o);
+  const std::string path = sceneBag(3.0);
   std::vector<std::vector<SeenCycle>> runs;
   for (double factor : {0.0, 40.0}) {
     wp::ReplaySetup s = setup(30.0);
@@ -263,8 +267,7 @@ TEST_F(BagReplayTest, PacingDoesNotChangeTheResult) {
 }
 
 TEST_F(BagReplayTest, WritesOneRowPerEventAndPerCycle) {
-  const std::string path = dir_ + "/scene.bag";
-  writeScene(path, SceneOptions());
+  const std::string path = sceneBag(SceneOptions().seconds);
   wp::ReplaySetup s = setup();
   wp::BagInput bag(path, s.topics);
   Recorder rec;
@@ -401,10 +404,7 @@ TEST_F(BagReplayTest, ALongStretchWithoutInputIsSkippedAndReported) {
 }
 
 TEST_F(BagReplayTest, PermanentIssuesDegradeEveryCycle) {
-  const std::string path = dir_ + "/scene.bag";
-  SceneOptions o;
-  o.seconds = 1.0;
-  writeScene(path, o);
+  const std::string path = sceneBag(1.0);
   wp::ReplaySetup s = setup();
   s.permanent_issues = {"robot link 'gripper': mesh cannot be modelled"};
   wp::BagInput bag(path, s.topics);
@@ -444,10 +444,7 @@ TEST_F(BagReplayTest, FramesWithoutTfAreNamed) {
 }
 
 TEST_F(BagReplayTest, InputTopicMissingOrMistyped) {
-  const std::string path = dir_ + "/scene.bag";
-  SceneOptions o;
-  o.seconds = 1.0;
-  writeScene(path, o);
+  const std::string path = sceneBag(1.0);
   try {
     wp::BagInput bag(path, {"/boxes"});
     FAIL() << "no error for a missing input topic";

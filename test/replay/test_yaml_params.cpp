@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "params_expectations.hpp"  // test/shared
 #include "workspace_proximity/replay/yaml_params.hpp"
 #include "workspace_proximity/ros/ros_params.hpp"
 
@@ -188,12 +189,7 @@ TEST(YamlParams, TheShippedConfigurationFiles) {
   const wp::MonitorParams defaults;
   const wp::MonitorParams p = wp::readParams(wp::loadYamlParams({dir + "proximity_monitor.yaml"}));
   EXPECT_TRUE(wp::validate(p).empty());
-  EXPECT_EQ(p.fixed_frame, defaults.fixed_frame);
-  EXPECT_EQ(p.rate, defaults.rate);
-  EXPECT_EQ(p.horizon, defaults.horizon);
-  EXPECT_EQ(p.track_timeout, defaults.track_timeout);
-  EXPECT_EQ(p.max_tracks, defaults.max_tracks);
-  EXPECT_EQ(p.robot_margin, defaults.robot_margin);
+  wp_test::expectSameScalars(p, defaults);
   EXPECT_TRUE(p.ignore_pairs.empty());
   EXPECT_EQ(p.label("person").margin, 0.20);
   // The documented bounds of people (README, "Tracked objects within bounds"); other labels
