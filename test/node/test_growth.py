@@ -24,7 +24,7 @@ import rospy  # noqa: E402
 import rostest  # noqa: E402
 
 from wp_node_testlib import (END, ScenePublisher, Track, broadcast_static,  # noqa: E402
-                             check_array_basics, connected_collector, fmt_event)
+                             checked_arrays, connected_collector, fmt_event)
 
 MATCH_TOL = 2e-3   # s: which published stamp the node used
 LATE_TOL = 1e-6    # s: never late (the narrow phase stops within 1e-5 m, i.e. early)
@@ -73,10 +73,7 @@ class GrowthTest(unittest.TestCase):
         msgs = col.contact_msgs(since=t0 + rospy.Duration(0.3))
         self.assertGreaterEqual(len(msgs), 10)
         checked = {"p": 0, "r": 0, "c": 0, "w": 0}
-        for m in msgs:
-            check_array_basics(self, m)
-            if (m.header.stamp - t0).to_sec() > 1.1:
-                break
+        for m in checked_arrays(self, msgs, t0, 1.1):
             ids = set()
             for ev in m.events:
                 self.assertIn("pillar", (ev.id_a, ev.id_b), fmt_event(ev))

@@ -20,7 +20,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (StaticBody, Track, broadcast_static, check_array_basics,  # noqa: E402
+from wp_node_testlib import (StaticBody, Track, broadcast_static, checked_arrays,  # noqa: E402
                              check_scene_events, connected_collector, node_labels, run_scene)
 
 HORIZON = 5.0
@@ -54,10 +54,7 @@ class MarginsTest(unittest.TestCase):
         bodies = [Inflated(b, labels) for b in [pillar] + tracks]
         checked = 0
         seen = set()
-        for m in msgs:
-            check_array_basics(self, m)
-            if (m.header.stamp - t0).to_sec() > 1.25:
-                break
+        for m in checked_arrays(self, msgs, t0, 1.25):
             checked += check_scene_events(self, m, bodies, HORIZON, thresholds=labels,
                                           check_points=False)
             seen.update((e.id_a, e.id_b) for e in m.events)

@@ -21,7 +21,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (StaticBody, Track, broadcast_static, check_array_basics,  # noqa: E402
+from wp_node_testlib import (StaticBody, Track, broadcast_robot_frames, checked_arrays,  # noqa: E402
                              check_scene_events, connected_collector, fmt_event, node_labels,
                              run_scene)
 
@@ -30,9 +30,8 @@ HORIZON = 5.0
 
 class RobotBodiesYamlTest(unittest.TestCase):
     def test_robot_bodies_from_yaml(self):
-        tf_pub = broadcast_static([
-            ("world", "base_link", (0.0, 0.0, 0.5), (0.0, 0.0, 0.0)),
-            ("base_link", "tool0", (0.0, 0.0, 1.0), (0.0, 0.0, 1.5707963267948966)),
+        tf_pub = broadcast_robot_frames((0.0, 0.0, 0.5), [
+            ("tool0", (0.0, 0.0, 1.0), (0.0, 0.0, 1.5707963267948966)),
         ])
         col = connected_collector(self)
         gripper = StaticBody("gripper", "robot", (0.0, 0.1, 1.5), (0.1, 0.2, 0.1))
@@ -45,10 +44,7 @@ class RobotBodiesYamlTest(unittest.TestCase):
         self.assertGreater(len(msgs), 15)
         checked = 0
         seen = set()
-        for m in msgs:
-            check_array_basics(self, m)
-            if (m.header.stamp - t0).to_sec() > 1.4:
-                break
+        for m in checked_arrays(self, msgs, t0, 1.4):
             checked += check_scene_events(self, m, [gripper, base, flange, obj_x, obj_y],
                                           HORIZON, thresholds=labels)
             for ev in m.events:

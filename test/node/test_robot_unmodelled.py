@@ -19,7 +19,7 @@ import rospy  # noqa: E402
 import rostest  # noqa: E402
 
 from wp_node_testlib import (END, DiagnosticsCollector, ScenePublisher, Track,  # noqa: E402
-                             broadcast_static, check_array_basics, connected_collector,
+                             broadcast_robot_frames, check_array_basics, connected_collector,
                              degraded_about, find_node_binary)
 
 WARN = 1
@@ -27,10 +27,9 @@ WARN = 1
 
 class RobotUnmodelledTest(unittest.TestCase):
     def test_a_missing_mesh_keeps_the_status_degraded(self):
-        tf_pub = broadcast_static([
-            ("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)),
-            ("base_link", "missing_mesh_link", (2.0, 0.0, 1.0), (0.0, 0.0, 0.0)),
-            ("base_link", "dae_link", (-2.0, 0.0, 1.0), (0.0, 0.0, 0.0)),
+        tf_pub = broadcast_robot_frames((0.0, 0.0, 0.0), [
+            ("missing_mesh_link", (2.0, 0.0, 1.0), (0.0, 0.0, 0.0)),
+            ("dae_link", (-2.0, 0.0, 1.0), (0.0, 0.0, 0.0)),
         ])
         diags = DiagnosticsCollector()
         col = connected_collector(self)

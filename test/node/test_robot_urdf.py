@@ -20,7 +20,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import (StaticBody, Track, broadcast_static, check_array_basics,  # noqa: E402
+from wp_node_testlib import (StaticBody, Track, broadcast_robot_frames, check_array_basics,  # noqa: E402
                              check_scene_events, connected_collector, fmt_event, run_scene)
 
 HORIZON = 5.0
@@ -28,13 +28,12 @@ HORIZON = 5.0
 
 class RobotUrdfTest(unittest.TestCase):
     def test_robot_bodies_from_urdf(self):
-        tf_pub = broadcast_static([
-            ("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)),
-            ("base_link", "tool", (0.0, 0.0, 2.0), (0.0, 0.0, 0.0)),
-            ("base_link", "ball", (3.0, 0.0, 1.0), (0.0, 0.0, 0.0)),
-            ("base_link", "post", (-3.0, 0.0, 0.5), (0.0, 0.0, 0.0)),
-            ("base_link", "beam", (0.0, 3.0, 1.0), (0.0, 0.0, 1.5707963267948966)),
-            ("base_link", "camera_link", (0.0, 0.0, 3.0), (0.0, 0.0, 0.0)),
+        tf_pub = broadcast_robot_frames((0.0, 0.0, 0.0), [
+            ("tool", (0.0, 0.0, 2.0), (0.0, 0.0, 0.0)),
+            ("ball", (3.0, 0.0, 1.0), (0.0, 0.0, 0.0)),
+            ("post", (-3.0, 0.0, 0.5), (0.0, 0.0, 0.0)),
+            ("beam", (0.0, 3.0, 1.0), (0.0, 0.0, 1.5707963267948966)),
+            ("camera_link", (0.0, 0.0, 3.0), (0.0, 0.0, 0.0)),
         ])
         col = connected_collector(self)
         robot = [

@@ -33,6 +33,21 @@ C = S + 0.1 + CUBE_GAP   # distance of the -45 degree stick's centre from the cu
 
 
 class RotatedBoxesTest(unittest.TestCase):
+    def check_closing(self, ev, dt, initial_gap, speed, normal):
+        """A control pair closing at `speed` along `normal` from `initial_gap` at t0, seen dt
+        later: never END, time, separation, distance, normal and speed analytic. Returns the
+        gap now and a context string for further checks."""
+        self.assertNotEqual(ev.state, END, fmt_event(ev))
+        gap = initial_gap - speed * dt
+        ctx = "T-t0=%.4f %s" % (dt, fmt_event(ev))
+        self.assertAlmostEqual(ev.time_to_contact, gap / speed, delta=TIME_TOL, msg=ctx)
+        self.assertAlmostEqual(ev.time_to_separation, HORIZON, delta=TIME_TOL, msg=ctx)
+        self.assertAlmostEqual(ev.distance, gap, delta=1e-4, msg=ctx)
+        for k in range(3):
+            self.assertAlmostEqual(pt(ev.normal)[k], normal[k], delta=1e-3, msg=ctx)
+        self.assertAlmostEqual(ev.closing_speed, speed, delta=1e-3, msg=ctx)
+        return gap, ctx
+
     def test_rotated_boxes(self):
         col = connected_collector(self)
         q45 = quat_from_rpy(0, 0, math.pi / 4)
@@ -67,28 +82,12 @@ class RotatedBoxesTest(unittest.TestCase):
             if dt > 2.0:
                 continue
             for ev in events_for(m, "ctl_a1", "ctl_b1"):
-                self.assertNotEqual(ev.state, END, fmt_event(ev))
-                gap = 0.3 - 0.1 * dt
-                ctx = "T-t0=%.4f %s" % (dt, fmt_event(ev))
-                self.assertAlmostEqual(ev.time_to_contact, gap / 0.1, delta=TIME_TOL, msg=ctx)
-                self.assertAlmostEqual(ev.time_to_separation, HORIZON, delta=TIME_TOL, msg=ctx)
-                self.assertAlmostEqual(ev.distance, gap, delta=1e-4, msg=ctx)
-                for k in range(3):
-                    self.assertAlmostEqual(pt(ev.normal)[k], N[k], delta=1e-3, msg=ctx)
-                self.assertAlmostEqual(ev.closing_speed, 0.1, delta=1e-3, msg=ctx)
+                gap, ctx = self.check_closing(ev, dt, 0.3, 0.1, N)
                 self.assertAlmostEqual(vdot(pt(ev.point_a), N), 0.1, delta=1e-4, msg=ctx)
                 self.assertAlmostEqual(vdot(pt(ev.point_b), N), 0.1 + gap, delta=1e-4, msg=ctx)
                 checked["sticks"] += 1
             for ev in events_for(m, "ctl_cube", "ctl_stick"):
-                self.assertNotEqual(ev.state, END, fmt_event(ev))
-                gap = CUBE_GAP - 0.05 * dt
-                ctx = "T-t0=%.4f %s" % (dt, fmt_event(ev))
-                self.assertAlmostEqual(ev.time_to_contact, gap / 0.05, delta=TIME_TOL, msg=ctx)
-                self.assertAlmostEqual(ev.time_to_separation, HORIZON, delta=TIME_TOL, msg=ctx)
-                self.assertAlmostEqual(ev.distance, gap, delta=1e-4, msg=ctx)
-                for k in range(3):
-                    self.assertAlmostEqual(pt(ev.normal)[k], U[k], delta=1e-3, msg=ctx)
-                self.assertAlmostEqual(ev.closing_speed, 0.05, delta=1e-3, msg=ctx)
+                gap, ctx = self.check_closing(ev, dt, CUBE_GAP, 0.05, U)
                 # The cube's nearest point lies on its vertical edge x = y = 0.5.
                 self.assertAlmostEqual(ev.point_a.x, 0.5, delta=1e-4, msg=ctx)
                 self.assertAlmostEqual(ev.point_a.y, 0.5, delta=1e-4, msg=ctx)

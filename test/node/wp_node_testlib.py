@@ -367,6 +367,13 @@ class TfBroadcaster(object):
             self.stop.wait(self.period)
 
 
+def broadcast_robot_frames(base_xyz, links):
+    """Static tf of a robot: world -> base_link at `base_xyz` (not turned), and base_link ->
+    each link of `links`, a list of (frame, xyz, rpy). Returns the broadcaster (keep it alive)."""
+    return broadcast_static([("world", "base_link", base_xyz, (0.0, 0.0, 0.0))] +
+                            [("base_link", frame, xyz, rpy) for frame, xyz, rpy in links])
+
+
 def broadcast_static(transforms):
     """transforms: list of (parent, child, xyz, rpy). Returns the broadcaster (keep it alive)."""
     import tf2_ros
@@ -480,6 +487,16 @@ def expected_level(ttc, dist, thr, margin_t=3e-3, margin_d=3e-3):
 
 def events_for(msg, id_a, id_b):
     return [e for e in msg.events if e.id_a == id_a and e.id_b == id_b]
+
+
+def checked_arrays(tc, msgs, t0, until):
+    """The arrays of `msgs` stamped up to `until` s after t0, each first checked by
+    check_array_basics (the first one past `until` is checked too, then the walk stops)."""
+    for m in msgs:
+        check_array_basics(tc, m)
+        if (m.header.stamp - t0).to_sec() > until:
+            return
+        yield m
 
 
 def check_array_basics(tc, msg, frame_id="world"):
