@@ -427,7 +427,9 @@ TEST_P(RandomScenes, MissNothingNeverLateNeverEarly) {
   SceneCounts counts;
   checkScenes(c.scenes, 10, c.options, c.seed, &counts);
   EXPECT_GT(c.count_growth_pairs ? counts.growth_pairs : counts.contacts, 150);
-  if (c.tight_tenths > 0) EXPECT_GT(counts.tight_first, counts.contacts * c.tight_tenths / 10);
+  if (c.tight_tenths > 0) {
+    EXPECT_GT(counts.tight_first, counts.contacts * c.tight_tenths / 10);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(
