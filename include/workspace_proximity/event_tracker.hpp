@@ -49,6 +49,7 @@ class EventTracker {
   void release(std::int32_t record);
   void growPool(std::size_t records);
   void growIndex();
+  void sortEvents();
 
   std::vector<Record> records_;        // the pool
   std::int32_t free_list_ = -1;
@@ -56,6 +57,14 @@ class EventTracker {
   HashIndex index_;                    // key -> record
   std::uint32_t cycle_ = 0;
   std::vector<PairEvent> events_;
+  // Sorting: the events' keys, and the events in order (swapped with events_ once gathered).
+  struct SortKey {
+    double time;           // time to contact, s
+    std::uint64_t bodies;  // body_a's index, then body_b's
+    std::uint32_t event;   // position in events_
+  };
+  std::vector<SortKey> sort_keys_;
+  std::vector<PairEvent> sorted_;
 };
 
 }  // namespace workspace_proximity

@@ -23,4 +23,8 @@ Eigen::Vector3d rotationHalfExtents(const Shape& shape, const BodyMotion& motion
 /// moves on a straight line, so the union of the two end boxes covers every box in between).
 Aabb sweptBounds(const Shape& shape, const BodyMotion& motion, double margin, double horizon);
 
+/// The same box from the rotation-inflated half extents `half` (m) that rotationHalfExtents()
+/// returned for this motion and horizon (s): for callers that keep them anyway.
+Aabb sweptBoundsOfHalf(const Eigen::Vector3d& half, const BodyMotion& motion, double horizon);
+
 }  // namespace workspace_proximity

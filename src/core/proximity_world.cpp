@@ -344,7 +344,7 @@ void ProximityWorld::updateBounds(double horizon) {
       b.half = b.path[0].half;
     } else {
       b.half = rotationHalfExtents(b.desc.shape, b.motion, b.desc.margin, horizon);
-      b.swept = workspace_proximity::sweptBounds(b.desc.shape, b.motion, b.desc.margin, horizon);
+      b.swept = sweptBoundsOfHalf(b.half, b.motion, horizon);
     }
     broad_phase_.moveProxy(b.proxy, grown(b.swept, b.reach));
     b.dirty = false;

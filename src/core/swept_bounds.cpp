@@ -69,7 +69,10 @@ Eigen::Vector3d rotationHalfExtents(const Shape& shape, const BodyMotion& motion
 }
 
 Aabb sweptBounds(const Shape& shape, const BodyMotion& motion, double margin, double horizon) {
-  const Eigen::Vector3d half = rotationHalfExtents(shape, motion, margin, horizon);
+  return sweptBoundsOfHalf(rotationHalfExtents(shape, motion, margin, horizon), motion, horizon);
+}
+
+Aabb sweptBoundsOfHalf(const Eigen::Vector3d& half, const BodyMotion& motion, double horizon) {
   const Eigen::Vector3d start = motion.position;
   const Eigen::Vector3d end = motion.position + motion.linear_velocity * std::max(horizon, 0.0);
   return Aabb{start.cwiseMin(end) - half, start.cwiseMax(end) + half};

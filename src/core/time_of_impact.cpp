@@ -119,6 +119,51 @@ TimeInterval boxContactInterval(const Eigen::Vector3d& center_a, const Eigen::Ve
   return result;
 }
 
+namespace {
+
+// Narrows `result` to the times at which two intervals overlap on one axis: a's centred at 0
+// with half width support_a, b's centred at c with half width support_b and moving at `speed`
+// relative to a along the axis.
+inline void clipOnAxis(double support_a, double support_b, double c, double speed,
+                       TimeInterval* result) {
+  const TimeInterval axis =
+      axisContactInterval(-support_a, support_a, 0.0, c - support_b, c + support_b, speed);
+  result->first = std::max(result->first, axis.first);
+  result->last = std::min(result->last, axis.last);
+}
+
+// Half width of an upright box's footprint (axes `u`, `v` of its rotation, half sizes hu, hv)
+// projected on the horizontal axis `l`; its z axis is perpendicular to l.
+inline double footprintSupport(const Eigen::Matrix3d& r, double hu, double hv,
+                               const Eigen::Vector3d& l) {
+  return hu * std::abs(r(0, 0) * l.x() + r(1, 0) * l.y()) +
+         hv * std::abs(r(0, 1) * l.x() + r(1, 1) * l.y());
+}
+
+// movingBoxInterval for two vertical prisms: every edge cross product is z or a footprint
+// normal, so a's two footprint normals, b's two and z are the whole separating-axis set. On
+// its own footprint normal a box's support is its half size there, the other box's comes from
+// its footprint alone; on z both are their half heights.
+TimeInterval uprightMovingInterval(const Eigen::Matrix3d& ra, const Eigen::Vector3d& half_a,
+                                   const Eigen::Matrix3d& rb, const Eigen::Vector3d& half_b,
+                                   const Eigen::Vector3d& offset, const Eigen::Vector3d& dv,
+                                   double inflation, TimeInterval result) {
+  for (int i = 0; i < 2 && !result.empty(); ++i) {
+    const Eigen::Vector3d l(ra(0, i), ra(1, i), 0.0);
+    clipOnAxis(half_a[i] + inflation, footprintSupport(rb, half_b.x(), half_b.y(), l),
+               l.x() * offset.x() + l.y() * offset.y(), l.x() * dv.x() + l.y() * dv.y(), &result);
+  }
+  for (int i = 0; i < 2 && !result.empty(); ++i) {
+    const Eigen::Vector3d l(rb(0, i), rb(1, i), 0.0);
+    clipOnAxis(footprintSupport(ra, half_a.x(), half_a.y(), l) + inflation, half_b[i],
+               l.x() * offset.x() + l.y() * offset.y(), l.x() * dv.x() + l.y() * dv.y(), &result);
+  }
+  if (!result.empty()) clipOnAxis(half_a.z() + inflation, half_b.z(), offset.z(), dv.z(), &result);
+  return result.empty() ? TimeInterval{} : result;
+}
+
+}  // namespace
+
 TimeInterval movingBoxInterval(const Eigen::Isometry3d& pose_a, const Eigen::Vector3d& half_a,
                                const Eigen::Vector3d& velocity_a,
                                const Eigen::Isometry3d& pose_b, const Eigen::Vector3d& half_b,
@@ -142,12 +187,7 @@ TimeInterval movingBoxInterval(const Eigen::Isometry3d& pose_a, const Eigen::Vec
     result.last = std::min(result.last, axis.last);
   };
   if (isUpright(ra) && isUpright(rb)) {
-    // Two vertical prisms: every edge cross product is z or a footprint normal, so these
-    // five axes are the whole separating-axis set.
-    for (int i = 0; i < 2 && !result.empty(); ++i) clip(ra.col(i));
-    for (int i = 0; i < 2 && !result.empty(); ++i) clip(rb.col(i));
-    if (!result.empty()) clip(Eigen::Vector3d::UnitZ());
-    return result.empty() ? TimeInterval{} : result;
+    return uprightMovingInterval(ra, half_a, rb, half_b, offset, dv, inflation, result);
   }
   for (int i = 0; i < 3 && !result.empty(); ++i) clip(ra.col(i));
   for (int i = 0; i < 3 && !result.empty(); ++i) clip(rb.col(i));

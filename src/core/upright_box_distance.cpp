@@ -24,24 +24,71 @@ struct Footprint {
   Vec2 corner(int i) const {
     return centre + ((i & 1) ? hu : -hu) * u + ((i & 2) ? hv : -hv) * v;
   }
-  // Nearest point of the (solid) rectangle to p.
-  Vec2 clamp(const Vec2& p) const {
-    const Vec2 d = p - centre;
-    return centre + std::clamp(d.dot(u), -hu, hu) * u + std::clamp(d.dot(v), -hv, hv) * v;
-  }
   // Half width of the projection on unit axis n.
   double radius(const Vec2& n) const { return hu * std::abs(n.dot(u)) + hv * std::abs(n.dot(v)); }
 };
 
-// Largest separating-axis gap of the two rectangles over their four edge normals; > 0 means
-// the footprints are disjoint (in 2-D these four axes decide it).
-double footprintGap(const Footprint& a, const Footprint& b) {
-  const Vec2 d = b.centre - a.centre;
-  double gap = -HUGE_VAL;
-  for (const Vec2* n : {&a.u, &a.v, &b.u, &b.v}) {
-    gap = std::max(gap, std::abs(n->dot(d)) - a.radius(*n) - b.radius(*n));
+// `other` seen from `self`'s frame: the offset of its centre and its two axes, in self's
+// (u, v) coordinates. In that frame self is the axis-aligned rectangle [-hu, hu] x [-hv, hv],
+// so the separating-axis test and the nearest points take a few products each.
+struct Seen {
+  Vec2 centre, u, v;
+  Seen(const Footprint& self, const Footprint& other) {
+    const Vec2 d = other.centre - self.centre;
+    centre = Vec2(self.u.dot(d), self.v.dot(d));
+    u = Vec2(self.u.dot(other.u), self.v.dot(other.u));
+    v = Vec2(self.u.dot(other.v), self.v.dot(other.v));
   }
-  return gap;
+};
+
+// Largest separating-axis gap over self's two edge normals; with both orders this covers the
+// four axes that decide whether two rectangles are disjoint (> 0: disjoint).
+double gapAlongOwnAxes(const Footprint& self, const Footprint& other, const Seen& s) {
+  const double gu = std::abs(s.centre.x()) - self.hu - other.hu * std::abs(s.u.x()) -
+                    other.hv * std::abs(s.v.x());
+  const double gv = std::abs(s.centre.y()) - self.hv - other.hu * std::abs(s.u.y()) -
+                    other.hv * std::abs(s.v.y());
+  return std::max(gu, gv);
+}
+
+// The nearest of other's four corners to self's rectangle, in self's frame: the squared
+// distance, the corner and its nearest point on self (clamped to the rectangle).
+double nearestCorner(const Footprint& self, const Footprint& other, const Seen& s, Vec2* corner,
+                     Vec2* on_self) {
+  const Vec2 eu = other.hu * s.u, ev = other.hv * s.v;
+  double best = HUGE_VAL;
+  for (int i = 0; i < 4; ++i) {
+    const Vec2 q = s.centre + ((i & 1) ? eu : -eu) + ((i & 2) ? ev : -ev);
+    const Vec2 p(std::clamp(q.x(), -self.hu, self.hu), std::clamp(q.y(), -self.hv, self.hv));
+    const double d = (q - p).squaredNorm();
+    if (d < best) {
+      best = d;
+      *corner = q;
+      *on_self = p;
+    }
+  }
+  return best;
+}
+
+// A point given in self's frame, in world x-y.
+Vec2 toWorld(const Footprint& self, const Vec2& p) {
+  return self.centre + p.x() * self.u + p.y() * self.v;
+}
+
+// Nearest points of two disjoint footprints: the pair has a vertex of one of them, so it is
+// the better of each one's nearest corner to the other's rectangle.
+void nearestPoints(const Footprint& fa, const Footprint& fb, const Seen& b_from_a,
+                   const Seen& a_from_b, Vec2* pa, Vec2* pb) {
+  Vec2 corner_b, on_a, corner_a, on_b;
+  const double via_b = nearestCorner(fa, fb, b_from_a, &corner_b, &on_a);
+  const double via_a = nearestCorner(fb, fa, a_from_b, &corner_a, &on_b);
+  if (via_b < via_a) {
+    *pa = toWorld(fa, on_a);
+    *pb = toWorld(fa, corner_b);
+  } else {
+    *pa = toWorld(fb, corner_a);
+    *pb = toWorld(fb, on_b);
+  }
 }
 
 // A point common to both footprints: a's rectangle clipped by b's four half planes
@@ -140,23 +187,9 @@ UprightBoxDistance uprightBoxDistance(const Eigen::Isometry3d& pose_a,
   }
 
   Vec2 pa_xy, pb_xy;
-  if (footprintGap(fa, fb) > 0.0) {
-    // Disjoint convex polygons: the nearest pair has a vertex of one of them.
-    double best = HUGE_VAL;
-    auto consider = [&](const Vec2& on_a, const Vec2& on_b) {
-      const double d = (on_b - on_a).squaredNorm();
-      if (d < best) {
-        best = d;
-        pa_xy = on_a;
-        pb_xy = on_b;
-      }
-    };
-    for (int i = 0; i < 4; ++i) {
-      const Vec2 ca = fa.corner(i);
-      consider(ca, fb.clamp(ca));
-      const Vec2 cb = fb.corner(i);
-      consider(fa.clamp(cb), cb);
-    }
+  const Seen b_from_a(fa, fb), a_from_b(fb, fa);
+  if (std::max(gapAlongOwnAxes(fa, fb, b_from_a), gapAlongOwnAxes(fb, fa, a_from_b)) > 0.0) {
+    nearestPoints(fa, fb, b_from_a, a_from_b, &pa_xy, &pb_xy);
   } else {
     // Footprints overlap: one box straight above the other, or the boxes overlap.
     if (!commonPoint(fa, fb, &pa_xy)) return out;
