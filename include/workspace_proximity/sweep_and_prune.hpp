@@ -16,7 +16,10 @@
 /// a rebuild (too many swaps), or when the last update rebuilt and the endpoints are still
 /// thoroughly shuffled, it rebuilds instead: radix sort of every axis, a sweep along the axis
 /// with the fewest overlapping intervals (in slabs of a second axis when there are many bodies),
-/// and a diff against the previous pair set. Steady-state updates allocate nothing: scratch
+/// and a diff against the previous pair set. A rebuild that follows a rebuild with the
+/// endpoints still shuffled sorts only the sweep axis and leaves the other two stale (out of
+/// order); the first update that would re-sort incrementally with a stale axis rebuilds in
+/// full instead. Steady-state updates allocate nothing: scratch
 /// space grows with the number of proxy slots, and the pair table keeps a quarter of headroom.
 
 #include <cstdint>
@@ -201,6 +204,10 @@ class SweepAndPrune {
   void keepHeadroom();
   std::int64_t swapBudget() const;
   std::int64_t refreshKeys();  // reads every endpoint's key; returns the descents
+  std::int64_t refreshAxis(int axis);  // the same for one axis
+  bool anyStale() const { return stale_[0] | stale_[1] | stale_[2]; }
+  // True when `descents` of `endpoints` say the order is as shuffled as at the last rebuild.
+  bool stillShuffled(std::int64_t descents, std::int64_t endpoints) const;
 
   // Incremental path: insertion sort of every axis (reading the proxies' keys first when
   // `refresh`), reporting pair events; false when the swap budget ran out.
@@ -211,11 +218,15 @@ class SweepAndPrune {
   void rollBack(std::size_t began_mark, std::size_t ended_mark);
 
   // Rebuild path.
-  void rebuild(std::int64_t descents);  // descents < 0: keys not read yet
+  // descents < 0: keys not read yet; else the descents of `endpoints` endpoints (one axis or
+  // all three) whose keys were just read. `streak`: the last update rebuilt too, so only the
+  // sweep axis is sorted (except on the rebuilds that re-choose it).
+  void rebuild(std::int64_t descents, std::int64_t endpoints, bool streak);
+  void sortAxisFully(int axis);
   void radixSortAxis(int axis);
   void insertionSortAxis(int axis);
   std::int64_t sweepTests(int axis) const;
-  int cheapestSweepAxis(std::int64_t* tests) const;
+  int cheapestSweepAxis(std::int64_t* tests) const;  // among the sorted axes
   void measureWidths(double* mean_width);
 
   // Sweeps for pairs, around one kernel (testOpen).
@@ -264,7 +275,12 @@ class SweepAndPrune {
 
   // Rebuild heuristics.
   bool last_rebuilt_ = false;
-  std::int64_t rebuild_descents_ = 0;  // descents seen by the last rebuild
+  std::int64_t rebuild_descents_ = 0;   // descents seen by the last rebuild
+  std::int64_t rebuild_endpoints_ = 1;  // of this many endpoints (one axis or three)
+  // Axes a streak rebuild left out of order: no pair events may come from them until a full
+  // rebuild sorts them (insertion sort from a stale order misses pairs that separated and
+  // re-joined, or the reverse, since it was sorted); nothing looks up keys in them either.
+  bool stale_[3] = {false, false, false};
   std::int64_t sweep_tests_ = 0;       // overlap tests of the last full sweep
   int sweep_axis_ = 0;                 // axis of the rebuild sweeps
   unsigned rebuilds_since_choice_ = 0;

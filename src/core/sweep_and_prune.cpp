@@ -229,7 +229,9 @@ void SweepAndPrune::update() {
   insertPending();
   last_rebuilt_ = stats_.rebuilt;
   keepHeadroom();
-  // The arrays are now sorted by the current keys: remember them for the next update's events.
+  // The arrays are now sorted by the current keys: remember them for the next update's events
+  // (none come from a stale axis: the next update rebuilds).
+  if (anyStale()) return;
   for (int axis = 1; axis < 3; ++axis) {
     prev_ends_[axis].resize(ends_[axis].size());
     std::memcpy(prev_ends_[axis].data(), ends_[axis].data(), ends_[axis].size() * sizeof(std::uint64_t));
@@ -239,23 +241,35 @@ void SweepAndPrune::update() {
 void SweepAndPrune::resort() {
   const std::size_t began_mark = began_.size();
   const std::size_t ended_mark = ended_.size();
-  if (last_rebuilt_) {
-    // Motion was large last time. If the endpoints are still as shuffled (nearly every other
-    // neighbour out of order), insertion sort would blow its budget again: rebuild at once.
-    const std::int64_t descents = refreshKeys();
-    const std::int64_t endpoints = 6 * static_cast<std::int64_t>(live_count_);
-    if (100 * descents >= 42 * endpoints && 2 * descents >= rebuild_descents_) {
-      rebuild(descents);
-    } else if (!sortAxes(false, swapBudget())) {
+  if (!last_rebuilt_ && !anyStale()) {
+    if (!sortAxes(true, swapBudget())) {
+      // Motion too large for insertion sort to pay: undo its partial pair changes, then sort
+      // from scratch and diff the new pair set against the old one.
       rollBack(began_mark, ended_mark);
-      rebuild(descents);
+      rebuild(-1, 0, false);
     }
-  } else if (!sortAxes(true, swapBudget())) {
-    // Motion too large for insertion sort to pay: undo its partial pair changes, then sort
-    // from scratch and diff the new pair set against the old one.
-    rollBack(began_mark, ended_mark);
-    rebuild(-1);
+    return;
   }
+  // Motion was large last time. If the endpoints are still as shuffled (nearly every other
+  // neighbour out of order), insertion sort would blow its budget again: rebuild at once. After
+  // a streak rebuild only the sweep axis is in order, so only its descents say anything.
+  const bool streak = anyStale();
+  const std::int64_t descents = streak ? refreshAxis(sweep_axis_) : refreshKeys();
+  const std::int64_t endpoints = (streak ? 2 : 6) * static_cast<std::int64_t>(live_count_);
+  if (stillShuffled(descents, endpoints)) {
+    rebuild(descents, endpoints, true);
+  } else if (streak) {
+    rebuild(-1, 0, false);  // stale axes: insertion sort would miss pair events
+  } else if (!sortAxes(false, swapBudget())) {
+    rollBack(began_mark, ended_mark);
+    rebuild(descents, endpoints, false);
+  }
+}
+
+bool SweepAndPrune::stillShuffled(std::int64_t descents, std::int64_t endpoints) const {
+  // At least 42 % of the neighbours out of order, and at least half the last rebuild's share.
+  return 100 * descents >= 42 * endpoints &&
+         2 * descents * rebuild_endpoints_ >= rebuild_descents_ * endpoints;
 }
 
 void SweepAndPrune::keepHeadroom() {
@@ -295,6 +309,7 @@ void SweepAndPrune::applyRemovals() {
   pending_remove_.clear();
   if (live_count_ == 0) {
     for (double& w : max_width_) w = 0.0;
+    for (bool& s : stale_) s = false;  // no endpoints left: every axis is in order
     sweep_tests_ = 0;
   }
 }
@@ -332,19 +347,21 @@ std::int64_t SweepAndPrune::swapBudget() const {
 }
 
 std::int64_t SweepAndPrune::refreshKeys() {
+  return refreshAxis(0) + refreshAxis(1) + refreshAxis(2);
+}
+
+std::int64_t SweepAndPrune::refreshAxis(int axis) {
+  std::uint64_t* key = keys_[axis].data();
+  const std::uint32_t* owner = owners_[axis].data();
+  const std::uint64_t* e = ends_[axis].data();
+  const std::size_t last = keys_[axis].size() - 1;
+  std::uint64_t prev = kLowSentinel;
   std::int64_t descents = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    std::uint64_t* key = keys_[axis].data();
-    const std::uint32_t* owner = owners_[axis].data();
-    const std::uint64_t* e = ends_[axis].data();
-    const std::size_t last = keys_[axis].size() - 1;
-    std::uint64_t prev = kLowSentinel;
-    for (std::size_t i = 1; i < last; ++i) {
-      const std::uint64_t k = e[owner[i]];
-      key[i] = k;
-      descents += k < prev;
-      prev = k;
-    }
+  for (std::size_t i = 1; i < last; ++i) {
+    const std::uint64_t k = e[owner[i]];
+    key[i] = k;
+    descents += k < prev;
+    prev = k;
   }
   return descents;
 }
@@ -463,16 +480,26 @@ void SweepAndPrune::rollBack(std::size_t began_mark, std::size_t ended_mark) {
 // ---------------------------------------------------------------------------------------------
 // Rebuild: sort every axis from scratch, one sweep for the pairs, diff with the old set.
 
-void SweepAndPrune::rebuild(std::int64_t descents) {
-  if (descents < 0) descents = refreshKeys();
-  rebuild_descents_ = descents;
-  for (int axis = 0; axis < 3; ++axis) {
-    radixSortAxis(axis);
-    insertionSortAxis(axis);
-  }
+void SweepAndPrune::rebuild(std::int64_t descents, std::int64_t endpoints, bool streak) {
   // The axis with the fewest open intervals, re-chosen every 8th rebuild (counting them costs a
-  // pass over each axis).
-  if (rebuilds_since_choice_++ % 8 == 0) {
+  // pass over each axis, and needs each axis sorted).
+  const bool choose = rebuilds_since_choice_++ % 8 == 0;
+  // In a streak the sweep needs only its own axis in order; the others go stale.
+  const bool sweep_axis_only = streak && !choose;
+  if (descents < 0 || (!sweep_axis_only && endpoints < 6 * static_cast<std::int64_t>(live_count_))) {
+    const std::int64_t all = refreshKeys();
+    if (descents < 0) {
+      descents = all;
+      endpoints = 6 * static_cast<std::int64_t>(live_count_);
+    }
+  }
+  rebuild_descents_ = descents;
+  rebuild_endpoints_ = std::max<std::int64_t>(endpoints, 1);
+  for (int axis = 0; axis < 3; ++axis) {
+    stale_[axis] = sweep_axis_only && axis != sweep_axis_;
+    if (!stale_[axis]) sortAxisFully(axis);
+  }
+  if (choose) {
     sweep_axis_ = cheapestSweepAxis(&sweep_tests_);
   } else {
     sweep_tests_ = sweepTests(sweep_axis_);
@@ -488,6 +515,11 @@ void SweepAndPrune::rebuild(std::int64_t descents) {
     }
   }
   stats_.rebuilt = true;
+}
+
+void SweepAndPrune::sortAxisFully(int axis) {
+  radixSortAxis(axis);
+  insertionSortAxis(axis);
 }
 
 void SweepAndPrune::radixSortAxis(int axis) {
@@ -559,9 +591,11 @@ std::int64_t SweepAndPrune::sweepTests(int axis) const {
 }
 
 int SweepAndPrune::cheapestSweepAxis(std::int64_t* tests) const {
-  int best = 0;
-  std::int64_t best_tests = sweepTests(0);
-  for (int axis = 1; axis < 3; ++axis) {
+  // A stale axis is out of order: a sweep along it would miss pairs. The sweep axis never is.
+  int best = sweep_axis_;
+  std::int64_t best_tests = std::numeric_limits<std::int64_t>::max();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (stale_[axis]) continue;
     const std::int64_t t = sweepTests(axis);
     if (t < best_tests) {
       best = axis;
@@ -878,6 +912,7 @@ int SweepAndPrune::cheapestWindowAxis(std::int64_t limit) const {
   int best_axis = -1;
   std::int64_t best_total = limit;
   for (int axis = 0; axis < 3; ++axis) {
+    if (stale_[axis]) continue;  // out of order: no windows to look up
     std::int64_t total = 0;
     for (ProxyId id : pending_insert_) {
       const Window w = window(axis, id);
