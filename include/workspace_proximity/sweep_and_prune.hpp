@@ -284,6 +284,8 @@ class SweepAndPrune {
   std::int64_t sweep_tests_ = 0;       // overlap tests of the last full sweep
   int sweep_axis_ = 0;                 // axis of the rebuild sweeps
   unsigned rebuilds_since_choice_ = 0;
+  double mean_width_[3] = {0.0, 0.0, 0.0};  // mean bound width per axis when last measured, m
+  bool widths_due_ = true;                  // the next rebuild's slab sweep re-measures them
 
   // Scratch, kept between updates so steady-state updates allocate nothing.
   std::vector<std::uint64_t> sort_items_, sort_items2_;

@@ -500,6 +500,7 @@ void SweepAndPrune::rebuild(std::int64_t descents, std::int64_t endpoints, bool 
     if (!stale_[axis]) sortAxisFully(axis);
   }
   if (choose) {
+    widths_due_ = true;
     sweep_axis_ = cheapestSweepAxis(&sweep_tests_);
   } else {
     sweep_tests_ = sweepTests(sweep_axis_);
@@ -632,9 +633,11 @@ void SweepAndPrune::findPairs(int axis, std::int64_t tests, SweepMode mode) {
   // Slabs pay only when a plain sweep would test each proxy against many open intervals, and
   // only when every pair is wanted.
   if (mode != SweepMode::kNewOnly && tests >= kSlabTestsPerProxy * live_count_) {
-    double mean_width[3];
-    measureWidths(mean_width);
-    if (sweepSlabs(axis, mean_width, mode == SweepMode::kRebuild)) return;
+    // Rebuilds re-measure with the sweep axis' choice: widths only size the slabs, and the
+    // widest ones only grow in between (writeBounds), so older ones cost speed, never pairs.
+    if (mode != SweepMode::kRebuild || widths_due_) measureWidths(mean_width_);
+    widths_due_ = false;
+    if (sweepSlabs(axis, mean_width_, mode == SweepMode::kRebuild)) return;
   }
   sweepForPairs(axis, mode != SweepMode::kRebuild);
 }
