@@ -109,23 +109,29 @@ class SweepAndPrune {
   };
 
   // Open intervals of one sweep: structure of arrays over the two axes the sweep does not run
-  // along, so the inner loop streams through contiguous keys.
+  // along, so the inner loop streams through contiguous keys. It holds 32-bit prefixes of the
+  // keys (prefix32: monotone, so a < b implies prefix(a) <= prefix(b)): a test on prefixes,
+  // four at a time, is a filter that never drops an overlap; the few it passes are tested on
+  // the full keys (keys_b, keys_c: the ends_ arrays of the two axes). Arrays have 3 entries
+  // past the capacity, read (and masked) by the last group of four.
   struct ActiveSet {
     std::vector<std::int32_t> id;
-    std::vector<std::uint64_t> lower_b, upper_b, lower_c, upper_c;
-    std::vector<std::uint32_t> first;  // slab sweep: the proxy's first slab is this one
+    std::vector<std::int32_t> lower_b, upper_b, lower_c, upper_c;
+    std::vector<std::int32_t> first;  // slab sweep: -1 when this slab is the proxy's first, else 0
+    const std::uint64_t* keys_b = nullptr;
+    const std::uint64_t* keys_c = nullptr;
     std::size_t size = 0;
     void reserve(std::size_t n);
     void clear() { size = 0; }
     /// Appends a proxy with its keys on the two tested axes; returns its position.
-    std::size_t push(std::int32_t p, const EndKeys& k, std::uint32_t first_slab) {
+    std::size_t push(std::int32_t p, const EndKeys& k, bool first_slab) {
       const std::size_t pos = size++;
       id[pos] = p;
-      lower_b[pos] = k.lb;
-      upper_b[pos] = k.ub;
-      lower_c[pos] = k.lc;
-      upper_c[pos] = k.uc;
-      first[pos] = first_slab;
+      lower_b[pos] = prefix32(k.lb);
+      upper_b[pos] = prefix32(k.ub);
+      lower_c[pos] = prefix32(k.lc);
+      upper_c[pos] = prefix32(k.uc);
+      first[pos] = first_slab ? -1 : 0;
       return pos;
     }
     /// Removes position pos by moving the last entry into it; returns the moved proxy
@@ -142,6 +148,10 @@ class SweepAndPrune {
       return id[pos];
     }
   };
+  // The 32 high bits of a key as a signed integer in the same order.
+  static std::int32_t prefix32(std::uint64_t key) {
+    return static_cast<std::int32_t>(static_cast<std::uint32_t>(key >> 32) ^ 0x80000000u);
+  }
 
   // Current keys per axis, indexed by endpoint code o = 2 proxy + is_upper: ends_[axis][o].
   bool overlaps(std::int32_t a, std::int32_t b) const {
@@ -240,7 +250,10 @@ class SweepAndPrune {
   template <bool kSlabs>
   std::size_t testOpen(const ActiveSet& set, std::int32_t p, const EndKeys& k, bool p_first,
                        bool rebuild);
-  void open(ActiveSet& set, std::int32_t p, const EndKeys& k, std::uint32_t first_slab);
+  void open(ActiveSet& set, std::int32_t p, const EndKeys& k, bool first_slab);
+  // The exact test of p against the proxy at position j of `set`; reports the pair.
+  void testExactly(const ActiveSet& set, std::size_t j, std::int32_t p, const EndKeys& k,
+                   bool rebuild);
   void close(ActiveSet& set, std::int32_t p);
   void foundPair(std::int32_t a, std::int32_t b, bool rebuild);
 

@@ -69,6 +69,39 @@ void radixSortHigh32(std::vector<std::uint64_t>* items, std::vector<std::uint64_
   if (src != items->data()) std::memcpy(items->data(), src, n * sizeof(std::uint64_t));
 }
 
+// Four 32-bit lanes (GCC and Clang vector extension: SSE2 on x86-64, NEON on ARM, plain code
+// elsewhere). Comparisons give -1 (true) or 0 per lane.
+using Lanes4 = std::int32_t __attribute__((vector_size(16)));
+
+inline Lanes4 splat4(std::int32_t x) { return Lanes4{x, x, x, x}; }
+inline Lanes4 load4(const std::int32_t* p) {
+  Lanes4 v;
+  std::memcpy(&v, p, sizeof v);  // unaligned
+  return v;
+}
+inline bool anyLane(Lanes4 v) {
+  std::uint64_t half[2];
+  std::memcpy(half, &v, sizeof half);
+  return (half[0] | half[1]) != 0u;
+}
+
+// One lower endpoint's prefixes on the two tested axes, in every lane.
+struct ProbeLanes {
+  Lanes4 lb, ub, lc, uc;
+  Lanes4 p_first;  // -1: the slab is the probing proxy's first
+};
+
+// Lanes j .. j + 3 of an open set (ActiveSet) whose prefixes overlap the probe's, within
+// `valid` (and, kSlabs, whose pair belongs to this slab): -1, else 0.
+template <bool kSlabs, class Set>
+inline Lanes4 candidates(const Set& set, std::size_t j, const ProbeLanes& probe, Lanes4 valid) {
+  // A lane fails when one of the four interval tests fails: (a > b) = !(a <= b).
+  const Lanes4 apart = (load4(&set.lower_b[j]) > probe.ub) | (probe.lb > load4(&set.upper_b[j])) |
+                       (load4(&set.lower_c[j]) > probe.uc) | (probe.lc > load4(&set.upper_c[j]));
+  if (kSlabs) valid &= probe.p_first | load4(&set.first[j]);
+  return valid & ~apart;
+}
+
 }  // namespace
 
 void SweepAndPrune::reserveSlots(std::size_t slots) {
@@ -100,6 +133,7 @@ void SweepAndPrune::reserveSlots(std::size_t slots) {
 }
 
 void SweepAndPrune::ActiveSet::reserve(std::size_t n) {
+  n += 3;  // testOpen reads whole groups of four
   if (id.size() >= n) return;
   id.resize(n);
   first.resize(n);
@@ -654,28 +688,43 @@ void SweepAndPrune::foundPair(std::int32_t a, std::int32_t b, bool rebuild) {
 }
 
 template <bool kSlabs>
-inline std::size_t SweepAndPrune::testOpen(const ActiveSet& set, std::int32_t p,
-                                           const EndKeys& k, bool p_first, bool rebuild) {
-  // Branch-free tests streaming through the set's key arrays. In a slab sweep a pair is
+inline std::size_t SweepAndPrune::testOpen(const ActiveSet& set, std::int32_t p, const EndKeys& k,
+                                           bool p_first, bool rebuild) {
+  // Four open intervals at a time on 32-bit prefixes (a filter that never drops an overlap),
+  // then the exact test on full keys for the few lanes it passes. In a slab sweep a pair is
   // reported only in the slab holding the larger of the two lower bounds: p's first slab, or
-  // the first slab of the other proxy.
-  const std::int32_t* id = set.id.data();
-  const std::uint64_t* slb = set.lower_b.data();
-  const std::uint64_t* sub = set.upper_b.data();
-  const std::uint64_t* slc = set.lower_c.data();
-  const std::uint64_t* suc = set.upper_c.data();
-  const std::uint32_t* first = set.first.data();
-  const std::size_t m = set.size;
-  for (std::size_t j = 0; j < m; ++j) {
-    bool hit = (slb[j] < k.ub) & (k.lb < sub[j]) & (slc[j] < k.uc) & (k.lc < suc[j]);
-    if (kSlabs) hit &= p_first | (first[j] != 0u);
-    if (hit) foundPair(p, id[j], rebuild);
+  // the first slab of the other proxy. Only the last group masks lanes past the set's end.
+  const ProbeLanes probe{splat4(prefix32(k.lb)), splat4(prefix32(k.ub)), splat4(prefix32(k.lc)),
+                         splat4(prefix32(k.uc)), splat4(p_first ? -1 : 0)};
+  auto testLanes = [&](std::size_t j, Lanes4 h) {
+    for (int t = 0; t < 4; ++t) {
+      if (h[t] != 0) testExactly(set, j + static_cast<std::size_t>(t), p, k, rebuild);
+    }
+  };
+  const std::size_t n = set.size, whole = n & ~std::size_t{3};
+  std::size_t j = 0;
+  for (; j < whole; j += 4) {
+    const Lanes4 h = candidates<kSlabs>(set, j, probe, splat4(-1));
+    if (anyLane(h)) testLanes(j, h);
   }
-  return m;
+  if (j < n) {
+    const Lanes4 lane = {0, 1, 2, 3};
+    const Lanes4 h = candidates<kSlabs>(set, j, probe, lane < splat4(static_cast<std::int32_t>(n - j)));
+    if (anyLane(h)) testLanes(j, h);
+  }
+  return n;
+}
+
+inline void SweepAndPrune::testExactly(const ActiveSet& set, std::size_t j, std::int32_t p,
+                                       const EndKeys& k, bool rebuild) {
+  const std::int32_t q = set.id[j];
+  const std::uint64_t* eb = set.keys_b + 2 * static_cast<std::size_t>(q);
+  const std::uint64_t* ec = set.keys_c + 2 * static_cast<std::size_t>(q);
+  if ((eb[0] < k.ub) & (k.lb < eb[1]) & (ec[0] < k.uc) & (k.lc < ec[1])) foundPair(p, q, rebuild);
 }
 
 inline void SweepAndPrune::open(ActiveSet& set, std::int32_t p, const EndKeys& k,
-                                std::uint32_t first_slab) {
+                                bool first_slab) {
   active_pos_[p] = static_cast<std::int32_t>(set.push(p, k, first_slab));
 }
 
@@ -698,6 +747,8 @@ void SweepAndPrune::sweepForPairs(int axis, bool only_new) {
   active_new_.reserve(reserved_slots_);
   active_.clear();
   active_new_.clear();
+  active_.keys_b = active_new_.keys_b = eb;
+  active_.keys_c = active_new_.keys_c = ec;
   for (std::size_t i = 1; i < last; ++i) {
     const std::uint32_t o = owner[i];
     const std::int32_t p = static_cast<std::int32_t>(o >> 1);
@@ -710,7 +761,7 @@ void SweepAndPrune::sweepForPairs(int axis, bool only_new) {
     const EndKeys k{eb[o], eb[o + 1], ec[o], ec[o + 1]};
     if (!only_new || p_new) testOpen<false>(active_, p, k, true, !only_new);
     testOpen<false>(active_new_, p, k, true, !only_new);
-    open(set, p, k, 0u);
+    open(set, p, k, false);
   }
 }
 
@@ -800,6 +851,8 @@ std::int64_t SweepAndPrune::sweepEachSlab(int axis, const SlabGrid& grid, bool r
   const std::size_t total = slab_owners_.size();
   std::int64_t tests = 0;
   ActiveSet& set = active_;
+  set.keys_b = eb;
+  set.keys_c = ec;
   for (std::size_t s = 0; s < grid.count; ++s) {
     set.clear();
     const std::uint32_t slab = static_cast<std::uint32_t>(s);
