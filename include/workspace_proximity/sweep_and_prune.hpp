@@ -13,14 +13,14 @@
 /// overlap on that axis: the pair is added when the two boxes overlap on all three axes. The
 /// opposite swap ends an overlap: the pair is removed. Pairs are kept in an open-addressing
 /// table; update() reports those that began and ended. When insertion sort would cost more than
-/// a rebuild (too many swaps), or when the last update rebuilt and the endpoints are still
-/// thoroughly shuffled, it rebuilds instead: radix sort of every axis, a sweep along the axis
-/// with the fewest overlapping intervals (in slabs of a second axis when there are many bodies),
-/// and a diff against the previous pair set. A rebuild that follows a rebuild with the
-/// endpoints still shuffled sorts only the sweep axis and leaves the other two stale (out of
-/// order); the first update that would re-sort incrementally with a stale axis rebuilds in
-/// full instead. Steady-state updates allocate nothing: scratch
-/// space grows with the number of proxy slots, and the pair table keeps a quarter of headroom.
+/// a rebuild (too many swaps, or, right after a rebuild, as many as an estimate from the new
+/// keys predicts), it rebuilds instead: radix sort of every axis, a sweep along the axis with
+/// the fewest overlapping intervals (in slabs of a second axis when there are many bodies), and
+/// a diff against the previous pair set. A rebuild that follows a rebuild sorts only the sweep
+/// axis and leaves the other two stale (out of order); the first update that would re-sort
+/// incrementally with a stale axis rebuilds in full instead. Steady-state updates allocate
+/// nothing: scratch space grows with the number of proxy slots, and the pair table keeps a
+/// quarter of headroom.
 
 #include <cstdint>
 #include <vector>
@@ -34,9 +34,11 @@ struct SweepAndPruneConfig {
   int initial_proxy_capacity = 256;   ///< proxies preallocated
   int initial_pair_capacity = 1024;   ///< overlapping pairs preallocated
   /// Insertion sort gives up and rebuilds once the swaps of one update (all axes) exceed
-  /// rebuild_factor * (8 n + t / 4), n = endpoints per axis, t = overlap tests of the last
-  /// full sweep: an estimate of what a rebuild costs, in swaps. 0 rebuilds on almost any
-  /// motion; a huge value never rebuilds.
+  /// rebuild_factor * (3 n + t / 8), n = endpoints per axis, t = overlap tests of the last
+  /// full sweep: an estimate of what a rebuild costs, in swaps. After a rebuild, the next
+  /// update rebuilds again (sorting only the sweep axis) while the swaps estimated from the new
+  /// keys exceed rebuild_factor * (2 n + t / 8). 0 rebuilds on almost any motion; a huge value
+  /// never rebuilds.
   double rebuild_factor = 1.0;
 };
 
@@ -212,12 +214,16 @@ class SweepAndPrune {
   void dropRemovedEndpoints(int axis);
   void resort();
   void keepHeadroom();
-  std::int64_t swapBudget() const;
-  std::int64_t refreshKeys();  // reads every endpoint's key; returns the descents
-  std::int64_t refreshAxis(int axis);  // the same for one axis
+  // A rebuild's cost in swaps, scaled by rebuild_factor: the swap budget of insertion sort
+  // (sorting all axes), or the swaps past which a streak goes on (the sweep axis only).
+  std::int64_t rebuildCost(bool sweep_axis_only) const;
+  void refreshKeys();           // reads every endpoint's current key into keys_
+  void refreshAxis(int axis);   // the same for one axis
+  // The swaps an insertion sort of `axis` would make, estimated from its keys (just read).
+  std::int64_t estimateSwaps(int axis) const;
+  // Reads the keys of the axes in order and estimates the swaps of an insertion sort of all.
+  std::int64_t estimateAllSwaps();
   bool anyStale() const { return stale_[0] | stale_[1] | stale_[2]; }
-  // True when `descents` of `endpoints` say the order is as shuffled as at the last rebuild.
-  bool stillShuffled(std::int64_t descents, std::int64_t endpoints) const;
 
   // Incremental path: insertion sort of every axis (reading the proxies' keys first when
   // `refresh`), reporting pair events; false when the swap budget ran out.
@@ -228,10 +234,9 @@ class SweepAndPrune {
   void rollBack(std::size_t began_mark, std::size_t ended_mark);
 
   // Rebuild path.
-  // descents < 0: keys not read yet; else the descents of `endpoints` endpoints (one axis or
-  // all three) whose keys were just read. `streak`: the last update rebuilt too, so only the
-  // sweep axis is sorted (except on the rebuilds that re-choose it).
-  void rebuild(std::int64_t descents, std::int64_t endpoints, bool streak);
+  // `streak`: sort only the sweep axis (except on the rebuilds that re-choose it), whose keys
+  // were read; `keys_read`: every axis' keys were read.
+  void rebuild(bool streak, bool keys_read);
   void sortAxisFully(int axis);
   void radixSortAxis(int axis);
   void insertionSortAxis(int axis);
@@ -288,8 +293,7 @@ class SweepAndPrune {
 
   // Rebuild heuristics.
   bool last_rebuilt_ = false;
-  std::int64_t rebuild_descents_ = 0;   // descents seen by the last rebuild
-  std::int64_t rebuild_endpoints_ = 1;  // of this many endpoints (one axis or three)
+  double swap_scale_ = 3.0;      // all axes' estimated swaps / the sweep axis' (last estimate)
   // Axes a streak rebuild left out of order: no pair events may come from them until a full
   // rebuild sorts them (insertion sort from a stale order misses pairs that separated and
   // re-joined, or the reverse, since it was sorted); nothing looks up keys in them either.

@@ -276,34 +276,38 @@ void SweepAndPrune::resort() {
   const std::size_t began_mark = began_.size();
   const std::size_t ended_mark = ended_.size();
   if (!last_rebuilt_ && !anyStale()) {
-    if (!sortAxes(true, swapBudget())) {
+    if (!sortAxes(true, rebuildCost(false))) {
       // Motion too large for insertion sort to pay: undo its partial pair changes, then sort
       // from scratch and diff the new pair set against the old one.
       rollBack(began_mark, ended_mark);
-      rebuild(-1, 0, false);
+      rebuild(false, false);
     }
     return;
   }
-  // Motion was large last time. If the endpoints are still as shuffled (nearly every other
-  // neighbour out of order), insertion sort would blow its budget again: rebuild at once. After
-  // a streak rebuild only the sweep axis is in order, so only its descents say anything.
-  const bool streak = anyStale();
-  const std::int64_t descents = streak ? refreshAxis(sweep_axis_) : refreshKeys();
-  const std::int64_t endpoints = (streak ? 2 : 6) * static_cast<std::int64_t>(live_count_);
-  if (stillShuffled(descents, endpoints)) {
-    rebuild(descents, endpoints, true);
-  } else if (streak) {
-    rebuild(-1, 0, false);  // stale axes: insertion sort would miss pair events
-  } else if (!sortAxes(false, swapBudget())) {
+  // After a rebuild: rebuild again (the sweep axis only) while insertion sort would cost more.
+  const std::int64_t swaps = estimateAllSwaps();
+  if (swaps > rebuildCost(true)) {
+    rebuild(true, !anyStale());
+  } else if (anyStale()) {
+    rebuild(false, false);  // stale axes: insertion sort would miss pair events
+  } else if (!sortAxes(false, rebuildCost(false))) {
     rollBack(began_mark, ended_mark);
-    rebuild(descents, endpoints, false);
+    rebuild(false, true);
   }
 }
 
-bool SweepAndPrune::stillShuffled(std::int64_t descents, std::int64_t endpoints) const {
-  // At least 42 % of the neighbours out of order, and at least half the last rebuild's share.
-  return 100 * descents >= 42 * endpoints &&
-         2 * descents * rebuild_endpoints_ >= rebuild_descents_ * endpoints;
+std::int64_t SweepAndPrune::estimateAllSwaps() {
+  // Reads the keys of every axis in order (all three, or only the sweep axis after a streak
+  // rebuild: then scaled by the three axes' share of the last full estimate).
+  if (anyStale()) {
+    refreshAxis(sweep_axis_);
+    return static_cast<std::int64_t>(swap_scale_ * static_cast<double>(estimateSwaps(sweep_axis_)));
+  }
+  refreshKeys();
+  std::int64_t per_axis[3], total = 0;
+  for (int axis = 0; axis < 3; ++axis) total += per_axis[axis] = estimateSwaps(axis);
+  swap_scale_ = std::clamp(static_cast<double>(total) / static_cast<double>(std::max<std::int64_t>(per_axis[sweep_axis_], 1)), 1.0, 3.0);
+  return total;
 }
 
 void SweepAndPrune::keepHeadroom() {
@@ -367,37 +371,53 @@ void SweepAndPrune::dropRemovedEndpoints(int axis) {
   owners.resize(w + 1);
 }
 
-std::int64_t SweepAndPrune::swapBudget() const {
+std::int64_t SweepAndPrune::rebuildCost(bool sweep_axis_only) const {
   // What a rebuild costs, counted in swaps: a fixed price per endpoint (reading, radix sorting
-  // and sweeping it) and a quarter swap per overlap test of the sweep. Measured on the uniform
-  // scenes, a swap costs 2 ns at 2 000 endpoints per axis but 12 ns at 200 000 (each event then
-  // misses the cache), a rebuild 50 to 140 ns per endpoint; 8 swaps per endpoint is the
-  // break-even in between.
+  // and sweeping it) and an eighth of a swap per overlap test of the sweep. Measured on the
+  // uniform scenes (AMD EPYC, issue 14): a swap with its pair events costs 8-16 ns at 200 to
+  // 20 000 endpoints per axis; a rebuild that sorts only the sweep axis 32-50 ns per endpoint,
+  // one that sorts all three up to 1.4 times that. The break-even moves from 2 swaps per
+  // endpoint at 200 endpoints to 4 at 20 000.
   const double n = 2.0 * live_count_;
-  const double estimate = 8.0 * n + 0.25 * static_cast<double>(sweep_tests_);
+  const double per_endpoint = sweep_axis_only ? 2.0 : 3.0;
+  const double estimate = per_endpoint * n + 0.125 * static_cast<double>(sweep_tests_);
   const double budget = std::max(64.0, config_.rebuild_factor * estimate);
   return budget > 4e18 ? std::numeric_limits<std::int64_t>::max()
                        : static_cast<std::int64_t>(budget);
 }
 
-std::int64_t SweepAndPrune::refreshKeys() {
-  return refreshAxis(0) + refreshAxis(1) + refreshAxis(2);
+void SweepAndPrune::refreshKeys() {
+  for (int axis = 0; axis < 3; ++axis) refreshAxis(axis);
 }
 
-std::int64_t SweepAndPrune::refreshAxis(int axis) {
+void SweepAndPrune::refreshAxis(int axis) {
   std::uint64_t* key = keys_[axis].data();
   const std::uint32_t* owner = owners_[axis].data();
   const std::uint64_t* e = ends_[axis].data();
   const std::size_t last = keys_[axis].size() - 1;
-  std::uint64_t prev = kLowSentinel;
-  std::int64_t descents = 0;
-  for (std::size_t i = 1; i < last; ++i) {
-    const std::uint64_t k = e[owner[i]];
-    key[i] = k;
-    descents += k < prev;
-    prev = k;
+  for (std::size_t i = 1; i < last; ++i) key[i] = e[owner[i]];
+}
+
+std::int64_t SweepAndPrune::estimateSwaps(int axis) const {
+  // Insertion sort's swaps are the inversions of the keys just read against the array's order:
+  // the sum over d >= 1 of the endpoints whose key is below the one d places before. Counted at
+  // d = 1, 2, 4, ..., 64 for every 4th endpoint; the count at d = 2^j stands for the 2^(j-1)
+  // distances in (2^(j-1), 2^j]. Measured on the uniform scenes this gives 75-93 % of the
+  // swaps at up to 10 swaps per endpoint, hence the 5/4 (larger motion: an underestimate of a
+  // large number).
+  const std::uint64_t* key = keys_[axis].data();
+  const std::size_t last = keys_[axis].size() - 1;
+  std::int64_t below[7] = {0, 0, 0, 0, 0, 0, 0};
+  for (std::size_t i = 2; i < last; i += 4) {
+    const std::uint64_t k = key[i];
+    for (int j = 0; j < 7; ++j) {
+      const std::size_t d = std::size_t{1} << j;
+      if (d < i) below[j] += key[i - d] > k;
+    }
   }
-  return descents;
+  std::int64_t sampled = below[0];
+  for (int j = 1; j < 7; ++j) sampled += below[j] << (j - 1);
+  return 5 * sampled;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -514,21 +534,14 @@ void SweepAndPrune::rollBack(std::size_t began_mark, std::size_t ended_mark) {
 // ---------------------------------------------------------------------------------------------
 // Rebuild: sort every axis from scratch, one sweep for the pairs, diff with the old set.
 
-void SweepAndPrune::rebuild(std::int64_t descents, std::int64_t endpoints, bool streak) {
+void SweepAndPrune::rebuild(bool streak, bool keys_read) {
   // The axis with the fewest open intervals, re-chosen every 8th rebuild (counting them costs a
   // pass over each axis, and needs each axis sorted).
   const bool choose = rebuilds_since_choice_++ % 8 == 0;
-  // In a streak the sweep needs only its own axis in order; the others go stale.
+  // In a streak the sweep needs only its own axis in order (its keys are read); the others go
+  // stale.
   const bool sweep_axis_only = streak && !choose;
-  if (descents < 0 || (!sweep_axis_only && endpoints < 6 * static_cast<std::int64_t>(live_count_))) {
-    const std::int64_t all = refreshKeys();
-    if (descents < 0) {
-      descents = all;
-      endpoints = 6 * static_cast<std::int64_t>(live_count_);
-    }
-  }
-  rebuild_descents_ = descents;
-  rebuild_endpoints_ = std::max<std::int64_t>(endpoints, 1);
+  if (!sweep_axis_only && !keys_read) refreshKeys();
   for (int axis = 0; axis < 3; ++axis) {
     stale_[axis] = sweep_axis_only && axis != sweep_axis_;
     if (!stale_[axis]) sortAxisFully(axis);
