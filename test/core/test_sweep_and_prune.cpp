@@ -535,7 +535,10 @@ TEST(SweepAndPrune, RebuildStreaksEnteredAndLeftUnderChurnEqualBruteForce) {
     const int n = 150 + 60 * scene;  // 150 .. 810 boxes: plain and slab sweeps
     StreakScene s;
     s.side = std::cbrt(10.0 * n);
-    Harness h(SweepAndPruneConfig(), true);
+    SweepAndPruneConfig cfg;
+    const double factors[] = {1.0, 1.0, 0.3, 3.0};  // where the streaks start and end
+    cfg.rebuild_factor = factors[scene % 4];
+    Harness h(cfg, true);
     std::vector<int> obj_of;  // scene slot -> harness object, -1 when destroyed
     auto spawn = [&]() {
       Eigen::Vector3d c, hf;
@@ -552,10 +555,11 @@ TEST(SweepAndPrune, RebuildStreaksEnteredAndLeftUnderChurnEqualBruteForce) {
     if (::testing::Test::HasFatalFailure()) return;
     int streak = 0;
     for (int cycle = 0; cycle < 60; ++cycle) {
-      // Phases of 1-12 cycles: large motion (about two box sizes: rebuild after rebuild), then
-      // small (1/64: incremental once the stale axes are sorted again).
-      const bool large = (cycle / (1 + scene % 12)) % 2 == 0;
-      const double step = large ? 2.0 : 1.0 / 64.0;
+      // Phases of 1-12 cycles: large motion (about two box sizes: rebuild after rebuild), small
+      // (1/64: incremental once the stale axes are sorted again) and in between (near where
+      // the estimated swaps end a streak).
+      const double steps[] = {2.0, 1.0 / 64.0, 0.25, 1.0 / 16.0, 2.0, 0.125};
+      const double step = steps[(cycle / (1 + scene % 12)) % 6];
       for (std::size_t i = 0; i < s.center.size(); ++i) {
         if (obj_of[i] < 0) continue;
         for (int k = 0; k < 3; ++k) {
