@@ -37,8 +37,10 @@ inline double unsortable64(std::uint64_t key) {
 }
 
 // LSD radix sort of 64-bit items by bits 32 .. 32 + 8 passes of each (stable), 8 bits per pass;
-// a pass in which every item has the same digit is skipped.
-void radixSortHigh32(std::vector<std::uint64_t>* items, std::vector<std::uint64_t>* scratch, int passes) {
+// a pass in which every item has the same digit is skipped. Returns the sorted items: in
+// `items` or in `scratch` (no copy back).
+const std::uint64_t* radixSortHigh32(std::vector<std::uint64_t>* items,
+                                     std::vector<std::uint64_t>* scratch, int passes) {
   const std::size_t n = items->size();
   scratch->resize(n);
   std::uint32_t count[4][256];
@@ -66,7 +68,7 @@ void radixSortHigh32(std::vector<std::uint64_t>* items, std::vector<std::uint64_
     }
     std::swap(src, dst);
   }
-  if (src != items->data()) std::memcpy(items->data(), src, n * sizeof(std::uint64_t));
+  return src;
 }
 
 // Four 32-bit lanes (GCC and Clang vector extension: SSE2 on x86-64, NEON on ARM, plain code
@@ -589,7 +591,7 @@ void SweepAndPrune::radixSortAxis(int axis) {
   const int shift = std::max(0, width - 8 * passes);
   sort_items_.resize(n);
   for (std::size_t i = 0; i < n; ++i) sort_items_[i] = (((keys[i + 1] - lo) >> shift) << 32) | i;
-  radixSortHigh32(&sort_items_, &sort_items2_, passes);
+  const std::uint64_t* sorted = radixSortHigh32(&sort_items_, &sort_items2_, passes);
   tmp_keys_.resize(n + 2);
   tmp_owners_.resize(n + 2);
   tmp_keys_[0] = kLowSentinel;
@@ -597,7 +599,7 @@ void SweepAndPrune::radixSortAxis(int axis) {
   tmp_keys_[n + 1] = kHighSentinel;
   tmp_owners_[n + 1] = kSentinelOwner;
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t from = static_cast<std::uint32_t>(sort_items_[i]) + 1;
+    const std::size_t from = static_cast<std::uint32_t>(sorted[i]) + 1;
     tmp_keys_[i + 1] = keys[from];
     tmp_owners_[i + 1] = owners[from];
   }
