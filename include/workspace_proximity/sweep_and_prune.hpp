@@ -299,6 +299,7 @@ class SweepAndPrune {
   // re-joined, or the reverse, since it was sorted); nothing looks up keys in them either.
   bool stale_[3] = {false, false, false};
   std::int64_t sweep_tests_ = 0;       // overlap tests of the last full sweep
+  std::int64_t plain_tests_ = 0;       // of a plain sweep along the axis when last chosen
   int sweep_axis_ = 0;                 // axis of the rebuild sweeps
   unsigned rebuilds_since_choice_ = 0;
   double mean_width_[3] = {0.0, 0.0, 0.0};  // mean bound width per axis when last measured, m

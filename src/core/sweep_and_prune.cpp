@@ -351,6 +351,7 @@ void SweepAndPrune::applyRemovals() {
     for (double& w : max_width_) w = 0.0;
     for (bool& s : stale_) s = false;  // no endpoints left: every axis is in order
     sweep_tests_ = 0;
+    plain_tests_ = 0;
   }
 }
 
@@ -550,10 +551,11 @@ void SweepAndPrune::rebuild(bool streak, bool keys_read) {
   }
   if (choose) {
     widths_due_ = true;
-    sweep_axis_ = cheapestSweepAxis(&sweep_tests_);
-  } else {
-    sweep_tests_ = sweepTests(sweep_axis_);
+    sweep_axis_ = cheapestSweepAxis(&plain_tests_);
   }
+  // The plain sweep's tests only choose between a plain and a slab sweep (a slab sweep counts
+  // its own): the count of the last choice will do, like the widths.
+  sweep_tests_ = plain_tests_;
   // Stamp every pair the sweep finds; unstamped survivors ended.
   ++epoch_;
   findPairs(sweep_axis_, sweep_tests_, SweepMode::kRebuild);
