@@ -308,7 +308,8 @@ std::int64_t SweepAndPrune::estimateAllSwaps() {
   refreshKeys();
   std::int64_t per_axis[3], total = 0;
   for (int axis = 0; axis < 3; ++axis) total += per_axis[axis] = estimateSwaps(axis);
-  swap_scale_ = std::clamp(static_cast<double>(total) / static_cast<double>(std::max<std::int64_t>(per_axis[sweep_axis_], 1)), 1.0, 3.0);
+  const double share = static_cast<double>(std::max<std::int64_t>(per_axis[sweep_axis_], 1));
+  swap_scale_ = std::clamp(static_cast<double>(total) / share, 1.0, 3.0);
   return total;
 }
 
@@ -727,7 +728,8 @@ inline std::size_t SweepAndPrune::testOpen(const ActiveSet& set, std::int32_t p,
   }
   if (j < n) {
     const Lanes4 lane = {0, 1, 2, 3};
-    const Lanes4 h = candidates<kSlabs>(set, j, probe, lane < splat4(static_cast<std::int32_t>(n - j)));
+    const Lanes4 in_set = lane < splat4(static_cast<std::int32_t>(n - j));
+    const Lanes4 h = candidates<kSlabs>(set, j, probe, in_set);
     if (anyLane(h)) testLanes(j, h);
   }
   return n;
