@@ -13,11 +13,14 @@
 /// overlap on that axis: the pair is added when the two boxes overlap on all three axes. The
 /// opposite swap ends an overlap: the pair is removed. Pairs are kept in an open-addressing
 /// table; update() reports those that began and ended. When insertion sort would cost more than
-/// a rebuild (too many swaps), or when the last update rebuilt and the endpoints are still
-/// thoroughly shuffled, it rebuilds instead: radix sort of every axis, a sweep along the axis
-/// with the fewest overlapping intervals (in slabs of a second axis when there are many bodies),
-/// and a diff against the previous pair set. Steady-state updates allocate nothing: scratch
-/// space grows with the number of proxy slots, and the pair table keeps a quarter of headroom.
+/// a rebuild (too many swaps, or, right after a rebuild, as many as an estimate from the new
+/// keys predicts), it rebuilds instead: radix sort of every axis, a sweep along the axis with
+/// the fewest overlapping intervals (in slabs of a second axis when there are many bodies), and
+/// a diff against the previous pair set. A rebuild that follows a rebuild sorts only the sweep
+/// axis and leaves the other two stale (out of order); the first update that would re-sort
+/// incrementally with a stale axis rebuilds in full instead. Steady-state updates allocate
+/// nothing: scratch space grows with the number of proxy slots, and the pair table keeps a
+/// quarter of headroom.
 
 #include <cstdint>
 #include <vector>
@@ -31,9 +34,11 @@ struct SweepAndPruneConfig {
   int initial_proxy_capacity = 256;   ///< proxies preallocated
   int initial_pair_capacity = 1024;   ///< overlapping pairs preallocated
   /// Insertion sort gives up and rebuilds once the swaps of one update (all axes) exceed
-  /// rebuild_factor * (8 n + t / 4), n = endpoints per axis, t = overlap tests of the last
-  /// full sweep: an estimate of what a rebuild costs, in swaps. 0 rebuilds on almost any
-  /// motion; a huge value never rebuilds.
+  /// rebuild_factor * (3 n + t / 8), n = endpoints per axis, t = overlap tests of the last
+  /// full sweep: an estimate of what a rebuild costs, in swaps. After a rebuild, the next
+  /// update rebuilds again (sorting only the sweep axis) while the swaps estimated from the new
+  /// keys exceed rebuild_factor * (2 n + t / 8). 0 rebuilds on almost any motion; a huge value
+  /// never rebuilds.
   double rebuild_factor = 1.0;
 };
 
@@ -106,23 +111,29 @@ class SweepAndPrune {
   };
 
   // Open intervals of one sweep: structure of arrays over the two axes the sweep does not run
-  // along, so the inner loop streams through contiguous keys.
+  // along, so the inner loop streams through contiguous keys. It holds 32-bit prefixes of the
+  // keys (prefix32: monotone, so a < b implies prefix(a) <= prefix(b)): a test on prefixes,
+  // four at a time, is a filter that never drops an overlap; the few it passes are tested on
+  // the full keys (keys_b, keys_c: the ends_ arrays of the two axes). Arrays have 3 entries
+  // past the capacity, read (and masked) by the last group of four.
   struct ActiveSet {
     std::vector<std::int32_t> id;
-    std::vector<std::uint64_t> lower_b, upper_b, lower_c, upper_c;
-    std::vector<std::uint32_t> first;  // slab sweep: the proxy's first slab is this one
+    std::vector<std::int32_t> lower_b, upper_b, lower_c, upper_c;
+    std::vector<std::int32_t> first;  // slab sweep: -1 when this slab is the proxy's first, else 0
+    const std::uint64_t* keys_b = nullptr;
+    const std::uint64_t* keys_c = nullptr;
     std::size_t size = 0;
     void reserve(std::size_t n);
     void clear() { size = 0; }
     /// Appends a proxy with its keys on the two tested axes; returns its position.
-    std::size_t push(std::int32_t p, const EndKeys& k, std::uint32_t first_slab) {
+    std::size_t push(std::int32_t p, const EndKeys& k, bool first_slab) {
       const std::size_t pos = size++;
       id[pos] = p;
-      lower_b[pos] = k.lb;
-      upper_b[pos] = k.ub;
-      lower_c[pos] = k.lc;
-      upper_c[pos] = k.uc;
-      first[pos] = first_slab;
+      lower_b[pos] = prefix32(k.lb);
+      upper_b[pos] = prefix32(k.ub);
+      lower_c[pos] = prefix32(k.lc);
+      upper_c[pos] = prefix32(k.uc);
+      first[pos] = first_slab ? -1 : 0;
       return pos;
     }
     /// Removes position pos by moving the last entry into it; returns the moved proxy
@@ -139,6 +150,10 @@ class SweepAndPrune {
       return id[pos];
     }
   };
+  // The 32 high bits of a key as a signed integer in the same order.
+  static std::int32_t prefix32(std::uint64_t key) {
+    return static_cast<std::int32_t>(static_cast<std::uint32_t>(key >> 32) ^ 0x80000000u);
+  }
 
   // Current keys per axis, indexed by endpoint code o = 2 proxy + is_upper: ends_[axis][o].
   bool overlaps(std::int32_t a, std::int32_t b) const {
@@ -199,8 +214,16 @@ class SweepAndPrune {
   void dropRemovedEndpoints(int axis);
   void resort();
   void keepHeadroom();
-  std::int64_t swapBudget() const;
-  std::int64_t refreshKeys();  // reads every endpoint's key; returns the descents
+  // A rebuild's cost in swaps, scaled by rebuild_factor: the swap budget of insertion sort
+  // (sorting all axes), or the swaps past which a streak goes on (the sweep axis only).
+  std::int64_t rebuildCost(bool sweep_axis_only) const;
+  void refreshKeys();           // reads every endpoint's current key into keys_
+  void refreshAxis(int axis);   // the same for one axis
+  // The swaps an insertion sort of `axis` would make, estimated from its keys (just read).
+  std::int64_t estimateSwaps(int axis) const;
+  // Reads the keys of the axes in order and estimates the swaps of an insertion sort of all.
+  std::int64_t estimateAllSwaps();
+  bool anyStale() const { return stale_[0] | stale_[1] | stale_[2]; }
 
   // Incremental path: insertion sort of every axis (reading the proxies' keys first when
   // `refresh`), reporting pair events; false when the swap budget ran out.
@@ -211,11 +234,14 @@ class SweepAndPrune {
   void rollBack(std::size_t began_mark, std::size_t ended_mark);
 
   // Rebuild path.
-  void rebuild(std::int64_t descents);  // descents < 0: keys not read yet
+  // `streak`: sort only the sweep axis (except on the rebuilds that re-choose it), whose keys
+  // were read; `keys_read`: every axis' keys were read.
+  void rebuild(bool streak, bool keys_read);
+  void sortAxisFully(int axis);
   void radixSortAxis(int axis);
   void insertionSortAxis(int axis);
   std::int64_t sweepTests(int axis) const;
-  int cheapestSweepAxis(std::int64_t* tests) const;
+  int cheapestSweepAxis(std::int64_t* tests) const;  // among the sorted axes
   void measureWidths(double* mean_width);
 
   // Sweeps for pairs, around one kernel (testOpen).
@@ -229,7 +255,10 @@ class SweepAndPrune {
   template <bool kSlabs>
   std::size_t testOpen(const ActiveSet& set, std::int32_t p, const EndKeys& k, bool p_first,
                        bool rebuild);
-  void open(ActiveSet& set, std::int32_t p, const EndKeys& k, std::uint32_t first_slab);
+  void open(ActiveSet& set, std::int32_t p, const EndKeys& k, bool first_slab);
+  // The exact test of p against the proxy at position j of `set`; reports the pair.
+  void testExactly(const ActiveSet& set, std::size_t j, std::int32_t p, const EndKeys& k,
+                   bool rebuild);
   void close(ActiveSet& set, std::int32_t p);
   void foundPair(std::int32_t a, std::int32_t b, bool rebuild);
 
@@ -264,10 +293,17 @@ class SweepAndPrune {
 
   // Rebuild heuristics.
   bool last_rebuilt_ = false;
-  std::int64_t rebuild_descents_ = 0;  // descents seen by the last rebuild
+  double swap_scale_ = 3.0;      // all axes' estimated swaps / the sweep axis' (last estimate)
+  // Axes a streak rebuild left out of order: no pair events may come from them until a full
+  // rebuild sorts them (insertion sort from a stale order misses pairs that separated and
+  // re-joined, or the reverse, since it was sorted); nothing looks up keys in them either.
+  bool stale_[3] = {false, false, false};
   std::int64_t sweep_tests_ = 0;       // overlap tests of the last full sweep
+  std::int64_t plain_tests_ = 0;       // of a plain sweep along the axis when last chosen
   int sweep_axis_ = 0;                 // axis of the rebuild sweeps
   unsigned rebuilds_since_choice_ = 0;
+  double mean_width_[3] = {0.0, 0.0, 0.0};  // mean bound width per axis when last measured, m
+  bool widths_due_ = true;                  // the next rebuild's slab sweep re-measures them
 
   // Scratch, kept between updates so steady-state updates allocate nothing.
   std::vector<std::uint64_t> sort_items_, sort_items2_;

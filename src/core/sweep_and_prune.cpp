@@ -37,8 +37,10 @@ inline double unsortable64(std::uint64_t key) {
 }
 
 // LSD radix sort of 64-bit items by bits 32 .. 32 + 8 passes of each (stable), 8 bits per pass;
-// a pass in which every item has the same digit is skipped.
-void radixSortHigh32(std::vector<std::uint64_t>* items, std::vector<std::uint64_t>* scratch, int passes) {
+// a pass in which every item has the same digit is skipped. Returns the sorted items: in
+// `items` or in `scratch` (no copy back).
+const std::uint64_t* radixSortHigh32(std::vector<std::uint64_t>* items,
+                                     std::vector<std::uint64_t>* scratch, int passes) {
   const std::size_t n = items->size();
   scratch->resize(n);
   std::uint32_t count[4][256];
@@ -66,7 +68,40 @@ void radixSortHigh32(std::vector<std::uint64_t>* items, std::vector<std::uint64_
     }
     std::swap(src, dst);
   }
-  if (src != items->data()) std::memcpy(items->data(), src, n * sizeof(std::uint64_t));
+  return src;
+}
+
+// Four 32-bit lanes (GCC and Clang vector extension: SSE2 on x86-64, NEON on ARM, plain code
+// elsewhere). Comparisons give -1 (true) or 0 per lane.
+using Lanes4 = std::int32_t __attribute__((vector_size(16)));
+
+inline Lanes4 splat4(std::int32_t x) { return Lanes4{x, x, x, x}; }
+inline Lanes4 load4(const std::int32_t* p) {
+  Lanes4 v;
+  std::memcpy(&v, p, sizeof v);  // unaligned
+  return v;
+}
+inline bool anyLane(Lanes4 v) {
+  std::uint64_t half[2];
+  std::memcpy(half, &v, sizeof half);
+  return (half[0] | half[1]) != 0u;
+}
+
+// One lower endpoint's prefixes on the two tested axes, in every lane.
+struct ProbeLanes {
+  Lanes4 lb, ub, lc, uc;
+  Lanes4 p_first;  // -1: the slab is the probing proxy's first
+};
+
+// Lanes j .. j + 3 of an open set (ActiveSet) whose prefixes overlap the probe's, within
+// `valid` (and, kSlabs, whose pair belongs to this slab): -1, else 0.
+template <bool kSlabs, class Set>
+inline Lanes4 candidates(const Set& set, std::size_t j, const ProbeLanes& probe, Lanes4 valid) {
+  // A lane fails when one of the four interval tests fails: (a > b) = !(a <= b).
+  const Lanes4 apart = (load4(&set.lower_b[j]) > probe.ub) | (probe.lb > load4(&set.upper_b[j])) |
+                       (load4(&set.lower_c[j]) > probe.uc) | (probe.lc > load4(&set.upper_c[j]));
+  if (kSlabs) valid &= probe.p_first | load4(&set.first[j]);
+  return valid & ~apart;
 }
 
 }  // namespace
@@ -100,6 +135,7 @@ void SweepAndPrune::reserveSlots(std::size_t slots) {
 }
 
 void SweepAndPrune::ActiveSet::reserve(std::size_t n) {
+  n += 3;  // testOpen reads whole groups of four
   if (id.size() >= n) return;
   id.resize(n);
   first.resize(n);
@@ -229,7 +265,9 @@ void SweepAndPrune::update() {
   insertPending();
   last_rebuilt_ = stats_.rebuilt;
   keepHeadroom();
-  // The arrays are now sorted by the current keys: remember them for the next update's events.
+  // The arrays are now sorted by the current keys: remember them for the next update's events
+  // (none come from a stale axis: the next update rebuilds).
+  if (anyStale()) return;
   for (int axis = 1; axis < 3; ++axis) {
     prev_ends_[axis].resize(ends_[axis].size());
     std::memcpy(prev_ends_[axis].data(), ends_[axis].data(), ends_[axis].size() * sizeof(std::uint64_t));
@@ -239,23 +277,40 @@ void SweepAndPrune::update() {
 void SweepAndPrune::resort() {
   const std::size_t began_mark = began_.size();
   const std::size_t ended_mark = ended_.size();
-  if (last_rebuilt_) {
-    // Motion was large last time. If the endpoints are still as shuffled (nearly every other
-    // neighbour out of order), insertion sort would blow its budget again: rebuild at once.
-    const std::int64_t descents = refreshKeys();
-    const std::int64_t endpoints = 6 * static_cast<std::int64_t>(live_count_);
-    if (100 * descents >= 42 * endpoints && 2 * descents >= rebuild_descents_) {
-      rebuild(descents);
-    } else if (!sortAxes(false, swapBudget())) {
+  if (!last_rebuilt_ && !anyStale()) {
+    if (!sortAxes(true, rebuildCost(false))) {
+      // Motion too large for insertion sort to pay: undo its partial pair changes, then sort
+      // from scratch and diff the new pair set against the old one.
       rollBack(began_mark, ended_mark);
-      rebuild(descents);
+      rebuild(false, false);
     }
-  } else if (!sortAxes(true, swapBudget())) {
-    // Motion too large for insertion sort to pay: undo its partial pair changes, then sort
-    // from scratch and diff the new pair set against the old one.
-    rollBack(began_mark, ended_mark);
-    rebuild(-1);
+    return;
   }
+  // After a rebuild: rebuild again (the sweep axis only) while insertion sort would cost more.
+  const std::int64_t swaps = estimateAllSwaps();
+  if (swaps > rebuildCost(true)) {
+    rebuild(true, !anyStale());
+  } else if (anyStale()) {
+    rebuild(false, false);  // stale axes: insertion sort would miss pair events
+  } else if (!sortAxes(false, rebuildCost(false))) {
+    rollBack(began_mark, ended_mark);
+    rebuild(false, true);
+  }
+}
+
+std::int64_t SweepAndPrune::estimateAllSwaps() {
+  // Reads the keys of every axis in order (all three, or only the sweep axis after a streak
+  // rebuild: then scaled by the three axes' share of the last full estimate).
+  if (anyStale()) {
+    refreshAxis(sweep_axis_);
+    return static_cast<std::int64_t>(swap_scale_ * static_cast<double>(estimateSwaps(sweep_axis_)));
+  }
+  refreshKeys();
+  std::int64_t per_axis[3], total = 0;
+  for (int axis = 0; axis < 3; ++axis) total += per_axis[axis] = estimateSwaps(axis);
+  const double share = static_cast<double>(std::max<std::int64_t>(per_axis[sweep_axis_], 1));
+  swap_scale_ = std::clamp(static_cast<double>(total) / share, 1.0, 3.0);
+  return total;
 }
 
 void SweepAndPrune::keepHeadroom() {
@@ -295,7 +350,9 @@ void SweepAndPrune::applyRemovals() {
   pending_remove_.clear();
   if (live_count_ == 0) {
     for (double& w : max_width_) w = 0.0;
+    for (bool& s : stale_) s = false;  // no endpoints left: every axis is in order
     sweep_tests_ = 0;
+    plain_tests_ = 0;
   }
 }
 
@@ -318,35 +375,54 @@ void SweepAndPrune::dropRemovedEndpoints(int axis) {
   owners.resize(w + 1);
 }
 
-std::int64_t SweepAndPrune::swapBudget() const {
+std::int64_t SweepAndPrune::rebuildCost(bool sweep_axis_only) const {
   // What a rebuild costs, counted in swaps: a fixed price per endpoint (reading, radix sorting
-  // and sweeping it) and a quarter swap per overlap test of the sweep. Measured on the uniform
-  // scenes, a swap costs 2 ns at 2 000 endpoints per axis but 12 ns at 200 000 (each event then
-  // misses the cache), a rebuild 50 to 140 ns per endpoint; 8 swaps per endpoint is the
-  // break-even in between.
+  // and sweeping it) and an eighth of a swap per overlap test of the sweep. Measured on the
+  // uniform scenes (AMD EPYC, issue 14): a swap with its pair events costs 8-16 ns at 200 to
+  // 20 000 endpoints per axis; a rebuild that sorts only the sweep axis 32-50 ns per endpoint,
+  // one that sorts all three up to 1.4 times that. The break-even moves from 2 swaps per
+  // endpoint at 200 endpoints to 4 at 20 000.
   const double n = 2.0 * live_count_;
-  const double estimate = 8.0 * n + 0.25 * static_cast<double>(sweep_tests_);
+  const double per_endpoint = sweep_axis_only ? 2.0 : 3.0;
+  const double estimate = per_endpoint * n + 0.125 * static_cast<double>(sweep_tests_);
   const double budget = std::max(64.0, config_.rebuild_factor * estimate);
   return budget > 4e18 ? std::numeric_limits<std::int64_t>::max()
                        : static_cast<std::int64_t>(budget);
 }
 
-std::int64_t SweepAndPrune::refreshKeys() {
-  std::int64_t descents = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    std::uint64_t* key = keys_[axis].data();
-    const std::uint32_t* owner = owners_[axis].data();
-    const std::uint64_t* e = ends_[axis].data();
-    const std::size_t last = keys_[axis].size() - 1;
-    std::uint64_t prev = kLowSentinel;
-    for (std::size_t i = 1; i < last; ++i) {
-      const std::uint64_t k = e[owner[i]];
-      key[i] = k;
-      descents += k < prev;
-      prev = k;
+void SweepAndPrune::refreshKeys() {
+  for (int axis = 0; axis < 3; ++axis) refreshAxis(axis);
+}
+
+void SweepAndPrune::refreshAxis(int axis) {
+  std::uint64_t* key = keys_[axis].data();
+  const std::uint32_t* owner = owners_[axis].data();
+  const std::uint64_t* e = ends_[axis].data();
+  const std::size_t last = keys_[axis].size() - 1;
+  for (std::size_t i = 1; i < last; ++i) key[i] = e[owner[i]];
+}
+
+std::int64_t SweepAndPrune::estimateSwaps(int axis) const {
+  // Insertion sort's swaps are the inversions of the keys just read against the array's order:
+  // the sum over d >= 1 of the endpoints whose key is below the one d places before. Counted at
+  // d = 1, 2, 4, ..., 64 for every 4th endpoint (about 1 000 endpoints on large axes); the
+  // count at d = 2^j stands for the 2^(j-1) distances in (2^(j-1), 2^j]. Measured on the
+  // uniform scenes this gives 75-93 % of the swaps at up to 10 swaps per endpoint, hence the
+  // 5/4 (larger motion: an underestimate of a large number).
+  const std::uint64_t* key = keys_[axis].data();
+  const std::size_t last = keys_[axis].size() - 1;
+  const std::size_t stride = std::max<std::size_t>(4, last / 1024);
+  std::int64_t below[7] = {0, 0, 0, 0, 0, 0, 0};
+  for (std::size_t i = 2; i < last; i += stride) {
+    const std::uint64_t k = key[i];
+    for (int j = 0; j < 7; ++j) {
+      const std::size_t d = std::size_t{1} << j;
+      if (d < i) below[j] += key[i - d] > k;
     }
   }
-  return descents;
+  std::int64_t sampled = below[0];
+  for (int j = 1; j < 7; ++j) sampled += below[j] << (j - 1);
+  return 5 * static_cast<std::int64_t>(stride) * sampled / 4;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -463,20 +539,25 @@ void SweepAndPrune::rollBack(std::size_t began_mark, std::size_t ended_mark) {
 // ---------------------------------------------------------------------------------------------
 // Rebuild: sort every axis from scratch, one sweep for the pairs, diff with the old set.
 
-void SweepAndPrune::rebuild(std::int64_t descents) {
-  if (descents < 0) descents = refreshKeys();
-  rebuild_descents_ = descents;
-  for (int axis = 0; axis < 3; ++axis) {
-    radixSortAxis(axis);
-    insertionSortAxis(axis);
-  }
+void SweepAndPrune::rebuild(bool streak, bool keys_read) {
   // The axis with the fewest open intervals, re-chosen every 8th rebuild (counting them costs a
-  // pass over each axis).
-  if (rebuilds_since_choice_++ % 8 == 0) {
-    sweep_axis_ = cheapestSweepAxis(&sweep_tests_);
-  } else {
-    sweep_tests_ = sweepTests(sweep_axis_);
+  // pass over each axis, and needs each axis sorted).
+  const bool choose = rebuilds_since_choice_++ % 8 == 0;
+  // In a streak the sweep needs only its own axis in order (its keys are read); the others go
+  // stale.
+  const bool sweep_axis_only = streak && !choose;
+  if (!sweep_axis_only && !keys_read) refreshKeys();
+  for (int axis = 0; axis < 3; ++axis) {
+    stale_[axis] = sweep_axis_only && axis != sweep_axis_;
+    if (!stale_[axis]) sortAxisFully(axis);
   }
+  if (choose) {
+    widths_due_ = true;
+    sweep_axis_ = cheapestSweepAxis(&plain_tests_);
+  }
+  // The plain sweep's tests only choose between a plain and a slab sweep (a slab sweep counts
+  // its own): the count of the last choice will do, like the widths.
+  sweep_tests_ = plain_tests_;
   // Stamp every pair the sweep finds; unstamped survivors ended.
   ++epoch_;
   findPairs(sweep_axis_, sweep_tests_, SweepMode::kRebuild);
@@ -488,6 +569,11 @@ void SweepAndPrune::rebuild(std::int64_t descents) {
     }
   }
   stats_.rebuilt = true;
+}
+
+void SweepAndPrune::sortAxisFully(int axis) {
+  radixSortAxis(axis);
+  insertionSortAxis(axis);
 }
 
 void SweepAndPrune::radixSortAxis(int axis) {
@@ -509,7 +595,7 @@ void SweepAndPrune::radixSortAxis(int axis) {
   const int shift = std::max(0, width - 8 * passes);
   sort_items_.resize(n);
   for (std::size_t i = 0; i < n; ++i) sort_items_[i] = (((keys[i + 1] - lo) >> shift) << 32) | i;
-  radixSortHigh32(&sort_items_, &sort_items2_, passes);
+  const std::uint64_t* sorted = radixSortHigh32(&sort_items_, &sort_items2_, passes);
   tmp_keys_.resize(n + 2);
   tmp_owners_.resize(n + 2);
   tmp_keys_[0] = kLowSentinel;
@@ -517,7 +603,7 @@ void SweepAndPrune::radixSortAxis(int axis) {
   tmp_keys_[n + 1] = kHighSentinel;
   tmp_owners_[n + 1] = kSentinelOwner;
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t from = static_cast<std::uint32_t>(sort_items_[i]) + 1;
+    const std::size_t from = static_cast<std::uint32_t>(sorted[i]) + 1;
     tmp_keys_[i + 1] = keys[from];
     tmp_owners_[i + 1] = owners[from];
   }
@@ -559,9 +645,11 @@ std::int64_t SweepAndPrune::sweepTests(int axis) const {
 }
 
 int SweepAndPrune::cheapestSweepAxis(std::int64_t* tests) const {
-  int best = 0;
-  std::int64_t best_tests = sweepTests(0);
-  for (int axis = 1; axis < 3; ++axis) {
+  // A stale axis is out of order: a sweep along it would miss pairs. The sweep axis never is.
+  int best = sweep_axis_;
+  std::int64_t best_tests = std::numeric_limits<std::int64_t>::max();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (stale_[axis]) continue;
     const std::int64_t t = sweepTests(axis);
     if (t < best_tests) {
       best = axis;
@@ -598,9 +686,11 @@ void SweepAndPrune::findPairs(int axis, std::int64_t tests, SweepMode mode) {
   // Slabs pay only when a plain sweep would test each proxy against many open intervals, and
   // only when every pair is wanted.
   if (mode != SweepMode::kNewOnly && tests >= kSlabTestsPerProxy * live_count_) {
-    double mean_width[3];
-    measureWidths(mean_width);
-    if (sweepSlabs(axis, mean_width, mode == SweepMode::kRebuild)) return;
+    // Rebuilds re-measure with the sweep axis' choice: widths only size the slabs, and the
+    // widest ones only grow in between (writeBounds), so older ones cost speed, never pairs.
+    if (mode != SweepMode::kRebuild || widths_due_) measureWidths(mean_width_);
+    widths_due_ = false;
+    if (sweepSlabs(axis, mean_width_, mode == SweepMode::kRebuild)) return;
   }
   sweepForPairs(axis, mode != SweepMode::kRebuild);
 }
@@ -617,28 +707,44 @@ void SweepAndPrune::foundPair(std::int32_t a, std::int32_t b, bool rebuild) {
 }
 
 template <bool kSlabs>
-inline std::size_t SweepAndPrune::testOpen(const ActiveSet& set, std::int32_t p,
-                                           const EndKeys& k, bool p_first, bool rebuild) {
-  // Branch-free tests streaming through the set's key arrays. In a slab sweep a pair is
+inline std::size_t SweepAndPrune::testOpen(const ActiveSet& set, std::int32_t p, const EndKeys& k,
+                                           bool p_first, bool rebuild) {
+  // Four open intervals at a time on 32-bit prefixes (a filter that never drops an overlap),
+  // then the exact test on full keys for the few lanes it passes. In a slab sweep a pair is
   // reported only in the slab holding the larger of the two lower bounds: p's first slab, or
-  // the first slab of the other proxy.
-  const std::int32_t* id = set.id.data();
-  const std::uint64_t* slb = set.lower_b.data();
-  const std::uint64_t* sub = set.upper_b.data();
-  const std::uint64_t* slc = set.lower_c.data();
-  const std::uint64_t* suc = set.upper_c.data();
-  const std::uint32_t* first = set.first.data();
-  const std::size_t m = set.size;
-  for (std::size_t j = 0; j < m; ++j) {
-    bool hit = (slb[j] < k.ub) & (k.lb < sub[j]) & (slc[j] < k.uc) & (k.lc < suc[j]);
-    if (kSlabs) hit &= p_first | (first[j] != 0u);
-    if (hit) foundPair(p, id[j], rebuild);
+  // the first slab of the other proxy. Only the last group masks lanes past the set's end.
+  const ProbeLanes probe{splat4(prefix32(k.lb)), splat4(prefix32(k.ub)), splat4(prefix32(k.lc)),
+                         splat4(prefix32(k.uc)), splat4(p_first ? -1 : 0)};
+  auto testLanes = [&](std::size_t j, Lanes4 h) {
+    for (int t = 0; t < 4; ++t) {
+      if (h[t] != 0) testExactly(set, j + static_cast<std::size_t>(t), p, k, rebuild);
+    }
+  };
+  const std::size_t n = set.size, whole = n & ~std::size_t{3};
+  std::size_t j = 0;
+  for (; j < whole; j += 4) {
+    const Lanes4 h = candidates<kSlabs>(set, j, probe, splat4(-1));
+    if (anyLane(h)) testLanes(j, h);
   }
-  return m;
+  if (j < n) {
+    const Lanes4 lane = {0, 1, 2, 3};
+    const Lanes4 in_set = lane < splat4(static_cast<std::int32_t>(n - j));
+    const Lanes4 h = candidates<kSlabs>(set, j, probe, in_set);
+    if (anyLane(h)) testLanes(j, h);
+  }
+  return n;
+}
+
+inline void SweepAndPrune::testExactly(const ActiveSet& set, std::size_t j, std::int32_t p,
+                                       const EndKeys& k, bool rebuild) {
+  const std::int32_t q = set.id[j];
+  const std::uint64_t* eb = set.keys_b + 2 * static_cast<std::size_t>(q);
+  const std::uint64_t* ec = set.keys_c + 2 * static_cast<std::size_t>(q);
+  if ((eb[0] < k.ub) & (k.lb < eb[1]) & (ec[0] < k.uc) & (k.lc < ec[1])) foundPair(p, q, rebuild);
 }
 
 inline void SweepAndPrune::open(ActiveSet& set, std::int32_t p, const EndKeys& k,
-                                std::uint32_t first_slab) {
+                                bool first_slab) {
   active_pos_[p] = static_cast<std::int32_t>(set.push(p, k, first_slab));
 }
 
@@ -661,6 +767,8 @@ void SweepAndPrune::sweepForPairs(int axis, bool only_new) {
   active_new_.reserve(reserved_slots_);
   active_.clear();
   active_new_.clear();
+  active_.keys_b = active_new_.keys_b = eb;
+  active_.keys_c = active_new_.keys_c = ec;
   for (std::size_t i = 1; i < last; ++i) {
     const std::uint32_t o = owner[i];
     const std::int32_t p = static_cast<std::int32_t>(o >> 1);
@@ -673,7 +781,7 @@ void SweepAndPrune::sweepForPairs(int axis, bool only_new) {
     const EndKeys k{eb[o], eb[o + 1], ec[o], ec[o + 1]};
     if (!only_new || p_new) testOpen<false>(active_, p, k, true, !only_new);
     testOpen<false>(active_new_, p, k, true, !only_new);
-    open(set, p, k, 0u);
+    open(set, p, k, false);
   }
 }
 
@@ -763,6 +871,8 @@ std::int64_t SweepAndPrune::sweepEachSlab(int axis, const SlabGrid& grid, bool r
   const std::size_t total = slab_owners_.size();
   std::int64_t tests = 0;
   ActiveSet& set = active_;
+  set.keys_b = eb;
+  set.keys_c = ec;
   for (std::size_t s = 0; s < grid.count; ++s) {
     set.clear();
     const std::uint32_t slab = static_cast<std::uint32_t>(s);
@@ -878,6 +988,7 @@ int SweepAndPrune::cheapestWindowAxis(std::int64_t limit) const {
   int best_axis = -1;
   std::int64_t best_total = limit;
   for (int axis = 0; axis < 3; ++axis) {
+    if (stale_[axis]) continue;  // out of order: no windows to look up
     std::int64_t total = 0;
     for (ProxyId id : pending_insert_) {
       const Window w = window(axis, id);

@@ -501,6 +501,108 @@ TEST(SweepAndPrune, SmallMotionSortsIncrementallyLargeJumpsRebuild) {
   EXPECT_FALSE(h.sap().stats().rebuilt);
 }
 
+// Rebuild streaks: a rebuild that follows a rebuild sorts only its sweep axis and leaves the
+// other two stale; whatever comes next (more large motion, small motion that would take the
+// incremental path, insertions, removals, destroying everything) must still report exactly the
+// brute-force pairs and their began / ended differences.
+namespace {
+
+// A box of half extents 1/4 .. 3/4 at `center`, on the 1/64 grid (exact mode: touching boxes
+// are common and must be reported).
+Aabb gridBox(const Eigen::Vector3d& center, const Eigen::Vector3d& half) {
+  Aabb b;
+  for (int k = 0; k < 3; ++k) {
+    b.lower[k] = std::round(64.0 * (center[k] - half[k])) / 64.0;
+    b.upper[k] = std::round(64.0 * (center[k] + half[k])) / 64.0;
+  }
+  return b;
+}
+
+struct StreakScene {
+  std::vector<Eigen::Vector3d> center, half;
+  double side = 0.0;
+};
+
+}  // namespace
+
+TEST(SweepAndPrune, RebuildStreaksEnteredAndLeftUnderChurnEqualBruteForce) {
+  Rng rng(140014);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::uniform_int_distribution<int> pct(0, 99);
+  int streak_rebuilds = 0, incremental_after_streak = 0, longest_streak = 0;
+  for (int scene = 0; scene < 12; ++scene) {
+    SCOPED_TRACE(testing::Message() << "scene " << scene);
+    const int n = 150 + 60 * scene;  // 150 .. 810 boxes: plain and slab sweeps
+    StreakScene s;
+    s.side = std::cbrt(10.0 * n);
+    SweepAndPruneConfig cfg;
+    const double factors[] = {1.0, 1.0, 0.3, 3.0};  // where the streaks start and end
+    cfg.rebuild_factor = factors[scene % 4];
+    Harness h(cfg, true);
+    std::vector<int> obj_of;  // scene slot -> harness object, -1 when destroyed
+    auto spawn = [&]() {
+      Eigen::Vector3d c, hf;
+      for (int k = 0; k < 3; ++k) {
+        hf[k] = 0.25 + 0.5 * unit(rng);
+        c[k] = hf[k] + (s.side - 2.0 * hf[k]) * unit(rng);
+      }
+      s.center.push_back(c);
+      s.half.push_back(hf);
+      obj_of.push_back(h.create(gridBox(c, hf)));
+    };
+    for (int i = 0; i < n; ++i) spawn();
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    int streak = 0;
+    for (int cycle = 0; cycle < 60; ++cycle) {
+      // Phases of 1-12 cycles: large motion (about two box sizes: rebuild after rebuild), small
+      // (1/64: incremental once the stale axes are sorted again) and in between (near where
+      // the estimated swaps end a streak).
+      const double steps[] = {2.0, 1.0 / 64.0, 0.25, 1.0 / 16.0, 2.0, 0.125};
+      const double step = steps[(cycle / (1 + scene % 12)) % 6];
+      for (std::size_t i = 0; i < s.center.size(); ++i) {
+        if (obj_of[i] < 0) continue;
+        for (int k = 0; k < 3; ++k) {
+          s.center[i][k] += step * (2.0 * unit(rng) - 1.0);
+          s.center[i][k] = std::clamp(s.center[i][k], s.half[i][k], s.side - s.half[i][k]);
+        }
+        h.move(obj_of[i], gridBox(s.center[i], s.half[i]));
+      }
+      const int churn = pct(rng);
+      if (churn < 25) {  // a few destroyed and created: inserted through windows
+        for (int j = 0; j < 3; ++j) {
+          const std::size_t i = static_cast<std::size_t>(pct(rng)) * s.center.size() / 100;
+          if (obj_of[i] >= 0) h.destroy(obj_of[i]);
+          obj_of[i] = -1;
+          spawn();
+        }
+      } else if (churn < 35) {  // many created at once: inserted by a sweep
+        for (int j = 0; j < n / 4; ++j) spawn();
+      } else if (churn < 38) {  // everything destroyed, then a new scene
+        for (int& o : obj_of) {
+          if (o >= 0) h.destroy(o);
+          o = -1;
+        }
+        for (int j = 0; j < n; ++j) spawn();
+      }
+      h.updateAndCheck();
+      if (::testing::Test::HasFatalFailure()) return;
+      const bool rebuilt = h.sap().stats().rebuilt;
+      if (rebuilt && streak > 0) ++streak_rebuilds;
+      if (!rebuilt && streak > 1) ++incremental_after_streak;
+      streak = rebuilt ? streak + 1 : 0;
+      longest_streak = std::max(longest_streak, streak);
+    }
+  }
+  std::printf("streaks: %d rebuilds after a rebuild, %d incremental updates after a streak, "
+              "longest streak %d\n", streak_rebuilds, incremental_after_streak, longest_streak);
+  // The paths this test is about were taken: long streaks (past the every-8th re-choice of the
+  // sweep axis) and streaks left for the incremental path.
+  EXPECT_GT(streak_rebuilds, 100);
+  EXPECT_GE(longest_streak, 10);
+  EXPECT_GT(incremental_after_streak, 5);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Random scenes against brute force.
 
