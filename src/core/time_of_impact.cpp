@@ -180,11 +180,7 @@ TimeInterval movingBoxInterval(const Eigen::Isometry3d& pose_a, const Eigen::Vec
   auto clip = [&](const Eigen::Vector3d& l) {
     const double support_a = half_a.dot((ra.transpose() * l).cwiseAbs()) + inflation;
     const double support_b = half_b.dot((rb.transpose() * l).cwiseAbs());
-    const double c = l.dot(offset);
-    const TimeInterval axis = axisContactInterval(-support_a, support_a, 0.0, c - support_b,
-                                                  c + support_b, l.dot(dv));
-    result.first = std::max(result.first, axis.first);
-    result.last = std::min(result.last, axis.last);
+    clipOnAxis(support_a, support_b, l.dot(offset), l.dot(dv), &result);
   };
   if (isUpright(ra) && isUpright(rb)) {
     return uprightMovingInterval(ra, half_a, rb, half_b, offset, dv, inflation, result);
