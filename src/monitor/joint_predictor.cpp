@@ -230,7 +230,9 @@ void JointPredictor::buildKnots(Stamp now, double span) {
     if (start_in > 0.0) {
       velocityKnots(static_cast<int>(j), q_now, velocity, std::min(start_in, span), &out);
     } else {
-      out.push_back(Knot{0.0, q_now});
+      // Under way: where the plan has it now. The reading (and its velocity) may be from
+      // before a change of speed the plan made since, and would put the arm behind it.
+      out.push_back(Knot{0.0, planPosition(p, -start_in)});
     }
     const std::size_t n = plan_.joints.size();
     for (std::size_t k = 0; k < plan_.times.size() && out.back().t < span; ++k) {

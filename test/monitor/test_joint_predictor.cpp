@@ -282,6 +282,26 @@ TEST(JointPredictor, FollowsAPlanWithAStopAndHoldsItsEnd) {
   EXPECT_LT((a.translation() - b.translation()).norm(), 1e-9);
 }
 
+TEST(JointPredictor, APlanInProgressStartsWhereThePlanIsNowNotWhereTheReadingWas) {
+  // The plan began 0.9 s before the newest reading, which caught the shoulder in the stop
+  // (1 rad, standing). The cycle runs 0.15 s later: by the plan the stop ended 0.05 s ago and
+  // the shoulder is already on its way back (1 - 1.6 * 0.05 = 0.92 rad). Starting from the
+  // stale reading would put the arm behind the plan, and its contacts late.
+  Fixture f;
+  const wp::Stamp start = kNow - 9 * kSecond / 10;
+  f.predictor.observe(0, kNow, 1.0, 0.0);
+  f.holdElbowAndWrist();
+  ASSERT_EQ(f.predictor.setPlan(shoulderPlan(start), kNow), "");
+  const wp::Stamp now = kNow + 3 * kSecond / 20;
+  f.predictor.predict(now, 2.0, wp::BodyMotion());
+  EXPECT_TRUE(f.predictor.hasPlan());
+  f.expectWithinMargin([](double t, double* q) {
+    q[0] = shoulderPlanAt(1.05 + t);
+    q[1] = 0.0;
+    q[2] = 0.0;
+  }, 2.0);
+}
+
 TEST(JointPredictor, APlanStampedAheadStartsLater) {
   Fixture f;
   f.predictor.observe(0, kNow, 0.3, 0.0);
