@@ -229,10 +229,12 @@ void JointPredictor::buildKnots(Stamp now, double span) {
     const double start_in = secondsBetween(now, plan_.start);
     if (start_in > 0.0) {
       velocityKnots(static_cast<int>(j), q_now, velocity, std::min(start_in, span), &out);
-    } else {
-      // Under way: where the plan has it now. The reading (and its velocity) may be from
-      // before a change of speed the plan made since, and would put the arm behind it.
+    } else if (-start_in >= plan_.times.front()) {
+      // Past its first point: where the plan has it now. The reading (and its velocity) may
+      // be from before a change of speed the plan made since, and would put the arm behind.
       out.push_back(Knot{0.0, planPosition(p, -start_in)});
+    } else {
+      out.push_back(Knot{0.0, q_now});  // on its way to the first point, from where it is
     }
     const std::size_t n = plan_.joints.size();
     for (std::size_t k = 0; k < plan_.times.size() && out.back().t < span; ++k) {
