@@ -158,7 +158,6 @@ class ProximityWorld {
   void predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b, double horizon);
   PairBody pairBody(std::int32_t slot) const;
   ContactWindow windowOf(PairBody* a, PairBody* b, double horizon);
-  const Eigen::Isometry3d& poseNow(std::int32_t slot);
   bool allowed(PairRecord& pair);
   void reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b);
   void report(const PairRecord& pair, const ContactPrediction& prediction);

@@ -18,6 +18,13 @@ namespace workspace_proximity {
 Eigen::Vector3d rotationHalfExtents(const Shape& shape, const BodyMotion& motion, double margin,
                                     double horizon);
 
+/// The same from the rotation matrix at t = 0 (`rotation`: motion.orientation.normalized() as a
+/// matrix, e.g. motion.poseAt(0).linear()) and the angular velocity (rad/s, world frame), for
+/// callers that hold the rotation already. Bit for bit the value of the overload above.
+Eigen::Vector3d rotationHalfExtents(const Shape& shape, const Eigen::Matrix3d& rotation,
+                                    const Eigen::Vector3d& angular_velocity, double margin,
+                                    double horizon);
+
 /// Axis-aligned box (world, m) that contains the body (with margin) at every t in [0, horizon].
 /// It is the union of the rotation-inflated box at t = 0 and at t = horizon (the centre
 /// moves on a straight line, so the union of the two end boxes covers every box in between).

@@ -83,14 +83,18 @@ bool validMargin(double margin) {
 }
 
 Eigen::Isometry3d BodyMotion::poseAt(double t) const {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() = position + linear_velocity * t;
-  const double speed = angular_velocity.norm();
   Eigen::Quaterniond q = orientation;
-  if (speed > 0.0 && t != 0.0) {
-    q = Eigen::Quaterniond(Eigen::AngleAxisd(speed * t, angular_velocity / speed)) * orientation;
+  if (t != 0.0) {
+    const double speed = angular_velocity.norm();
+    if (speed > 0.0) {
+      q = Eigen::Quaterniond(Eigen::AngleAxisd(speed * t, angular_velocity / speed)) * orientation;
+    }
   }
+  // Every entry written once (no identity first): this runs for every moved body per cycle.
+  Eigen::Isometry3d pose;
   pose.linear() = q.normalized().toRotationMatrix();
+  pose.translation() = position + linear_velocity * t;
+  pose.makeAffine();
   return pose;
 }
 

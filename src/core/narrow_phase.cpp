@@ -245,20 +245,32 @@ double closingSpeedBound(const PairBody& a, const PairBody& b) {
   return (a.motion->linear_velocity - b.motion->linear_velocity).norm() + rimSpeed(a) + rimSpeed(b);
 }
 
+// Pose at t of a body with `motion` whose pose at t = 0 is `now` (or null): a body that does not
+// turn keeps now's rotation matrix (bit for bit what poseAt builds again from the quaternion).
+Eigen::Isometry3d poseAtFrom(const BodyMotion& motion, const Eigen::Isometry3d* now, double t) {
+  if (now == nullptr || !motion.angular_velocity.isZero(0.0)) return motion.poseAt(t);
+  Eigen::Isometry3d pose = *now;
+  pose.translation() = motion.position + motion.linear_velocity * t;
+  return pose;
+}
+
 // One query's pair: both shapes with their geometry, motions and margins, and the count of
-// distance queries spent.
+// distance queries spent. pose_a / pose_b: the poses at t = 0 when the caller has them.
 struct MovingPair {
   Solid a, b;
   const BodyMotion& motion_a;
   const BodyMotion& motion_b;
   double margin_a, margin_b;
   int* queries;
+  const Eigen::Isometry3d* pose_a = nullptr;
+  const Eigen::Isometry3d* pose_b = nullptr;
 
   // Certified lower bound on the inflated gap at t, m (-inf when overlapping). No contact
   // point is needed here, so fcl::collide (which allocates) is never called. `normal`
   // receives the unit normal from a towards b and `exact` whether gap and normal are exact.
   double gapAt(double t, Eigen::Vector3d* normal, bool* exact) const {
-    const Evaluation e = evaluate(a, motion_a.poseAt(t), b, motion_b.poseAt(t), 0.0, false);
+    const Evaluation e = evaluate(a, poseAtFrom(motion_a, pose_a, t), b,
+                                  poseAtFrom(motion_b, pose_b, t), 0.0, false);
     *queries += e.queries;
     *normal = e.shape.normal;
     *exact = e.exact && !e.shape.overlapping;
@@ -552,7 +564,7 @@ ContactPrediction NarrowPhase::predict(const PairBody& a, const PairBody& b,
   std::unique_ptr<fcl::CollisionGeometryd> own_a, own_b;  // bodies without a cached geometry
   ContactPrediction out;
   const MovingPair pair{Solid{*a.shape, cache_->of(a, &own_a)}, Solid{*b.shape, cache_->of(b, &own_b)},
-                        *a.motion, *b.motion, a.margin, b.margin, &out.iterations};
+                        *a.motion, *b.motion, a.margin, b.margin, &out.iterations, a.pose, b.pose};
   const Evaluation now = describeNow(pair, a, b, config_.distance_tolerance, &out);
   if (window.empty()) return out;
   const TimeInterval w = window.interval;

@@ -93,8 +93,10 @@ struct ProximityWorld::BodyRecord {
   Eigen::Vector3d half = Eigen::Vector3d::Zero();  // rotation-inflated half extents + margin
   Aabb swept;
   double reach = 0.0;  // m: the broad phase sees `swept` grown by this (setReach)
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // at t = 0, valid in cycle pose_cycle
-  std::uint64_t pose_cycle = 0;
+  // The pose at t = 0 (motion.poseAt(0)), set by updateBounds whenever the motion changed: the
+  // swept bounds, every pair stage and the narrow phase's poses of a body that does not turn
+  // start from it, so its rotation matrix is built once per motion, not once per use.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   SweepAndPrune::ProxyId proxy = -1;
   std::uint32_t generation = 0;
   std::uint32_t serial = 0;  // unique over the world's life: names the body in event keys
@@ -331,6 +333,7 @@ void ProximityWorld::updateBounds(double horizon) {
   last_horizon_ = horizon;
   for (BodyRecord& b : bodies_) {
     if (b.state != BodyRecord::State::kLive || !(b.dirty || horizon_changed)) continue;
+    b.pose = b.motion.poseAt(0.0);
     if (b.has_path || b.grows) {
       if (!b.has_path) {
         // A growing body with one constant twist: a path of one segment.
@@ -343,7 +346,13 @@ void ProximityWorld::updateBounds(double horizon) {
                             static_cast<int>(b.path.size()));
       b.half = b.path[0].half;
     } else {
-      b.half = rotationHalfExtents(b.desc.shape, b.motion, b.desc.margin, horizon);
+      if (b.desc.shape.type == ShapeType::kBox && b.motion.angular_velocity.isZero(0.0)) {
+        // A box that does not turn (most tracks): rotationHalfExtents' value, without the call.
+        b.half = (b.pose.linear().cwiseAbs() * b.desc.shape.half_extents).array() + b.desc.margin;
+      } else {
+        b.half = rotationHalfExtents(b.desc.shape, b.pose.linear(), b.motion.angular_velocity,
+                                     b.desc.margin, horizon);
+      }
       b.swept = sweptBoundsOfHalf(b.half, b.motion, horizon);
     }
     broad_phase_.moveProxy(b.proxy, grown(b.swept, b.reach));
@@ -408,8 +417,6 @@ void ProximityWorld::predictPiecewisePair(const PairRecord& pair, PairBody* a, P
       timed(&stats_.ns_axis, timed_pairs, [&] { return piecewiseWindow(pieces); });
   if (window.axis.empty()) return;
   ++stats_.axis_candidates;
-  a->pose = &poseNow(a->geometry);
-  b->pose = &poseNow(b->geometry);
   const ContactPrediction prediction =
       timed(&stats_.ns_narrow, timed_pairs, [&] { return narrow_phase_.predict(*a, *b, window); });
   stats_.narrow_iterations += prediction.iterations;
@@ -426,6 +433,7 @@ inline PairBody ProximityWorld::pairBody(std::int32_t slot) const {
   body.margin = r.desc.margin;
   body.half = r.half;
   body.geometry = slot;  // the narrow phase's geometry cache is indexed by body slot
+  body.pose = &r.pose;   // updateBounds keeps it current
   if (r.has_path || r.grows) {
     body.segments = r.path.data();
     body.segment_count = static_cast<int>(r.path.size());
@@ -435,23 +443,7 @@ inline PairBody ProximityWorld::pairBody(std::int32_t slot) const {
 }
 
 inline ContactWindow ProximityWorld::windowOf(PairBody* a, PairBody* b, double horizon) {
-  // The axis window first; only bodies of pairs that pass it need their pose now, which each
-  // body computes once per cycle for all its pairs.
-  const TimeInterval axis = axisWindow(*a, *b, horizon);
-  if (!axis.empty()) {
-    a->pose = &poseNow(a->geometry);
-    b->pose = &poseNow(b->geometry);
-  }
-  return refineWindow(*a, *b, axis);
-}
-
-inline const Eigen::Isometry3d& ProximityWorld::poseNow(std::int32_t slot) {
-  BodyRecord& r = bodies_[slot];
-  if (r.pose_cycle != cycle_) {
-    r.pose = r.motion.poseAt(0.0);
-    r.pose_cycle = cycle_;
-  }
-  return r.pose;
+  return refineWindow(*a, *b, axisWindow(*a, *b, horizon));
 }
 
 inline bool ProximityWorld::allowed(PairRecord& pair) {
@@ -470,8 +462,6 @@ inline void ProximityWorld::reportIfNear(const PairRecord& pair, PairBody* a, Pa
   // some axis further than the reach: the shapes are too. Most pairs stop here.
   const Eigen::Vector3d gap = (a->motion->position - b->motion->position).cwiseAbs() - a->half - b->half;
   if (gap.maxCoeff() > reach) return;
-  a->pose = &poseNow(a->geometry);
-  b->pose = &poseNow(b->geometry);
   const ShapeDistance d = narrow_phase_.distanceNow(*a, *b);
   ++stats_.narrow_iterations;
   if (d.distance > reach) return;

@@ -39,10 +39,18 @@ Eigen::Vector3d staticHalfExtents(const Shape& shape, const Eigen::Matrix3d& r) 
 
 Eigen::Vector3d rotationHalfExtents(const Shape& shape, const BodyMotion& motion, double margin,
                                     double horizon) {
-  const Eigen::Matrix3d rotation = motion.orientation.normalized().toRotationMatrix();
-  Eigen::Vector3d half = staticHalfExtents(shape, rotation);
+  return rotationHalfExtents(shape, motion.orientation.normalized().toRotationMatrix(),
+                             motion.angular_velocity, margin, horizon);
+}
 
-  const double speed = motion.angular_velocity.norm();
+Eigen::Vector3d rotationHalfExtents(const Shape& shape, const Eigen::Matrix3d& rotation,
+                                    const Eigen::Vector3d& angular_velocity, double margin,
+                                    double horizon) {
+  Eigen::Vector3d half = staticHalfExtents(shape, rotation);
+  // Not turning (the common case: people, vehicles, resting links): the box as it is.
+  if (angular_velocity.isZero(0.0)) return half.array() + margin;
+
+  const double speed = angular_velocity.norm();
   const double theta = std::min(speed * std::max(horizon, 0.0), M_PI);
   if (theta > 0.0 && shape.type != ShapeType::kSphere) {
     // Rotation about the fixed world axis k by at most theta moves a unit vector u by the
@@ -51,7 +59,7 @@ Eigen::Vector3d rotationHalfExtents(const Shape& shape, const BodyMotion& motion
     // sqrt(1 - k_j^2). Summed over the local box's axes this bounds how much |R_ji| e_i
     // can grow; the bounding sphere caps the result for large turns.
     const double chord = 2.0 * std::sin(0.5 * theta);
-    const Eigen::Vector3d k = motion.angular_velocity / speed;
+    const Eigen::Vector3d k = angular_velocity / speed;
     const Eigen::Vector3d local = shape.localHalfExtents();
     const Eigen::Vector3d box_now = rotation.cwiseAbs() * local;
     double sweep = 0.0;  // sum_i e_i |c_i perpendicular to k|
