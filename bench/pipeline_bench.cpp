@@ -15,14 +15,20 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "scenes.hpp"  // test/shared: the robot cell
+#include "workspace_proximity/monitor/box_observation.hpp"
+#include "workspace_proximity/monitor/cycle_timing.hpp"
 #include "workspace_proximity/monitor/joint_predictor.hpp"
+#include "workspace_proximity/monitor/monitor.hpp"
+#include "workspace_proximity/monitor/track_growth.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace wp = workspace_proximity;
@@ -42,11 +48,26 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(p * (v.size() - 1) + 0.5))];
 }
 
+// The shipped config's person label (config/proximity_monitor.yaml): margin 0.2 m plus
+// position_error 0.05 m, growing with velocity_error 0.3 m/s, max_accel 4 m/s^2, max_speed 2 m/s.
+wp::LabelSettings shippedPerson() {
+  wp::LabelSettings person;
+  person.margin = 0.20;
+  person.position_error = 0.05;
+  person.velocity_error = 0.3;
+  person.max_accel = 4.0;
+  person.max_speed = 2.0;
+  return person;
+}
+
 // load_generator's walkers (src/tools/load_generator.cpp) as the node turns them into bodies.
+// With `growth`, people get the shipped person label as the node gives it (TrackTable::advance:
+// margin + position_error, the growth of a track measured `age` seconds before the cycle; the
+// node's timer cycles see ages of 0 to one input period, so the ages cycle through that range).
 class NodeWalkers {
  public:
-  NodeWalkers(wp::ProximityWorld* world, int count, std::uint32_t seed = 11)
-      : world_(world), half_(1.5 * std::sqrt(static_cast<double>(count))) {
+  NodeWalkers(wp::ProximityWorld* world, int count, bool growth = false, std::uint32_t seed = 11)
+      : world_(world), half_(1.5 * std::sqrt(static_cast<double>(count))), growth_(growth) {
     wp_test::Rng rng(seed);
     for (int i = 0; i < count; ++i) {
       const bool forklift = i % 10 == 0;
@@ -59,8 +80,9 @@ class NodeWalkers {
                                  wp::BodyGroup::kObject,
                                  wp::Shape::box(forklift ? Eigen::Vector3d(1.2, 0.6, 1.0)
                                                          : Eigen::Vector3d(0.25, 0.25, 0.9)),
-                                 forklift ? 0.3 : 0.2},
+                                 forklift ? 0.3 : (growth ? wp::trackMargin(person_) : 0.2)},
                                 wp::BodyMotion());
+      w.person = !forklift;
       walkers_.push_back(w);
     }
   }
@@ -74,16 +96,25 @@ class NodeWalkers {
       m.position = w.position;
       m.linear_velocity = w.velocity;
       world_->setMotion(w.handle, m);
+      if (growth_ && w.person) {
+        const double age = (1.0 / 30.0) * ((steps_ * 7 + (&w - walkers_.data())) % 8) / 8.0;
+        world_->setGrowth(w.handle, wp::trackGrowth(person_, w.velocity.norm(), age));
+      }
     }
+    ++steps_;
   }
 
  private:
   struct Walker {
     Eigen::Vector3d position, velocity;
     wp::BodyHandle handle;
+    bool person = false;
   };
   wp::ProximityWorld* world_;
   double half_;
+  bool growth_;
+  const wp::LabelSettings person_ = shippedPerson();
+  int steps_ = 0;
   std::vector<Walker> walkers_;
 };
 
@@ -125,14 +156,84 @@ Result run(int links, int objects, double horizon, int cycles) {
   return r;
 }
 
-Result runWalkers(int count, double horizon, int cycles, bool stage_timers) {
+Result runWalkers(int count, bool growth, double horizon, int cycles, bool stage_timers) {
   wp::WorldConfig config;
   config.time_pair_stages = stage_timers;
   wp::ProximityWorld world(config);
-  NodeWalkers walkers(&world, count);
+  NodeWalkers walkers(&world, count, growth);
   Result r = measure(world, [&](int) { walkers.step(1.0 / 30.0); }, horizon, cycles);
   r.objects = count;
   return r;
+}
+
+// The node's monitor layer without ROS, fed as scripts/bench-node feeds the node:
+// load_generator's walkers (same seed, cell 3 sqrt(N) m, boxes centred at z = 0, frame
+// "world") as one array per 30 Hz step, each cycle at the next step's instant (the timer
+// trigger: arrays are up to one period old), default parameters (what the node runs when no
+// configuration is loaded: every label the default's margin 0.1 m, no growth) or the shipped
+// person label. Times: the monitor's own stage laps (input: expiry, extrapolation, growth;
+// predict: ProximityWorld::predict, the event report, status and SSM), medians.
+struct MonitorResult {
+  double ingest_ms, input_ms, predict_ms, predict_p99_ms;
+  double events;
+};
+
+MonitorResult runMonitor(int count, bool shipped_person, int cycles) {
+  wp::MonitorParams params;
+  if (shipped_person) params.labels["person"] = shippedPerson();
+  wp::Monitor monitor(params, {}, {"/tracked_objects"}, false, nullptr);
+  std::mt19937 rng(0);
+  const double cell = std::round(30.0 * std::sqrt(static_cast<double>(count))) / 10.0;
+  std::uniform_real_distribution<double> pos(-cell / 2, cell / 2), dir(0, 2 * M_PI), speed(0.3, 1.5);
+  struct W { double x, y, vx, vy; };
+  std::vector<W> walkers(static_cast<std::size_t>(count));
+  for (W& w : walkers) {
+    const double a = dir(rng), s = speed(rng);
+    w = W{pos(rng), pos(rng), s * std::cos(a), s * std::sin(a)};
+  }
+  std::vector<std::string> ids;
+  std::vector<wp::BoxObservation> boxes(walkers.size());
+  for (std::size_t i = 0; i < walkers.size(); ++i) ids.push_back("walker_" + std::to_string(i));
+  for (std::size_t i = 0; i < walkers.size(); ++i) {
+    boxes[i].id = ids[i];
+    boxes[i].label = i % 10 == 0 ? "forklift" : "person";
+    boxes[i].dimensions = i % 10 == 0 ? Eigen::Vector3d(2.4, 1.2, 2.0) : Eigen::Vector3d(0.5, 0.5, 1.8);
+  }
+  wp::CycleTiming timing, arrival;
+  const wp::Stamp period = 33333333;  // ns
+  wp::Stamp now = 1000000000;
+  double events = 0;
+  const int warmup = 30;
+  for (int c = 0; c < warmup + cycles; ++c) {
+    for (std::size_t i = 0; i < walkers.size(); ++i) {
+      W& w = walkers[i];
+      w.x += w.vx / 30.0;
+      w.y += w.vy / 30.0;
+      if (std::abs(w.x) > cell / 2) w.vx = -w.vx;
+      if (std::abs(w.y) > cell / 2) w.vy = -w.vy;
+      boxes[i].position = Eigen::Vector3d(w.x, w.y, 0.0);
+      boxes[i].linear_velocity = Eigen::Vector3d(w.vx, w.vy, 0.0);
+    }
+    // Published at a random point of the period, used at the next tick.
+    const wp::Stamp stamp = now + period * ((c * 7) % 8) / 8;
+    {
+      wp::StageClock clock(c < warmup ? &timing : &arrival);
+      monitor.noteReceipt(0, stamp);
+      if (monitor.acceptStamp(0, stamp, stamp)) {
+        monitor.ingest(0, stamp, Eigen::Isometry3d::Identity(), boxes);
+      }
+      clock.lap(wp::CycleStage::kArrival);
+    }
+    now += period;
+    wp::CycleTiming scratch;
+    wp::StageClock clock(c < warmup ? &scratch : &timing);
+    const wp::CycleReport& report = monitor.cycle(now, &clock);
+    if (c >= warmup) events += static_cast<double>(report.events->size()) / cycles;
+  }
+  return MonitorResult{arrival.percentile(wp::CycleStage::kArrival, 0.5),
+                       timing.percentile(wp::CycleStage::kInput, 0.5),
+                       timing.percentile(wp::CycleStage::kPredict, 0.5),
+                       timing.percentile(wp::CycleStage::kPredict, 0.99), events};
 }
 
 // The robot cell's arm as joints: one continuous joint about z per chain of 6 links (the
@@ -258,6 +359,34 @@ ArmResult runArm(int links, int objects, double horizon, int cycles) {
   return r;
 }
 
+// The monitor-layer table (appended to `md`).
+void monitorTable(std::ostringstream& md, int cycles, int monitor_count) {
+  md << "\n## The node's monitor layer (no ROS), fed as scripts/bench-node feeds the node\n\n"
+     << "load_generator's walkers (same seed, cell 3 sqrt(N) m) as one array per 30 Hz step, each "
+        "cycle at the next step's instant (arrays up to one period old), through Monitor::ingest "
+        "and Monitor::cycle: the node's input and predict stages without ROS (predict = "
+        "ProximityWorld::predict, the event report, status, SSM). labels: \"defaults\" = no "
+        "configuration loaded, as scripts/bench-node runs the node (every label the default's "
+        "margin 0.1 m, no growth); \"shipped person\" = config/proximity_monitor.yaml's person "
+        "label (margin 0.25 m growing by R(s) = min(0.3 s + 2 s², (2 + |v|) s)), so at a 2 s "
+        "horizon every person pairs with everyone within several metres. Medians over the "
+        "cycles; arrival = Monitor::ingest of one array.\n\n"
+     << "| objects | labels | arrival median ms | input median ms | predict median ms | predict p99 ms | events |\n"
+     << "|---:|---|---:|---:|---:|---:|---:|\n";
+  for (bool shipped : {false, true}) {
+    for (int count : {100, 1000}) {
+      if (monitor_count > 0 && (count != monitor_count || shipped)) continue;
+      const MonitorResult r = runMonitor(count, shipped, cycles);
+      char line[256];
+      std::snprintf(line, sizeof line, "| %d | %s | %.3f | %.3f | %.3f | %.3f | %.0f |\n", count,
+                    shipped ? "shipped person" : "defaults", r.ingest_ms, r.input_ms,
+                    r.predict_ms, r.predict_p99_ms, r.events);
+      md << line;
+      std::fputs(line, stderr);
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -265,14 +394,25 @@ int main(int argc, char** argv) {
   int cycles = 600;
   bool joints_only = false;  // only the joint-space rows (issue 10)
   bool walkers_only = false;  // only the node's load (issue 14)
+  bool growth_only = false;   // only its rows with the shipped person growth (profiling)
+  bool monitor_only = false;  // only the monitor layer's rows (profiling)
+  int monitor_count = 0;      // --count N: only N objects there
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc) out = argv[++i];
     else if (a == "--quick") cycles = 150;
     else if (a == "--joints-only") joints_only = true;
     else if (a == "--walkers") walkers_only = true;
+    else if (a == "--growth") walkers_only = growth_only = true;
+    else if (a == "--monitor") monitor_only = true;
+    else if (a == "--count" && i + 1 < argc) monitor_count = std::atoi(argv[++i]);
   }
   std::ostringstream md;
+  if (monitor_only) {
+    monitorTable(md, cycles, monitor_count);
+    std::fputs(md.str().c_str(), stdout);
+    return 0;
+  }
   const bool cell_rows = !joints_only && !walkers_only;
   if (cell_rows) {
     md << "# Pipeline benchmark (robot cell through the whole core)\n\n"
@@ -304,22 +444,31 @@ int main(int argc, char** argv) {
        << "What `scripts/bench-node` feeds the node (no robot; see the top of pipeline_bench.cpp), "
           "through the core alone. predict = median of ProximityWorld::predict per cycle without "
           "the per-pair stage timers, as the node runs it; the stage split (means) comes from a "
-          "second run with them.\n\n"
-       << "| objects | predict median µs | predict p99 µs | bounds | broad | axis TOI | narrow | "
-          "events | broad pairs | candidates | contacts | distance queries |\n"
-       << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    for (int count : {100, 1000, 2000}) {
-      const Result plain = runWalkers(count, 2.0, cycles, false);
-      const Result r = runWalkers(count, 2.0, cycles, true);
-      char line[512];
-      std::snprintf(line, sizeof line,
-                    "| %d | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.0f | %.0f | %.0f | %.0f |\n",
-                    count, plain.median_us, plain.p99_us, r.stage_us[0], r.stage_us[1], r.stage_us[2],
-                    r.stage_us[3], r.stage_us[4], r.pairs, r.candidates, r.contacts, r.queries);
-      md << line;
-      std::fputs(line, stderr);
+          "second run with them. people: \"constant\" = margin 0.2 m and constant velocity; "
+          "\"growth\" = the shipped person label as the node applies it (margin 0.25 m growing "
+          "with velocity_error 0.3 m/s, max_accel 4 m/s², max_speed 2 m/s; track ages 0–33 ms), "
+          "what the node runs with the shipped config.\n\n"
+       << "| objects | people | predict median µs | predict p99 µs | bounds | broad | axis TOI | "
+          "narrow | events | broad pairs | candidates | contacts | distance queries |\n"
+       << "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (bool growth : {false, true}) {
+      if (growth_only && !growth) continue;
+      for (int count : {100, 1000, 2000}) {
+        const Result plain = runWalkers(count, growth, 2.0, cycles, false);
+        const Result r = runWalkers(count, growth, 2.0, cycles, true);
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "| %d | %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.0f | %.0f | "
+                      "%.0f | %.0f |\n",
+                      count, growth ? "growth" : "constant", plain.median_us, plain.p99_us,
+                      r.stage_us[0], r.stage_us[1], r.stage_us[2], r.stage_us[3], r.stage_us[4],
+                      r.pairs, r.candidates, r.contacts, r.queries);
+        md << line;
+        std::fputs(line, stderr);
+      }
     }
   }
+  if (!joints_only && !growth_only) monitorTable(md, cycles, 0);
   // The arm from its joints (issue 10): cost per cycle, arm posing included, against the same
   // arm as constant twists.
   if (!walkers_only) {
