@@ -11,6 +11,8 @@
 /// boxes the separating axes of two vertical prisms are the four footprint edge normals and
 /// z (every edge cross product is one of them), so the least-penetration axis is among five.
 
+#include <cmath>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -19,7 +21,13 @@ namespace workspace_proximity {
 /// True when `rotation` keeps the z axis vertical: its third row and column are exactly
 /// zero off the diagonal (the diagonal entry is then +-1 up to rounding). Quaternions of the
 /// form (0, 0, z, w), i.e. yaw only, give this exactly, and so does turning them about z.
-bool isUpright(const Eigen::Matrix3d& rotation);
+/// Inline: every distance query and moving window of two boxes asks it for both poses.
+inline bool isUpright(const Eigen::Matrix3d& r) {
+  // Zero couplings between z and x-y make the box a vertical prism; r(2, 2) is then +-1 up
+  // to the rounding of the quaternion it came from (an upside-down box is upright too).
+  return r(0, 2) == 0.0 && r(1, 2) == 0.0 && r(2, 0) == 0.0 && r(2, 1) == 0.0 &&
+         std::abs(r(2, 2)) > 0.5;
+}
 
 struct UprightBoxDistance {
   /// false: the footprints overlap and no common point could be found for them (a

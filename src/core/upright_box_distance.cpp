@@ -154,13 +154,6 @@ UprightBoxDistance overlap(const Footprint& fa, const Footprint& fb,
 
 }  // namespace
 
-bool isUpright(const Eigen::Matrix3d& r) {
-  // Zero couplings between z and x-y make the box a vertical prism; r(2, 2) is then +-1 up
-  // to the rounding of the quaternion it came from (an upside-down box is upright too).
-  return r(0, 2) == 0.0 && r(1, 2) == 0.0 && r(2, 0) == 0.0 && r(2, 1) == 0.0 &&
-         std::abs(r(2, 2)) > 0.5;
-}
-
 UprightBoxDistance uprightBoxDistance(const Eigen::Isometry3d& pose_a,
                                       const Eigen::Vector3d& half_a,
                                       const Eigen::Isometry3d& pose_b,
