@@ -56,10 +56,12 @@ double gapAlongOwnAxes(const Footprint& self, const Footprint& other, const Seen
 double nearestCorner(const Footprint& self, const Footprint& other, const Seen& s, Vec2* corner,
                      Vec2* on_self) {
   const Vec2 eu = other.hu * s.u, ev = other.hv * s.v;
+  const Vec2 high(self.hu, self.hv), low = -high;
   double best = HUGE_VAL;
   for (int i = 0; i < 4; ++i) {
     const Vec2 q = s.centre + ((i & 1) ? eu : -eu) + ((i & 2) ? ev : -ev);
-    const Vec2 p(std::clamp(q.x(), -self.hu, self.hu), std::clamp(q.y(), -self.hv, self.hv));
+    // The clamp to the rectangle, both coordinates at once (one packed max and min).
+    const Vec2 p = q.cwiseMax(low).cwiseMin(high);
     const double d = (q - p).squaredNorm();
     if (d < best) {
       best = d;
