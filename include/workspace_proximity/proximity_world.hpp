@@ -145,6 +145,7 @@ class ProximityWorld {
     std::int32_t body_a = -1;   // body slots of the two proxies
     std::int32_t body_b = -1;
     std::uint8_t verdict = 0;   // pair rules: unknown, allowed, denied
+    bool swapped = false;       // body_b's id sorts before body_a's (events name it first)
   };
   BodyRecord& record(BodyHandle body);
   const BodyRecord& record(BodyHandle body) const;

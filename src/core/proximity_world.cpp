@@ -82,27 +82,29 @@ void checkMotion(const char* where, const std::string& id, const BodyMotion& mot
 struct ProximityWorld::BodyRecord {
   enum class State : std::uint8_t { kFree, kLive, kRemoved };
 
-  BodyDesc desc;
-  BodyMotion motion;  // now: the constant twist, or the path's first segment
-  // Piecewise motion (setPath), or the one segment of a growing body: prepared by
-  // updateBounds. The vector keeps its capacity across cycles and slot reuse.
-  std::vector<PathSegment> path;
+  // Hot first, in the order updateBounds and the pair stages read them, so that a body's
+  // per-cycle work touches few cache lines; the names and the path come last.
+  State state = State::kFree;
+  bool dirty = true;
   bool has_path = false;  // set by setPath (else path holds the growing body's one segment)
-  MarginGrowth growth;
   bool grows = false;     // !growth.none()
-  Eigen::Vector3d half = Eigen::Vector3d::Zero();  // rotation-inflated half extents + margin
-  Aabb swept;
-  double reach = 0.0;  // m: the broad phase sees `swept` grown by this (setReach)
-  // The pose at t = 0 (motion.poseAt(0)), set by updateBounds whenever the motion changed: the
-  // swept bounds, every pair stage and the narrow phase's poses of a body that does not turn
-  // start from it, so its rotation matrix is built once per motion, not once per use.
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   SweepAndPrune::ProxyId proxy = -1;
   std::uint32_t generation = 0;
   std::uint32_t serial = 0;  // unique over the world's life: names the body in event keys
   std::int32_t next_free = -1;
-  State state = State::kFree;
-  bool dirty = true;
+  double reach = 0.0;  // m: the broad phase sees `swept` grown by this (setReach)
+  Eigen::Vector3d half = Eigen::Vector3d::Zero();  // rotation-inflated half extents + margin
+  Aabb swept;
+  // The pose at t = 0 (motion.poseAt(0)), set by updateBounds whenever the motion changed: the
+  // swept bounds, every pair stage and the narrow phase's poses of a body that does not turn
+  // start from it, so its rotation matrix is built once per motion, not once per use.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  BodyMotion motion;  // now: the constant twist, or the path's first segment
+  BodyDesc desc;
+  MarginGrowth growth;
+  // Piecewise motion (setPath), or the one segment of a growing body: prepared by
+  // updateBounds. The vector keeps its capacity across cycles and slot reuse.
+  std::vector<PathSegment> path;
 };
 
 ProximityWorld::ProximityWorld(const WorldConfig& config)
@@ -369,6 +371,8 @@ void ProximityWorld::syncPairCache() {
     pair->body_a = body_of_proxy_[static_cast<std::size_t>(pair->proxy_a)];
     pair->body_b = body_of_proxy_[static_cast<std::size_t>(pair->proxy_b)];
     pair->verdict = kVerdictUnknown;
+    // Ids are fixed while both bodies live, and so is the pair: compared once, not per event.
+    pair->swapped = bodies_[pair->body_b].desc.id < bodies_[pair->body_a].desc.id;
   }
   // A quarter of headroom, as in the broad phase: the cache grows while the pair count climbs
   // to its usual level, not when it first touches a new maximum by chance.
@@ -479,7 +483,7 @@ inline void ProximityWorld::report(const PairRecord& pair, const ContactPredicti
   const BodyRecord& a = bodies_[pair.body_a];
   const BodyRecord& b = bodies_[pair.body_b];
   // Name the pair so that body_a's id sorts first, as the message contract asks.
-  const bool swap = b.desc.id < a.desc.id;
+  const bool swap = pair.swapped;
   PairEvent event;
   event.body_a = BodyHandle{swap ? pair.body_b : pair.body_a, swap ? b.generation : a.generation};
   event.body_b = BodyHandle{swap ? pair.body_a : pair.body_b, swap ? a.generation : b.generation};
