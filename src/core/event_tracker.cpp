@@ -16,6 +16,7 @@ void EventTracker::growPool(std::size_t size) {
   // New records join the free list.
   const std::size_t old = records_.size();
   records_.resize(size);
+  rank_.resize(size, -1);
   for (std::size_t i = old; i < size; ++i) {
     records_[i].active_pos = -1;
     records_[i].next_free = (i + 1 < size) ? static_cast<std::int32_t>(i + 1) : -1;
@@ -25,6 +26,9 @@ void EventTracker::growPool(std::size_t size) {
   events_.reserve(2 * size);
   sorted_.reserve(2 * size);
   sort_keys_.reserve(2 * size);
+  placed_.reserve(2 * size);
+  ranked_.reserve(2 * size);
+  unranked_.reserve(2 * size);
 }
 
 void EventTracker::growIndex() {
@@ -39,6 +43,7 @@ std::int32_t EventTracker::allocate(std::uint64_t key) {
   const std::int32_t r = free_list_;
   free_list_ = records_[r].next_free;
   records_[r].key = key;
+  rank_[r] = -1;  // a new pair has no place yet
   records_[r].active_pos = static_cast<std::int32_t>(active_.size());
   active_.push_back(r);
   index_.insert(key, r);
@@ -95,28 +100,72 @@ void EventTracker::endCycle() {
 
 void EventTracker::sortEvents() {
   // Earliest contact first; ties (e.g. several touching now) by body handles for a
-  // deterministic order. The sort moves 24-byte keys, not the events (about 150 bytes
-  // each), which are then gathered once; on reserved vectors nothing is allocated.
-  sort_keys_.clear();
-  for (std::size_t i = 0; i < events_.size(); ++i) {
+  // deterministic order (the keys are unique: one event per pair). The sort moves 24-byte
+  // keys, not the events (about 150 bytes each), which are then gathered once; on reserved
+  // vectors nothing is allocated.
+  //
+  // From one cycle to the next every time to contact shrinks by about the cycle's length, so
+  // the order barely changes: the keys start in the last cycle's order (new pairs and ENDs
+  // after them) and an insertion sort moves the few that changed place. Past a budget of
+  // moves it hands over to std::sort, so a shuffled cycle costs little more than before.
+  const auto earlier = [](const SortKey& x, const SortKey& y) {
+    if (x.time != y.time) return x.time < y.time;
+    return x.bodies < y.bodies;
+  };
+  const std::size_t n = events_.size();
+  ranked_.clear();
+  unranked_.clear();
+  placed_.assign(last_count_, -1);
+  for (std::size_t i = 0; i < n; ++i) {
     const PairEvent& e = events_[i];
     // Handles are non-negative: as unsigned numbers they keep their order.
     const std::uint64_t bodies = (std::uint64_t{static_cast<std::uint32_t>(e.body_a.index)} << 32) |
                                  static_cast<std::uint32_t>(e.body_b.index);
-    sort_keys_.push_back({e.time_to_contact, bodies, static_cast<std::uint32_t>(i)});
+    const SortKey key{e.time_to_contact, bodies, static_cast<std::uint32_t>(i)};
+    // An END's record was released (and is not reused before this sort): it has no place.
+    const std::int32_t rank = e.state == ContactState::kEnd ? -1 : rank_[e.pair];
+    if (rank >= 0 && static_cast<std::size_t>(rank) < last_count_ && placed_[rank] < 0) {
+      placed_[rank] = static_cast<std::int32_t>(ranked_.size());
+      ranked_.push_back(key);
+    } else {
+      unranked_.push_back(key);
+    }
   }
-  std::sort(sort_keys_.begin(), sort_keys_.end(), [](const SortKey& x, const SortKey& y) {
-    if (x.time != y.time) return x.time < y.time;
-    return x.bodies < y.bodies;
-  });
+  sort_keys_.clear();
+  for (const std::int32_t slot : placed_) {
+    if (slot >= 0) sort_keys_.push_back(ranked_[static_cast<std::size_t>(slot)]);
+  }
+  sort_keys_.insert(sort_keys_.end(), unranked_.begin(), unranked_.end());
+  std::size_t moves = 0;
+  const std::size_t budget = 4 * n + 64;
+  for (std::size_t i = 1; i < sort_keys_.size(); ++i) {
+    const SortKey k = sort_keys_[i];
+    std::size_t j = i;
+    while (j > 0 && earlier(k, sort_keys_[j - 1])) {
+      sort_keys_[j] = sort_keys_[j - 1];
+      --j;
+    }
+    sort_keys_[j] = k;
+    moves += i - j;
+    if (moves > budget) {
+      std::sort(sort_keys_.begin(), sort_keys_.end(), earlier);
+      break;
+    }
+  }
   sorted_.clear();
-  for (const SortKey& k : sort_keys_) sorted_.push_back(events_[k.event]);
+  for (const SortKey& k : sort_keys_) {
+    const PairEvent& e = events_[k.event];
+    if (e.state != ContactState::kEnd) rank_[e.pair] = static_cast<std::int32_t>(sorted_.size());
+    sorted_.push_back(e);
+  }
+  last_count_ = sorted_.size();
   events_.swap(sorted_);
 }
 
 void EventTracker::clear() {
   while (!active_.empty()) release(active_.back());
   events_.clear();
+  last_count_ = 0;  // no event has a place to keep
 }
 
 }  // namespace workspace_proximity

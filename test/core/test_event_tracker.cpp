@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <tuple>
+#include <vector>
 #include <map>
 #include <random>
 #include <set>
@@ -205,4 +209,66 @@ TEST(EventTracker, ClearForgetsWithoutEnds) {
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
+}
+
+// The order comes from the last cycle's order and an insertion sort (std::sort past a budget
+// of moves): whatever the cycle, it must be exactly the order a full sort of (time, bodies)
+// gives. Cycles alternate between coherent ones (every time shrinks by the cycle and a
+// little noise, pairs come and go, ties at 0) and shuffled ones (fresh random times: the
+// fallback); clear() now and then forgets every place.
+TEST(EventTracker, OrderEqualsAFullSortInCoherentAndShuffledCycles) {
+  wp::EventTracker tracker(16);
+  wp_test::Rng rng(11);
+  std::map<std::uint64_t, double> live;  // key -> time to contact
+  int coherent_cycles = 0, shuffled_cycles = 0;
+  for (int cycle = 0; cycle < 3000; ++cycle) {
+    const bool shuffled = cycle % 17 == 5;
+    std::map<std::uint64_t, double> reported;
+    for (const auto& kv : live) {
+      if (rng() % 20 == 0) continue;  // this pair ends
+      double t = shuffled ? rng.uniform(0.0, 2.0) : kv.second - 1.0 / 30.0 + rng.uniform(-0.02, 0.02);
+      if (t < 0.0 || rng() % 40 == 0) t = 0.0;  // touching now: ties at 0
+      reported[kv.first] = t;
+    }
+    const int fresh = static_cast<int>(rng() % 12);
+    for (int i = 0; i < fresh; ++i) {
+      const int a = static_cast<int>(rng() % 60), b = 60 + static_cast<int>(rng() % 60);
+      reported[key(a, b)] = rng.uniform(0.0, 2.0);
+    }
+    std::map<std::uint64_t, bool> ended;
+    for (const auto& kv : live) {
+      if (!reported.count(kv.first)) ended[kv.first] = true;
+    }
+    tracker.beginCycle();
+    for (const auto& kv : reported) {
+      tracker.report(kv.first, prediction(static_cast<int>(kv.first >> 32),
+                                          static_cast<int>(kv.first & 0xffffffff), kv.second));
+    }
+    tracker.endCycle();
+    shuffled ? ++shuffled_cycles : ++coherent_cycles;
+
+    // The oracle: every expected event's (time, a, b), fully sorted.
+    std::vector<std::tuple<double, int, int>> expected, got;
+    for (const auto& kv : reported) {
+      expected.emplace_back(kv.second, static_cast<int>(kv.first >> 32),
+                            static_cast<int>(kv.first & 0xffffffff));
+    }
+    for (const auto& kv : ended) {
+      expected.emplace_back(std::numeric_limits<double>::infinity(),
+                            static_cast<int>(kv.first >> 32), static_cast<int>(kv.first & 0xffffffff));
+    }
+    std::sort(expected.begin(), expected.end());
+    for (const auto& e : tracker.events()) {
+      got.emplace_back(e.time_to_contact, e.body_a.index, e.body_b.index);
+    }
+    ASSERT_EQ(got, expected) << "cycle " << cycle << (shuffled ? " (shuffled)" : " (coherent)");
+
+    live = reported;
+    if (cycle % 500 == 499) {
+      tracker.clear();
+      live.clear();
+    }
+  }
+  EXPECT_GT(shuffled_cycles, 100);
+  EXPECT_GT(coherent_cycles, 2000);
 }
