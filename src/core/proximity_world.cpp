@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -99,6 +100,11 @@ struct ProximityWorld::BodyRecord {
   // swept bounds, every pair stage and the narrow phase's poses of a body that does not turn
   // start from it, so its rotation matrix is built once per motion, not once per use.
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  // The orientation pose's rotation was built from (NaN: none yet). Tracks that keep their
+  // orientation and robot links at rest then cost one comparison instead of a normalisation
+  // and a rotation matrix per cycle. The rotation depends on the orientation alone, so a
+  // reused slot needs no reset.
+  Eigen::Vector4d pose_orientation = Eigen::Vector4d::Constant(std::numeric_limits<double>::quiet_NaN());
   BodyMotion motion;  // now: the constant twist, or the path's first segment
   BodyDesc desc;
   MarginGrowth growth;
@@ -335,7 +341,13 @@ void ProximityWorld::updateBounds(double horizon) {
   last_horizon_ = horizon;
   for (BodyRecord& b : bodies_) {
     if (b.state != BodyRecord::State::kLive || !(b.dirty || horizon_changed)) continue;
-    b.pose = b.motion.poseAt(0.0);
+    if (b.motion.orientation.coeffs() == b.pose_orientation) {
+      // Bit for bit what poseAt(0) gives: the same rotation, the same translation sum.
+      b.pose.translation() = b.motion.position + b.motion.linear_velocity * 0.0;
+    } else {
+      b.pose = b.motion.poseAt(0.0);
+      b.pose_orientation = b.motion.orientation.coeffs();
+    }
     if (b.has_path || b.grows) {
       if (!b.has_path) {
         // A growing body with one constant twist: a path of one segment.
