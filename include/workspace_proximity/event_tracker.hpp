@@ -35,9 +35,10 @@ class EventTracker {
   void clear();
 
  private:
+  // A pair's record holds no event: its latest one is in last_events_ (at rank_[record]),
+  // which is where its END comes from. Small records, and each event copied once less.
   struct Record {
     std::uint64_t key;
-    PairEvent event;
     std::uint32_t stamp;     // cycle that last reported it
     std::int32_t active_pos; // position in active_, -1 when free
     std::int32_t next_free;
@@ -57,6 +58,7 @@ class EventTracker {
   HashIndex index_;                    // key -> record
   std::uint32_t cycle_ = 0;
   std::vector<PairEvent> events_;
+  std::vector<PairEvent> last_events_;  // last cycle's events, in order
   // Sorting: the events' keys, and the events in order (swapped with events_ once gathered).
   struct SortKey {
     double time;           // time to contact, s

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
 
 namespace workspace_proximity {
 
@@ -24,6 +25,7 @@ void EventTracker::growPool(std::size_t size) {
   free_list_ = static_cast<std::int32_t>(old);
   active_.reserve(size);
   events_.reserve(2 * size);
+  last_events_.reserve(2 * size);
   sorted_.reserve(2 * size);
   sort_keys_.reserve(2 * size);
   placed_.reserve(2 * size);
@@ -64,6 +66,7 @@ void EventTracker::release(std::int32_t r) {
 
 void EventTracker::beginCycle() {
   ++cycle_;
+  last_events_.swap(events_);  // kept for the ENDs of pairs not reported this cycle
   events_.clear();
 }
 
@@ -74,12 +77,10 @@ void EventTracker::report(std::uint64_t key, const PairEvent& prediction) {
     r = allocate(key);
     state = ContactState::kBegin;
   }
-  Record& rec = records_[r];
-  rec.event = prediction;
-  rec.event.state = state;
-  rec.event.pair = r;
-  rec.stamp = cycle_;
-  events_.push_back(rec.event);
+  records_[r].stamp = cycle_;
+  events_.push_back(prediction);
+  events_.back().state = state;
+  events_.back().pair = r;
 }
 
 void EventTracker::endCycle() {
@@ -88,7 +89,14 @@ void EventTracker::endCycle() {
   for (std::size_t i = active_.size(); i-- > 0;) {
     const std::int32_t r = active_[i];
     if (records_[r].stamp == cycle_) continue;
-    PairEvent end = records_[r].event;
+    // Not reported now, so reported last cycle (a pair unreported for a cycle has ended):
+    // its event of then is at its place of then.
+    const std::int32_t rank = rank_[r];
+    if (rank < 0 || static_cast<std::size_t>(rank) >= last_events_.size() ||
+        last_events_[rank].pair != r) {
+      throw std::logic_error("EventTracker: an active pair without last cycle's event");
+    }
+    PairEvent end = last_events_[rank];
     end.state = ContactState::kEnd;
     end.time_to_contact = std::numeric_limits<double>::infinity();
     end.time_to_separation = 0.0;
@@ -165,6 +173,7 @@ void EventTracker::sortEvents() {
 void EventTracker::clear() {
   while (!active_.empty()) release(active_.back());
   events_.clear();
+  last_events_.clear();
   last_count_ = 0;  // no event has a place to keep
 }
 

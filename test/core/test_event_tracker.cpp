@@ -211,6 +211,48 @@ int main(int argc, char** argv) {
   return RUN_ALL_TESTS();
 }
 
+// An END repeats its pair's last reported event (bodies, distance, points, normal, closing
+// speed, pair number) with the END state, time to contact +infinity and separation 0, also
+// when other pairs came and went in between.
+TEST(EventTracker, EndCarriesThePairsLastEvent) {
+  wp::EventTracker tracker(4);
+  auto detailed = [](int a, int b, double ttc, double x) {
+    wp::PairEvent e = prediction(a, b, ttc);
+    e.distance = x;
+    e.point_a = Eigen::Vector3d(x, 1, 2);
+    e.point_b = Eigen::Vector3d(x, 3, 4);
+    e.normal = Eigen::Vector3d(0, 1, 0);
+    e.closing_speed = 2 * x;
+    return e;
+  };
+  for (int cycle = 0; cycle < 3; ++cycle) {
+    tracker.beginCycle();
+    tracker.report(key(1, 2), detailed(1, 2, 0.5 - 0.1 * cycle, 0.25 * cycle));
+    tracker.report(key(3, 4 + cycle), detailed(3, 4 + cycle, 0.1, 9.0));  // a new pair each cycle
+    tracker.endCycle();
+  }
+  const std::int32_t number = tracker.events()[1].pair;  // (1, 2) at 0.3 s, after (3, 6) at 0.1 s
+  ASSERT_EQ(tracker.events()[1].body_a.index, 1);
+  tracker.beginCycle();
+  tracker.endCycle();
+  ASSERT_EQ(tracker.events().size(), 2u);
+  const wp::PairEvent* end = nullptr;
+  for (const auto& e : tracker.events()) {
+    if (e.body_a.index == 1) end = &e;
+  }
+  ASSERT_NE(end, nullptr);
+  EXPECT_EQ(end->state, wp::ContactState::kEnd);
+  EXPECT_EQ(end->pair, number);
+  EXPECT_EQ(end->body_b.index, 2);
+  EXPECT_TRUE(std::isinf(end->time_to_contact));
+  EXPECT_EQ(end->time_to_separation, 0.0);
+  EXPECT_EQ(end->distance, 0.5);
+  EXPECT_EQ(end->point_a, Eigen::Vector3d(0.5, 1, 2));
+  EXPECT_EQ(end->point_b, Eigen::Vector3d(0.5, 3, 4));
+  EXPECT_EQ(end->normal, Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(end->closing_speed, 1.0);
+}
+
 // The order comes from the last cycle's order and an insertion sort (std::sort past a budget
 // of moves): whatever the cycle, it must be exactly the order a full sort of (time, bodies)
 // gives. Cycles alternate between coherent ones (every time shrinks by the cycle and a
