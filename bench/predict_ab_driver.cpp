@@ -4,7 +4,7 @@
 // 0.3-1.5 m/s) with the node's default margin (0.1 m, no configuration loaded), horizon 2 s,
 // 30 Hz. Uses only the API every version has (addBody, setMotion, predict), so it builds
 // against old trees too. Prints one line: median / p10 / p90 of predict() in µs, events.
-// Usage: predict_ab_driver [COUNT=1000] [CYCLES=600] [id|yaw]
+// Usage: predict_ab_driver [COUNT=1000] [CYCLES=600] [id|yaw|id-cold|yaw-cold]
 //   id:  the load generator's boxes (identity orientation, as scripts/bench-node sends them);
 //   yaw: each box turned to its heading with a little noise that changes every cycle, as a
 //        tracker reports them (no two cycles give the same orientation).
@@ -21,7 +21,12 @@ namespace wp = workspace_proximity;
 int main(int argc, char** argv) {
   const int count = argc > 1 ? std::atoi(argv[1]) : 1000;
   const int cycles = argc > 2 ? std::atoi(argv[2]) : 600;
-  const bool yaw = argc > 3 && std::string(argv[3]) == "yaw";
+  const bool yaw = argc > 3 && std::string(argv[3]).find("yaw") != std::string::npos;
+  // "cold" (e.g. "id-cold"): 16 MB written between cycles (not timed), so that every cycle
+  // starts with caches holding none of the world, as in the node, whose cycles are 33 ms apart
+  // with other threads and processes running in between.
+  const bool cold = argc > 3 && std::string(argv[3]).find("cold") != std::string::npos;
+  std::vector<char> flush(cold ? (16u << 20) : 0u);
   wp::ProximityWorld world;
   std::mt19937 rng(0);
   const double cell = std::round(30.0 * std::sqrt(double(count))) / 10.0;
@@ -56,12 +61,13 @@ int main(int argc, char** argv) {
       }
       world.setMotion(w.h, m);
     }
+    for (std::size_t k = 0; k < flush.size(); k += 64) flush[k] = static_cast<char>(c + k);
     const auto t0 = std::chrono::steady_clock::now();
     const auto& ev = world.predict(2.0);
     const double t = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
     if (c >= 30) { us.push_back(t); events += double(ev.size()) / cycles; }
   }
   std::sort(us.begin(), us.end());
-  std::printf("count %d cycles %d orientation %s predict median %.1f us p10 %.1f p90 %.1f events %.1f\n", count, cycles, yaw ? "yaw" : "id",
+  std::printf("count %d cycles %d orientation %s%s predict median %.1f us p10 %.1f p90 %.1f events %.1f\n", count, cycles, yaw ? "yaw" : "id", cold ? " (cold caches)" : "",
               us[us.size() / 2], us[us.size() / 10], us[us.size() * 9 / 10], events);
 }
