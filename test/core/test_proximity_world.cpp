@@ -354,7 +354,8 @@ TEST(ProximityWorld, AnswersEqualAFreshWorldsAsOrientationsStayAndChange) {
     const int adds = cycle == 0 ? 12 : static_cast<int>(rng() % 3);
     for (int i = 0; i < adds; ++i) {
       Body b;
-      b.desc = object("b" + std::to_string(id++), wp::Shape::box({0.4, 0.3, 0.9}), 0.05 * (id % 3));
+      ++id;
+      b.desc = object("b" + std::to_string(id - 1), wp::Shape::box({0.4, 0.3, 0.9}), 0.05 * (id % 3));
       b.motion = at({pos(rng), pos(rng), 0.0}, {vel(rng), vel(rng), 0.0});
       b.motion.orientation = turned(yaw(rng));
       if (id % 5 == 0) b.motion.angular_velocity = Eigen::Vector3d(0, 0, 0.7);
