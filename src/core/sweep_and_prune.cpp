@@ -39,32 +39,34 @@ inline double unsortable64(std::uint64_t key) {
 // LSD radix sort of 64-bit items by bits 32 .. 32 + 8 passes of each (stable), 8 bits per pass;
 // a pass in which every item has the same digit is skipped. Returns the sorted items: in
 // `items` or in `scratch` (no copy back).
+template <int kDigit>
 const std::uint64_t* radixSortHigh32(std::vector<std::uint64_t>* items,
                                      std::vector<std::uint64_t>* scratch, int passes) {
+  constexpr std::uint64_t kMask = (std::uint64_t{1} << kDigit) - 1;
   const std::size_t n = items->size();
   scratch->resize(n);
-  std::uint32_t count[4][256];
+  std::uint32_t count[4][kMask + 1];
   std::memset(count, 0, sizeof(count[0]) * passes);
   const std::uint64_t* in = items->data();
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint64_t x = in[i];
-    for (int pass = 0; pass < passes; ++pass) ++count[pass][(x >> (32 + 8 * pass)) & 255u];
+    for (int pass = 0; pass < passes; ++pass) ++count[pass][(x >> (32 + kDigit * pass)) & kMask];
   }
   std::uint64_t* src = items->data();
   std::uint64_t* dst = scratch->data();
   for (int pass = 0; pass < passes; ++pass) {
-    const int shift = 32 + 8 * pass;
+    const int shift = 32 + kDigit * pass;
     std::uint32_t* c = count[pass];
-    if (c[(src[0] >> shift) & 255u] == n) continue;
+    if (c[(src[0] >> shift) & kMask] == n) continue;
     std::uint32_t sum = 0;
-    for (int d = 0; d < 256; ++d) {
+    for (std::uint64_t d = 0; d <= kMask; ++d) {
       const std::uint32_t t = c[d];
       c[d] = sum;
       sum += t;
     }
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint64_t x = src[i];
-      dst[c[(x >> shift) & 255u]++] = x;
+      dst[c[(x >> shift) & kMask]++] = x;
     }
     std::swap(src, dst);
   }
@@ -588,14 +590,19 @@ void SweepAndPrune::radixSortAxis(int axis) {
     lo = std::min(lo, keys[i]);
     hi = std::max(hi, keys[i]);
   }
-  // Prefix bits: about 8 more than log2(n), so that few endpoints share a prefix.
-  const int passes = n < 256 ? 2 : n < 65536 ? 3 : 4;
+  // Prefix bits: about 6-8 more than log2(n), so that few endpoints share a prefix. 8-bit
+  // digits below 4 096 endpoints (16 or 24 bits), 11-bit digits from there (22 or 32 bits: one
+  // pass fewer; the counts still fit in L1).
+  const bool wide = n >= 4096;
+  const int passes = n < 256 ? 2 : n < 4096 ? 3 : n < 65536 ? 2 : 3;
+  const int prefix_bits = std::min(32, (wide ? 11 : 8) * passes);
   const std::uint64_t range = hi - lo;
   const int width = range == 0 ? 0 : 64 - __builtin_clzll(range);
-  const int shift = std::max(0, width - 8 * passes);
+  const int shift = std::max(0, width - prefix_bits);
   sort_items_.resize(n);
   for (std::size_t i = 0; i < n; ++i) sort_items_[i] = (((keys[i + 1] - lo) >> shift) << 32) | i;
-  const std::uint64_t* sorted = radixSortHigh32(&sort_items_, &sort_items2_, passes);
+  const std::uint64_t* sorted = wide ? radixSortHigh32<11>(&sort_items_, &sort_items2_, passes)
+                                     : radixSortHigh32<8>(&sort_items_, &sort_items2_, passes);
   tmp_keys_.resize(n + 2);
   tmp_owners_.resize(n + 2);
   tmp_keys_[0] = kLowSentinel;
