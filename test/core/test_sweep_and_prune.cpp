@@ -603,6 +603,131 @@ TEST(SweepAndPrune, RebuildStreaksEnteredAndLeftUnderChurnEqualBruteForce) {
   EXPECT_GT(incremental_after_streak, 5);
 }
 
+// Rebuild after rebuild at small motion on a large scene (2 500 boxes, about 1 000 pairs;
+// rebuild_factor 0 rebuilds every update), with large jumps (many pairs change at once),
+// churn, and a batch of insertions past 4 096 proxy ids: pairs, began and ended against
+// brute force in every update.
+TEST(SweepAndPrune, RebuildsAtSmallMotionOnLargeScenesEqualBruteForce) {
+  Rng rng(160016);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int n = 2500;
+  StreakScene s;
+  s.side = std::cbrt(10.0 * n);
+  SweepAndPruneConfig cfg;
+  cfg.rebuild_factor = 0.0;
+  Harness h(cfg, true);
+  std::vector<int> obj_of;  // scene slot -> harness object, -1 when destroyed
+  auto spawn = [&]() {
+    Eigen::Vector3d c, hf;
+    for (int k = 0; k < 3; ++k) {
+      hf[k] = 0.25 + 0.5 * unit(rng);
+      c[k] = hf[k] + (s.side - 2.0 * hf[k]) * unit(rng);
+    }
+    s.center.push_back(c);
+    s.half.push_back(hf);
+    obj_of.push_back(h.create(gridBox(c, hf)));
+  };
+  for (int i = 0; i < n; ++i) spawn();
+  h.updateAndCheck();
+  if (::testing::Test::HasFatalFailure()) return;
+  for (int cycle = 0; cycle < 40; ++cycle) {
+    SCOPED_TRACE(testing::Message() << "cycle " << cycle);
+    // One step of 1/64 per axis (the grid), or a jump of up to 2 at cycles 12 and 13.
+    const double step = cycle == 12 || cycle == 13 ? 2.0 : 1.0 / 64.0;
+    for (std::size_t i = 0; i < s.center.size(); ++i) {
+      if (obj_of[i] < 0) continue;
+      for (int k = 0; k < 3; ++k) {
+        s.center[i][k] += step * (cycle == 12 || cycle == 13 ? 2.0 * unit(rng) - 1.0
+                                                             : std::floor(3.0 * unit(rng)) - 1.0);
+        s.center[i][k] = std::clamp(s.center[i][k], s.half[i][k], s.side - s.half[i][k]);
+      }
+      h.move(obj_of[i], gridBox(s.center[i], s.half[i]));
+    }
+    if (cycle % 7 == 3) {  // a few destroyed and created
+      for (int j = 0; j < 4; ++j) {
+        const std::size_t i = static_cast<std::size_t>(unit(rng) * static_cast<double>(s.center.size()));
+        if (obj_of[i] >= 0) h.destroy(obj_of[i]);
+        obj_of[i] = -1;
+        spawn();
+      }
+    } else if (cycle == 25) {  // past 4 096 proxy ids: pair codes take 13 bits per id
+      for (int j = 0; j < 1700; ++j) spawn();
+    }
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    EXPECT_TRUE(h.sap().stats().rebuilt);
+  }
+}
+
+// The radix sort's widest digits (3 passes of 11 bits from 65 536 endpoints per axis): 33 000
+// boxes, every update a rebuild (rebuild_factor 0), small steps and large jumps. The oracle is a
+// plain sort-and-sweep in double precision over the test's own boxes (brute force would take
+// half a billion tests per update).
+TEST(SweepAndPrune, RebuildsOfVeryLargeScenesEqualSortAndSweep) {
+  Rng rng(160017);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int n = 33000;
+  const double side = std::cbrt(10.0 * n);
+  SweepAndPruneConfig cfg;
+  cfg.rebuild_factor = 0.0;
+  SweepAndPrune sap(cfg);
+  std::vector<Eigen::Vector3d> center(n), half(n);
+  std::vector<Aabb> box(n);
+  std::vector<int> proxy(n);
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      half[i][k] = 0.25 + 0.5 * unit(rng);
+      center[i][k] = half[i][k] + (side - 2.0 * half[i][k]) * unit(rng);
+    }
+    box[i] = gridBox(center[i], half[i]);
+    proxy[i] = sap.createProxy(box[i]);
+  }
+  std::vector<int> object_of(n);
+  for (int i = 0; i < n; ++i) object_of[proxy[i]] = i;
+  auto oracle = [&]() {
+    std::vector<int> order(n);
+    for (int i = 0; i < n; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return box[a].lower.x() < box[b].lower.x(); });
+    std::vector<PairCode> pairs;
+    for (int i = 0; i < n; ++i) {
+      const Aabb& a = box[order[i]];
+      for (int j = i + 1; j < n && box[order[j]].lower.x() <= a.upper.x(); ++j) {
+        if (bruteOverlap(a, box[order[j]])) pairs.push_back(pairCode(order[i], order[j]));
+      }
+    }
+    std::sort(pairs.begin(), pairs.end());
+    return pairs;
+  };
+  auto mapped = [&](const std::vector<BroadPair>& pairs) {
+    std::vector<PairCode> out;
+    for (const BroadPair& p : pairs) out.push_back(pairCode(object_of[p.proxy_a], object_of[p.proxy_b]));
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  sap.update();
+  std::vector<PairCode> before = oracle();
+  ASSERT_EQ(mapped(sap.pairs()), before);
+  for (int cycle = 0; cycle < 6; ++cycle) {
+    SCOPED_TRACE(testing::Message() << "cycle " << cycle);
+    const bool jump = cycle == 2 || cycle == 3;
+    for (int i = 0; i < n; ++i) {
+      for (int k = 0; k < 3; ++k) {
+        center[i][k] += jump ? 2.0 * (2.0 * unit(rng) - 1.0) : (std::floor(3.0 * unit(rng)) - 1.0) / 64.0;
+        center[i][k] = std::clamp(center[i][k], half[i][k], side - half[i][k]);
+      }
+      box[i] = gridBox(center[i], half[i]);
+      sap.moveProxy(proxy[i], box[i]);
+    }
+    sap.update();
+    EXPECT_TRUE(sap.stats().rebuilt);
+    const std::vector<PairCode> now = oracle();
+    ASSERT_EQ(mapped(sap.pairs()), now);
+    ASSERT_EQ(mapped(sap.beganPairs()), minus(now, before));
+    ASSERT_EQ(mapped(sap.endedPairs()), minus(before, now));
+    before = now;
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Random scenes against brute force.
 
