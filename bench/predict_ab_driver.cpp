@@ -4,7 +4,7 @@
 // 0.3-1.5 m/s) with the node's default margin (0.1 m, no configuration loaded), horizon 2 s,
 // 30 Hz. Uses only the API every version has (addBody, setMotion, predict), so it builds
 // against old trees too. Prints one line: median / p10 / p90 of predict() in µs, events.
-// Usage: predict_ab_driver [COUNT=1000] [CYCLES=600] [id|yaw|id-cold|yaw-cold]
+// Usage: predict_ab_driver [COUNT=1000] [CYCLES=600] [id|yaw][-cold][-idle]
 //   id:  the load generator's boxes (identity orientation, as scripts/bench-node sends them);
 //   yaw: each box turned to its heading with a little noise that changes every cycle, as a
 //        tracker reports them (no two cycles give the same orientation).
@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 #include "workspace_proximity/proximity_world.hpp"
 namespace wp = workspace_proximity;
@@ -26,6 +27,8 @@ int main(int argc, char** argv) {
   // starts with caches holding none of the world, as in the node, whose cycles are 33 ms apart
   // with other threads and processes running in between.
   const bool cold = argc > 3 && std::string(argv[3]).find("cold") != std::string::npos;
+  // "idle" (e.g. "id-idle"): 30 ms asleep between cycles, as the node's timer leaves the core.
+  const bool idle = argc > 3 && std::string(argv[3]).find("idle") != std::string::npos;
   std::vector<char> flush(cold ? (16u << 20) : 0u);
   wp::ProximityWorld world;
   std::mt19937 rng(0);
@@ -62,12 +65,13 @@ int main(int argc, char** argv) {
       world.setMotion(w.h, m);
     }
     for (std::size_t k = 0; k < flush.size(); k += 64) flush[k] = static_cast<char>(c + k);
+    if (idle) std::this_thread::sleep_for(std::chrono::milliseconds(30));
     const auto t0 = std::chrono::steady_clock::now();
     const auto& ev = world.predict(2.0);
     const double t = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
     if (c >= 30) { us.push_back(t); events += double(ev.size()) / cycles; }
   }
   std::sort(us.begin(), us.end());
-  std::printf("count %d cycles %d orientation %s%s predict median %.1f us p10 %.1f p90 %.1f events %.1f\n", count, cycles, yaw ? "yaw" : "id", cold ? " (cold caches)" : "",
+  std::printf("count %d cycles %d orientation %s%s predict median %.1f us p10 %.1f p90 %.1f events %.1f\n", count, cycles, yaw ? "yaw" : "id", cold ? " (cold caches)" : idle ? " (30 ms idle between cycles)" : "",
               us[us.size() / 2], us[us.size() / 10], us[us.size() * 9 / 10], events);
 }

@@ -97,6 +97,9 @@ const CycleReport& Monitor::cycle(Stamp now, StageClock* clock) {
   clock->lap(CycleStage::kInput);
 
   const std::vector<PairEvent>& events = world_.predict(params_.horizon);
+  // The prediction ends here (CycleStage::kPredict is ProximityWorld::predict); the report
+  // and the status are the start of building the contacts (kContacts, lapped by the caller).
+  clock->lap(CycleStage::kPredict);
   ReportInputs in;
   in.now = now;
   in.events = &events;
@@ -111,7 +114,6 @@ const CycleReport& Monitor::cycle(Stamp now, StageClock* clock) {
   ssm_.evaluate(now, world_, tracks_, labels_, robot_, report_.degraded, report_.status_lines,
                 &report_.ssm);
   ++cycles_;
-  clock->lap(CycleStage::kPredict);
   return report_;
 }
 

@@ -14,7 +14,7 @@ namespace workspace_proximity {
 enum class CycleStage : int {
   kInput = 0,    ///< arrays left for the cycle -> tracks, extrapolation, robot poses from tf
   kPredict,      ///< ProximityWorld::predict: swept bounds, broad phase, time of impact, FCL
-  kContacts,     ///< ContactEventArray built and published (serialised)
+  kContacts,     ///< the cycle's report (levels, status, SSM), ContactEventArray built and published
   kMarkers,      ///< not in the cycle: a MarkerArray built and published, half a period later
   kArrival,      ///< not in the cycle: an array turned into tracks when it arrives
   kCount

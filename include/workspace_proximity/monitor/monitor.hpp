@@ -67,7 +67,8 @@ class Monitor {
   /// Forgets every stamp: tracks (their pairs END), robot poses, sources' receipts.
   void reset();
   /// Expires old tracks, moves every track to `now`, predicts and builds the report.
-  /// `clock` laps kInput after the track updates and kPredict after the report.
+  /// `clock` laps kInput after the track updates and kPredict after ProximityWorld::predict;
+  /// the report, status and SSM verdict count towards the caller's next lap (kContacts).
   const CycleReport& cycle(Stamp now, StageClock* clock);
   /// A cycle failed (an exception): the next report says so; counted.
   void cycleFailed(Stamp now, const std::string& what);
