@@ -520,7 +520,27 @@ Aabb gridBox(const Eigen::Vector3d& center, const Eigen::Vector3d& half) {
 
 struct StreakScene {
   std::vector<Eigen::Vector3d> center, half;
+  std::vector<int> obj_of;  // scene slot -> harness object, -1 when destroyed
   double side = 0.0;
+
+  // `n` boxes in a cube of volume 10 n, created in the harness.
+  StreakScene(int n, Rng& rng, Harness& h) : side(std::cbrt(10.0 * n)) {
+    for (int i = 0; i < n; ++i) spawn(rng, h);
+  }
+
+  // A box of random half sizes (0.25 .. 0.75) at a random place inside the cube, on the grid:
+  // created in the harness and remembered here.
+  void spawn(Rng& rng, Harness& h) {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    Eigen::Vector3d c, hf;
+    for (int k = 0; k < 3; ++k) {
+      hf[k] = 0.25 + 0.5 * unit(rng);
+      c[k] = hf[k] + (side - 2.0 * hf[k]) * unit(rng);
+    }
+    center.push_back(c);
+    half.push_back(hf);
+    obj_of.push_back(h.create(gridBox(c, hf)));
+  }
 };
 
 }  // namespace
@@ -533,24 +553,13 @@ TEST(SweepAndPrune, RebuildStreaksEnteredAndLeftUnderChurnEqualBruteForce) {
   for (int scene = 0; scene < 12; ++scene) {
     SCOPED_TRACE(testing::Message() << "scene " << scene);
     const int n = 150 + 60 * scene;  // 150 .. 810 boxes: plain and slab sweeps
-    StreakScene s;
-    s.side = std::cbrt(10.0 * n);
     SweepAndPruneConfig cfg;
     const double factors[] = {1.0, 1.0, 0.3, 3.0};  // where the streaks start and end
     cfg.rebuild_factor = factors[scene % 4];
     Harness h(cfg, true);
-    std::vector<int> obj_of;  // scene slot -> harness object, -1 when destroyed
-    auto spawn = [&]() {
-      Eigen::Vector3d c, hf;
-      for (int k = 0; k < 3; ++k) {
-        hf[k] = 0.25 + 0.5 * unit(rng);
-        c[k] = hf[k] + (s.side - 2.0 * hf[k]) * unit(rng);
-      }
-      s.center.push_back(c);
-      s.half.push_back(hf);
-      obj_of.push_back(h.create(gridBox(c, hf)));
-    };
-    for (int i = 0; i < n; ++i) spawn();
+    StreakScene s(n, rng, h);
+    std::vector<int>& obj_of = s.obj_of;
+    auto spawn = [&]() { s.spawn(rng, h); };
     h.updateAndCheck();
     if (::testing::Test::HasFatalFailure()) return;
     int streak = 0;
@@ -610,24 +619,12 @@ TEST(SweepAndPrune, RebuildStreaksEnteredAndLeftUnderChurnEqualBruteForce) {
 TEST(SweepAndPrune, RebuildsAtSmallMotionOnLargeScenesEqualBruteForce) {
   Rng rng(160016);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const int n = 2500;
-  StreakScene s;
-  s.side = std::cbrt(10.0 * n);
   SweepAndPruneConfig cfg;
   cfg.rebuild_factor = 0.0;
   Harness h(cfg, true);
-  std::vector<int> obj_of;  // scene slot -> harness object, -1 when destroyed
-  auto spawn = [&]() {
-    Eigen::Vector3d c, hf;
-    for (int k = 0; k < 3; ++k) {
-      hf[k] = 0.25 + 0.5 * unit(rng);
-      c[k] = hf[k] + (s.side - 2.0 * hf[k]) * unit(rng);
-    }
-    s.center.push_back(c);
-    s.half.push_back(hf);
-    obj_of.push_back(h.create(gridBox(c, hf)));
-  };
-  for (int i = 0; i < n; ++i) spawn();
+  StreakScene s(2500, rng, h);
+  std::vector<int>& obj_of = s.obj_of;
+  auto spawn = [&]() { s.spawn(rng, h); };
   h.updateAndCheck();
   if (::testing::Test::HasFatalFailure()) return;
   for (int cycle = 0; cycle < 40; ++cycle) {
