@@ -22,8 +22,8 @@ struct ContactWindow {
   /// interval (movingBoxInterval); otherwise `axis` itself. The narrow phase looks for
   /// contact only here. Empty: no contact within the horizon.
   TimeInterval interval;
-  /// `interval` is exactly the contact interval (margin-free translating boxes): nothing is
-  /// left to refine.
+  /// `interval` is exactly the contact interval (translating boxes without margins, or
+  /// upright ones with margins: roundedUprightInterval()): nothing is left to refine.
   bool exact = false;
   /// `interval.last` already is a conservative last contact (translating boxes with margins,
   /// i.e. rounded boxes, which the axis test bounds): only the first contact is refined.
@@ -110,8 +110,9 @@ TimeInterval axisWindow(const PairBody& a, const PairBody& b, double horizon);
 /// Step 2 alone: narrows `window` (seconds, the axis window or any part of [0, horizon]) for
 /// two bodies (shape, motion, margin and pose now of each are read). Two boxes that only
 /// translate get movingBoxInterval() at their poses at t = 0, exact without margins and
-/// conservative with them; other pairs keep the window as it is. `axis` of the result is
-/// `window`.
+/// conservative with them, unless both are upright and have margins: then
+/// roundedUprightInterval() makes it exact (it leaves the rims of boxes whose heights part to
+/// the former). Other pairs keep the window as it is. `axis` of the result is `window`.
 ContactWindow refineWindow(const PairBody& a, const PairBody& b, TimeInterval window);
 
 /// Both steps: refineWindow(a, b, axisWindow(a, b, horizon)).

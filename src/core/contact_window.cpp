@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "workspace_proximity/upright_box_distance.hpp"
+
 namespace workspace_proximity {
 namespace {
 
@@ -46,15 +48,26 @@ ContactWindow refineWindow(const PairBody& a, const PairBody& b, TimeInterval wi
       !translatingBox(*b.shape, *b.motion)) {
     return w;
   }
-  // The moving separating-axis test: exact without margins, and with them (rounded boxes) an
-  // interval that contains every contact, whose exit time stands as the last contact.
   const double margins = a.margin + b.margin;
   Eigen::Isometry3d scratch_a, scratch_b;
-  w.interval = movingBoxInterval(a.poseNow(&scratch_a), a.shape->half_extents,
-                                 a.motion->linear_velocity, b.poseNow(&scratch_b),
-                                 b.shape->half_extents, b.motion->linear_velocity, margins, window);
-  w.exact = margins == 0.0;
+  const Eigen::Isometry3d& pose_a = a.poseNow(&scratch_a);
+  const Eigen::Isometry3d& pose_b = b.poseNow(&scratch_b);
   w.last_known = true;
+  // Rounded upright boxes (people, carts and vehicles as trackers report them, with margins):
+  // the footprints' corners make the interval exact; the narrow phase has nothing to refine.
+  if (margins > 0.0 && isUpright(pose_a.linear()) && isUpright(pose_b.linear()) &&
+      roundedUprightInterval(pose_a, a.shape->half_extents, a.motion->linear_velocity, pose_b,
+                             b.shape->half_extents, b.motion->linear_velocity, margins, window,
+                             &w.interval)) {
+    w.exact = true;
+    return w;
+  }
+  // The moving separating-axis test: exact without margins, and with them (rounded boxes) an
+  // interval that contains every contact, whose exit time stands as the last contact.
+  w.interval = movingBoxInterval(pose_a, a.shape->half_extents, a.motion->linear_velocity,
+                                 pose_b, b.shape->half_extents, b.motion->linear_velocity,
+                                 margins, window);
+  w.exact = margins == 0.0;
   return w;
 }
 
