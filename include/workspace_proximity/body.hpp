@@ -59,6 +59,12 @@ bool validMargin(double margin);
 /// Which side of the robot/world divide a body is on; pair rules use it.
 enum class BodyGroup : std::uint8_t { kRobot = 0, kObject = 1 };
 
+/// Every component exactly zero (a NaN is not): a body whose angular velocity this is does
+/// not turn. What Eigen's isZero(0.0) answers, without its per-coefficient loop.
+inline bool isExactlyZero(const Eigen::Vector3d& v) {
+  return v.x() == 0.0 && v.y() == 0.0 && v.z() == 0.0;
+}
+
 /// Pose and constant velocity of a body at the prediction instant (t = 0).
 /// Motion model over [0, H]: centre(t) = position + linear_velocity * t,
 /// orientation(t) = exp(angular_velocity * t) * orientation (angular velocity in the world frame).

@@ -100,7 +100,7 @@ Eigen::Isometry3d BodyMotion::poseAt(double t) const {
 
 BodyMotion BodyMotion::advanced(double dt) const {
   BodyMotion m = *this;
-  if (angular_velocity.isZero(0.0)) {
+  if (isExactlyZero(angular_velocity)) {
     // Not turning: the orientation stays exactly as it is (no matrix round trip).
     m.position = position + linear_velocity * dt;
     return m;

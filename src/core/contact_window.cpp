@@ -29,7 +29,7 @@ const PathSegment* ownSegment(const PairBody& body, double horizon, PathSegment*
 
 // Trackers report most objects as boxes that only translate: they have a closed form.
 bool translatingBox(const Shape& shape, const BodyMotion& motion) {
-  return shape.type == ShapeType::kBox && motion.angular_velocity.isZero(0.0) &&
+  return shape.type == ShapeType::kBox && isExactlyZero(motion.angular_velocity) &&
          motion.linear_velocity.allFinite();
 }
 

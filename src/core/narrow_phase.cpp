@@ -248,7 +248,7 @@ double closingSpeedBound(const PairBody& a, const PairBody& b) {
 // Pose at t of a body with `motion` whose pose at t = 0 is `now` (or null): a body that does not
 // turn keeps now's rotation matrix (bit for bit what poseAt builds again from the quaternion).
 Eigen::Isometry3d poseAtFrom(const BodyMotion& motion, const Eigen::Isometry3d* now, double t) {
-  if (now == nullptr || !motion.angular_velocity.isZero(0.0)) return motion.poseAt(t);
+  if (now == nullptr || !isExactlyZero(motion.angular_velocity)) return motion.poseAt(t);
   Eigen::Isometry3d pose = *now;
   pose.translation() = motion.position + motion.linear_velocity * t;
   return pose;
@@ -316,7 +316,7 @@ bool advanceToFirstContact(const MovingPair& pair, const Evaluation& now, double
                            TimeInterval window, const NarrowPhaseConfig& config, double* t) {
   const double gap_now = now.shape.overlapping ? -kInf : now.lower_bound - pair.margin_a - pair.margin_b;
   const bool translating =
-      pair.motion_a.angular_velocity.isZero(0.0) && pair.motion_b.angular_velocity.isZero(0.0);
+      isExactlyZero(pair.motion_a.angular_velocity) && isExactlyZero(pair.motion_b.angular_velocity);
   const Eigen::Vector3d relative = pair.motion_b.linear_velocity - pair.motion_a.linear_velocity;
   *t = window.first;
   for (int step = 0; step < config.max_iterations; ++step) {
@@ -402,8 +402,8 @@ struct PieceGap {
   // from it is linear (a quadratic growth, max_accel > 0 before the cap takes over, makes
   // the gap convex minus convex: then plain advancement only).
   bool convex() const {
-    return piece.a.segment->motion.angular_velocity.isZero(0.0) &&
-           piece.b.segment->motion.angular_velocity.isZero(0.0) &&
+    return isExactlyZero(piece.a.segment->motion.angular_velocity) &&
+           isExactlyZero(piece.b.segment->motion.angular_velocity) &&
            (!with_growth || (piece.a.growth.linear() && piece.b.growth.linear()));
   }
   // The gap's rate of change from the growth alone (linear growth), m/s.

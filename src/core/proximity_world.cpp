@@ -360,7 +360,7 @@ void ProximityWorld::updateBounds(double horizon) {
                             static_cast<int>(b.path.size()));
       b.half = b.path[0].half;
     } else {
-      if (b.desc.shape.type == ShapeType::kBox && b.motion.angular_velocity.isZero(0.0)) {
+      if (b.desc.shape.type == ShapeType::kBox && isExactlyZero(b.motion.angular_velocity)) {
         // A box that does not turn (most tracks): rotationHalfExtents' value, without the call.
         b.half = (b.pose.linear().cwiseAbs() * b.desc.shape.half_extents).array() + b.desc.margin;
       } else {

@@ -48,7 +48,7 @@ Eigen::Vector3d rotationHalfExtents(const Shape& shape, const Eigen::Matrix3d& r
                                     double horizon) {
   Eigen::Vector3d half = staticHalfExtents(shape, rotation);
   // Not turning (the common case: people, vehicles, resting links): the box as it is.
-  if (angular_velocity.isZero(0.0)) return half.array() + margin;
+  if (isExactlyZero(angular_velocity)) return half.array() + margin;
 
   const double speed = angular_velocity.norm();
   const double theta = std::min(speed * std::max(horizon, 0.0), M_PI);
