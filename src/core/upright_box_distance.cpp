@@ -307,7 +307,8 @@ bool roundedUprightInterval(const Eigen::Isometry3d& pose_a, const Eigen::Vector
   const Vec2 reach_a = Vec2(in_a.hu, in_a.hv) + in_a.eu.cwiseAbs() + in_a.ev.cwiseAbs();
   const Vec2 reach_b = Vec2(in_b.hu, in_b.hv) + in_b.eu.cwiseAbs() + in_b.ev.cwiseAbs();
   // A nanometre (and rounding's share of the scene's size) more: never narrower than exact.
-  const double scale = d2.norm() + half_a.head<2>().norm() + half_b.head<2>().norm() + inflation;
+  const double scale = abs(d.x()) + abs(d.y()) + half_a.x() + half_a.y() + half_b.x() +
+                       half_b.y() + inflation;  // >= the norms it stands for
   const double radius = inflation + 1e-9 + 64.0 * std::numeric_limits<double>::epsilon() * scale;
 
   // The separating axes of two vertical prisms (four footprint normals and z), each grown by
@@ -326,7 +327,10 @@ bool roundedUprightInterval(const Eigen::Isometry3d& pose_a, const Eigen::Vector
   }
   // The footprints decide alone while the heights overlap: the distance is then the
   // footprints' distance. |z gap| is convex in t, so both ends suffice.
-  if (abs(d.z() + w.z() * first) > heights || abs(d.z() + w.z() * last) > heights) return false;
+  if (w.z() == 0.0 ? abs(d.z()) > heights
+                   : abs(d.z() + w.z() * first) > heights || abs(d.z() + w.z() * last) > heights) {
+    return false;
+  }
 
   // The footprints' distance at t: cheaply when the separating axis of largest gap has the
   // other footprint's nearest corner on its face (the gap is then the distance), else from
