@@ -300,6 +300,27 @@ Evaluation describeNow(const MovingPair& pair, const PairBody& a, const PairBody
   return now;
 }
 
+// describeNow() for two upright boxes whose poses now the caller has, straight from the closed
+// form (what evaluate() would pick, bit for bit), without FCL's geometry or the query's set-up:
+// the whole of a query whose window is exact. False: the general path must answer.
+bool reportUpright(const PairBody& a, const PairBody& b, ContactPrediction* out) {
+  if (a.shape->type != ShapeType::kBox || b.shape->type != ShapeType::kBox || a.pose == nullptr ||
+      b.pose == nullptr || !isUpright(a.pose->linear()) || !isUpright(b.pose->linear())) {
+    return false;
+  }
+  const UprightBoxDistance d =
+      uprightBoxDistance(*a.pose, a.shape->half_extents, *b.pose, b.shape->half_extents);
+  if (!d.solved) return false;
+  out->iterations = 1;
+  out->distance = std::max(0.0, d.distance - a.margin - b.margin);
+  out->point_a = d.point_a;
+  out->point_b = d.point_b;
+  out->normal = d.normal;
+  out->closing_speed = out->normal.dot(pointVelocity(*a.motion, out->point_a) -
+                                       pointVelocity(*b.motion, out->point_b));
+  return true;
+}
+
 // Forward advancement from the window's start: every step is shorter than the time the gap
 // needs to close, so no contact is ever skipped. Returns false when the shapes do not touch
 // within the window; else `t` is the first contact (or where the steps ran out: contact then
@@ -561,8 +582,16 @@ ContactPrediction NarrowPhase::predict(const PairBody& a, const PairBody& b,
     throw std::invalid_argument(
         "NarrowPhase::predict: a body with a path or a growing margin needs piecewiseWindow()");
   }
-  std::unique_ptr<fcl::CollisionGeometryd> own_a, own_b;  // bodies without a cached geometry
   ContactPrediction out;
+  if (window.exact && reportUpright(a, b, &out)) {
+    // Nothing left to refine (e.g. roundedUprightInterval): the report now was all.
+    if (window.empty()) return out;
+    out.contact = true;
+    out.time_to_contact = window.interval.first;
+    out.time_to_separation = window.interval.last;
+    return out;
+  }
+  std::unique_ptr<fcl::CollisionGeometryd> own_a, own_b;  // bodies without a cached geometry
   const MovingPair pair{Solid{*a.shape, cache_->of(a, &own_a)}, Solid{*b.shape, cache_->of(b, &own_b)},
                         *a.motion, *b.motion, a.margin, b.margin, &out.iterations, a.pose, b.pose};
   const Evaluation now = describeNow(pair, a, b, config_.distance_tolerance, &out);

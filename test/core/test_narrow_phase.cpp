@@ -876,6 +876,47 @@ TEST(UprightBoxes, TranslatingWithMarginsFirstContactIsTightAndNeverLate) {
               with_contact, tight, double(queries) / 2000);
 }
 
+TEST(UprightBoxes, ExactWindowsReportTheSameAsTheGeneralPathBitForBit) {
+  // A pair whose window is exact (rounded upright boxes: roundedUprightInterval) and whose
+  // poses now the caller hands over is answered straight from the closed form, skipping the
+  // query's set-up. That shortcut must change nothing: the same pair without poses takes the
+  // general path (poses built from the motions, evaluate()), compared field by field.
+  const NarrowPhase phase;
+  Rng rng(89);
+  int exact = 0, touching = 0;
+  for (int i = 0; i < 3000; ++i) {
+    auto body = [&]() {
+      BodyMotion m = wp_test::randomMotion(rng, 1.5, 1.5, 0.0, true);
+      if (i % 2 == 0) m.position.z() = m.linear_velocity.z() = 0.0;
+      return MovingBody(Shape::box(rng.vector(0.05, 0.6)), m, rng.uniform(0.0, 0.3));
+    };
+    const MovingBody a = body(), b = body();
+    const Isometry3d pose_a = a.motion.poseAt(0.0), pose_b = b.motion.poseAt(0.0);
+    PairBody with_a = a.body(), with_b = b.body();
+    with_a.pose = &pose_a;
+    with_b.pose = &pose_b;
+    const ContactWindow window = refineWindow(with_a, with_b, TimeInterval{0.0, 1.0});
+    exact += window.exact;
+    const ContactPrediction fast = phase.predict(with_a, with_b, window);
+    const ContactPrediction general = phase.predict(a.body(), b.body(), window);
+    touching += fast.contact;
+    ASSERT_EQ(fast.contact, general.contact) << "pair " << i;
+    EXPECT_EQ(fast.time_to_contact, general.time_to_contact) << "pair " << i;
+    EXPECT_EQ(fast.time_to_separation, general.time_to_separation) << "pair " << i;
+    EXPECT_EQ(fast.distance, general.distance) << "pair " << i;
+    EXPECT_EQ(fast.closing_speed, general.closing_speed) << "pair " << i;
+    EXPECT_EQ(fast.iterations, general.iterations) << "pair " << i;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(fast.point_a[k], general.point_a[k]) << "pair " << i;
+      EXPECT_EQ(fast.point_b[k], general.point_b[k]) << "pair " << i;
+      EXPECT_EQ(fast.normal[k], general.normal[k]) << "pair " << i;
+    }
+  }
+  EXPECT_GT(exact, 1000);
+  EXPECT_GT(touching, 200);
+  std::printf("  %d exact windows, %d with contact\n", exact, touching);
+}
+
 }  // namespace
 }  // namespace workspace_proximity
 
