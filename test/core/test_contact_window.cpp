@@ -167,7 +167,14 @@ TEST(ContactWindow, RoundedUprightTranslatingBoxesGetTheExactInterval) {
       a.motion.position.z() = b.motion.position.z() = 0.0;
       a.motion.linear_velocity.z() = b.motion.linear_velocity.z() = 0.0;
     }
-    if (i % 5 == 3) {
+    if (i % 7 == 4) {
+      // Parallel footprints (the same heading, or a quarter turn apart): edges that face
+      // each other whole.
+      b.motion.orientation =
+          a.motion.orientation * Eigen::Quaterniond(Eigen::AngleAxisd((i % 4) * M_PI / 2,
+                                                                      Eigen::Vector3d::UnitZ()));
+      b.motion.orientation.x() = b.motion.orientation.y() = 0.0;  // exactly upright
+    } else if (i % 5 == 3) {
       // Upside down, exactly (a quaternion (0, x, y, 0) leaves z and x-y uncoupled).
       const double heading = rng.uniform(-M_PI, M_PI);
       b.motion.orientation = Eigen::Quaterniond(0.0, std::cos(heading), std::sin(heading), 0.0);
