@@ -11,10 +11,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// An instant moved a few ulps plus a picosecond earlier / later (an addition rounds once).
-double earlier(double t) { return t - (std::abs(t) * 4.0 * std::numeric_limits<double>::epsilon() + 1e-12); }
-double later(double t) { return t + (std::abs(t) * 4.0 * std::numeric_limits<double>::epsilon() + 1e-12); }
-
 // A body without a path as one segment over the whole horizon.
 const PathSegment* ownSegment(const PairBody& body, double horizon, PathSegment* own) {
   if (body.segments != nullptr) return body.segments;
@@ -155,8 +151,8 @@ TimeInterval pieceAxisWindow(const Piece& piece, bool with_growth) {
         piece.b.centre[k], sb.half[k], sb.motion.linear_velocity[k], with_growth ? grow_b : zero,
         piece.u1 - piece.u0);
     if (axis.empty()) return TimeInterval{};
-    result.first = std::max(result.first, earlier(piece.u0 + axis.first));
-    result.last = std::min(result.last, later(piece.u0 + axis.last));
+    result.first = std::max(result.first, widenDown(piece.u0 + axis.first));
+    result.last = std::min(result.last, widenUp(piece.u0 + axis.last));
     if (result.empty()) return TimeInterval{};
   }
   return result;

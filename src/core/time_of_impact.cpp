@@ -11,11 +11,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Pushes an interval end outward by a few ulps plus a picosecond: one division and one
-// subtraction each round once, so this is enough to never lose a touching instant.
-double widenDown(double t) { return t - (std::abs(t) * 4.0 * std::numeric_limits<double>::epsilon() + 1e-12); }
-double widenUp(double t) { return t + (std::abs(t) * 4.0 * std::numeric_limits<double>::epsilon() + 1e-12); }
-
 // Smallest x >= 0 at which the convex f(x) = a x^2 + b x + c (a >= 0, c = f(0) < 0) is back
 // at 0: its larger root (the roots straddle 0 when a > 0). +infinity when it never is.
 double exitRoot(double a, double b, double c) {

@@ -52,15 +52,15 @@ double gapAlongOwnAxes(const Footprint& self, const Footprint& other, const Seen
   return std::max(gu, gv);
 }
 
-// The nearest of other's four corners to self's rectangle, in self's frame: the squared
-// distance, the corner and its nearest point on self (clamped to the rectangle).
-double nearestCorner(const Footprint& self, const Footprint& other, const Seen& s, Vec2* corner,
-                     Vec2* on_self) {
-  const Vec2 eu = other.hu * s.u, ev = other.hv * s.v;
-  const Vec2 high(self.hu, self.hv), low = -high;
+// The nearest of a rectangle's four corners (centre `centre`, half-size vectors eu and ev, all
+// in self's frame) to self's rectangle [-high, high]: the squared distance, the corner and its
+// nearest point on self (clamped to the rectangle).
+double nearestCornerTo(const Vec2& high, const Vec2& centre, const Vec2& eu, const Vec2& ev,
+                       Vec2* corner, Vec2* on_self) {
+  const Vec2 low = -high;
   double best = HUGE_VAL;
   for (int i = 0; i < 4; ++i) {
-    const Vec2 q = s.centre + ((i & 1) ? eu : -eu) + ((i & 2) ? ev : -ev);
+    const Vec2 q = centre + ((i & 1) ? eu : -eu) + ((i & 2) ? ev : -ev);
     // The clamp to the rectangle, both coordinates at once (one packed max and min).
     const Vec2 p = q.cwiseMax(low).cwiseMin(high);
     const double d = (q - p).squaredNorm();
@@ -71,6 +71,13 @@ double nearestCorner(const Footprint& self, const Footprint& other, const Seen& 
     }
   }
   return best;
+}
+
+// The nearest of other's four corners to self's rectangle, in self's frame.
+double nearestCorner(const Footprint& self, const Footprint& other, const Seen& s, Vec2* corner,
+                     Vec2* on_self) {
+  return nearestCornerTo(Vec2(self.hu, self.hv), s.centre, other.hu * s.u, other.hv * s.v,
+                         corner, on_self);
 }
 
 // A point given in self's frame, in world x-y.
@@ -213,9 +220,6 @@ namespace {
 
 using std::abs;
 
-double widenEarlier(double t) { return t - (abs(t) * 4.0 * std::numeric_limits<double>::epsilon() + 1e-12); }
-double widenLater(double t) { return t + (abs(t) * 4.0 * std::numeric_limits<double>::epsilon() + 1e-12); }
-
 // Narrows [*first, *last] to the instants at which |x0 + x1 t| <= reach.
 inline void clipAbs(double x0, double x1, double reach, double* first, double* last) {
   if (x1 == 0.0) {
@@ -223,8 +227,8 @@ inline void clipAbs(double x0, double x1, double reach, double* first, double* l
     return;
   }
   const double t0 = (-reach - x0) / x1, t1 = (reach - x0) / x1;
-  *first = std::max(*first, widenEarlier(std::min(t0, t1)));
-  *last = std::min(*last, widenLater(std::max(t0, t1)));
+  *first = std::max(*first, widenDown(std::min(t0, t1)));
+  *last = std::min(*last, widenUp(std::max(t0, t1)));
 }
 
 // One footprint seen from another's frame: the other's centre `c` and half-size vectors
@@ -237,18 +241,12 @@ struct View {
 // Among the viewed footprint's corners, the nearest to the frame's rectangle: the squared
 // distance, whether the rectangle's nearest point is a corner too, and the vector from that
 // point to the corner (in the frame).
-void nearestCornerIn(const View& s, double* best, bool* corner_pair, Vec2* between) {
-  const Vec2 high(s.hu, s.hv), low = -high;
-  for (int i = 0; i < 4; ++i) {
-    const Vec2 q = s.c + ((i & 1) ? s.eu : -s.eu) + ((i & 2) ? s.ev : -s.ev);
-    const Vec2 d = q - q.cwiseMax(low).cwiseMin(high);
-    const double d2 = d.squaredNorm();
-    if (d2 < *best) {
-      *best = d2;
-      *corner_pair = abs(q.x()) > s.hu && abs(q.y()) > s.hv;
-      *between = d;
-    }
-  }
+double nearestCornerIn(const View& s, bool* corner_pair, Vec2* between) {
+  Vec2 corner, on_self;
+  const double d2 = nearestCornerTo(Vec2(s.hu, s.hv), s.c, s.eu, s.ev, &corner, &on_self);
+  *corner_pair = abs(corner.x()) > s.hu && abs(corner.y()) > s.hv;
+  *between = corner - on_self;
+  return d2;
 }
 
 // Does the viewed footprint touch the frame's face with normal along the frame's axis k (0:
@@ -269,9 +267,9 @@ bool onFace(const View& s, int k) {
   return abs(along) <= (k == 0 ? s.hv : s.hu) + spread;
 }
 
-// How far apart the footprints are with b's view `in_a` and a's view `in_b`.
+// How far apart two footprints are that do not overlap.
 struct FootprintGap {
-  double distance = 0.0;  // m; 0 when they overlap
+  double distance = 0.0;  // m
   bool corner_pair = false;  // both nearest points are corners
   Vec2 corners = Vec2::Zero();  // then b's corner minus a's, in world x-y
 };
@@ -347,11 +345,10 @@ bool roundedUprightInterval(const Eigen::Isometry3d& pose_a, const Eigen::Vector
   };
   auto gap = [&]() {  // at the instant near() last set
     FootprintGap g;
-    double via_b = HUGE_VAL, via_a = HUGE_VAL;
     bool pair_b = false, pair_a = false;
     Vec2 between_b, between_a;
-    nearestCornerIn(in_a, &via_b, &pair_b, &between_b);
-    nearestCornerIn(in_b, &via_a, &pair_a, &between_a);
+    const double via_b = nearestCornerIn(in_a, &pair_b, &between_b);
+    const double via_a = nearestCornerIn(in_b, &pair_a, &between_a);
     if (via_b <= via_a) {
       g.distance = std::sqrt(via_b);
       g.corner_pair = pair_b;
@@ -406,8 +403,8 @@ bool roundedUprightInterval(const Eigen::Isometry3d& pose_a, const Eigen::Vector
     return true;
   }
   if (moved_first > moved_last) return false;
-  out->first = std::max(first, widenEarlier(moved_first));
-  out->last = std::min(last, widenLater(moved_last));
+  out->first = std::max(first, widenDown(moved_first));
+  out->last = std::min(last, widenUp(moved_last));
   return true;
 }
 
