@@ -21,6 +21,20 @@
 /// incrementally with a stale axis rebuilds in full instead. Steady-state updates allocate
 /// nothing: scratch space grows with the number of proxy slots, and the pair table keeps a
 /// quarter of headroom.
+///
+/// Coasting (enlarged bounds, a neighbour list in molecular dynamics' terms): the arrays hold
+/// each proxy's bounds enlarged ahead of its motion, so the pairs they give are candidates, and
+/// pairs() are the candidates whose given bounds overlap, tested every update (one scan of the
+/// candidates). An update in which no proxy left its enlarged bounds sorts nothing. When a few
+/// proxies left them, only their endpoints move in the arrays; when many did, every proxy is
+/// enlarged again at once and the arrays are re-sorted or rebuilt as above, so a steady motion
+/// costs one re-sort every few updates instead of one per update. The lead ahead of a moving
+/// side is SweepAndPruneConfig::coast_updates updates of that side's own displacement per
+/// update since its last enlargement (behind it, one update's), capped at
+/// max_lead_fraction of the box's largest extent. Up to 1 + n / 32 proxies leave their bounds
+/// alone; more make everybody enlarged again. Coasting switches itself off for a while (64 to
+/// 4 096 updates) when that happens twice in a row within fewer than three updates (large
+/// motion: the enlarged boxes would only cost tests).
 
 #include <cstdint>
 #include <vector>
@@ -40,6 +54,11 @@ struct SweepAndPruneConfig {
   /// keys exceed rebuild_factor * (2 n + t / 8). 0 rebuilds on almost any motion; a huge value
   /// never rebuilds.
   double rebuild_factor = 1.0;
+  /// Coasting: the lead ahead of a moving side, in updates of its own displacement per update
+  /// (see the class comment). 0 turns coasting off: the arrays then hold the given bounds.
+  double coast_updates = 8.0;
+  /// Cap of that lead, as a fraction of the proxy's largest extent.
+  double max_lead_fraction = 0.5;
 };
 
 /// Two proxies whose stored bounds overlap, with proxy_a < proxy_b.
@@ -57,6 +76,10 @@ struct SweepAndPruneStats {
   bool rebuilt = false;         ///< fell back to a full sort-and-sweep
   int inserted = 0;             ///< proxies inserted (batched)
   int removed = 0;              ///< proxies removed (batched)
+  int escaped = 0;              ///< proxies whose bounds left their enlarged bounds
+  bool coasted = false;         ///< nothing was re-sorted (no proxy left its enlarged bounds)
+  bool enlarged_all = false;    ///< every proxy was enlarged again (then re-sorted or rebuilt)
+  int candidates = 0;           ///< pairs of enlarged bounds (pairs() is a subset)
 };
 
 class SweepAndPrune {
@@ -79,7 +102,7 @@ class SweepAndPrune {
   void update();
 
   /// Every pair overlapping after the last update(), in no particular order.
-  const std::vector<BroadPair>& pairs() const { return pairs_.pairs(); }
+  const std::vector<BroadPair>& pairs() const { return exact_; }
   /// Pairs that started overlapping in the last update(). With endedPairs() this is all a
   /// caller needs to keep its own per-pair state: pairs() after an update equals pairs()
   /// before it, minus endedPairs(), plus beganPairs() (the two never share a pair).
@@ -88,10 +111,15 @@ class SweepAndPrune {
   /// proxies destroyed in that update, whose ids a later createProxy() reuses.
   const std::vector<BroadPair>& endedPairs() const { return ended_; }
   /// True when (a, b), in either order, is one of pairs().
-  bool hasPair(ProxyId a, ProxyId b) const { return pairs_.find(a, b) != nullptr; }
+  bool hasPair(ProxyId a, ProxyId b) const {
+    const Candidate* c = cands_.find(a, b);
+    return c != nullptr && c->touching != 0;
+  }
 
   /// The bounds the structure tests with (the given ones, moved outward by at most one ulp).
   Aabb storedBounds(ProxyId proxy) const;
+  /// The enlarged bounds the arrays hold for the proxy (they contain storedBounds()).
+  Aabb enlargedBounds(ProxyId proxy) const;
   int proxyCount() const { return live_count_; }
   const SweepAndPruneStats& stats() const { return stats_; }
 
@@ -103,6 +131,17 @@ class SweepAndPrune {
     ProxyState state;
     bool pending_remove;
     bool is_new;  // inserted in the current update
+    bool escaped;  // listed in escapers_ this update
+    std::uint32_t enlarged_at;  // update count at its last enlargement
+  };
+
+  // A pair of enlarged bounds (a candidate); `touching`: its given bounds overlapped at the
+  // end of the last update (it is then one of pairs()).
+  struct Candidate {
+    std::int32_t proxy_a = -1;
+    std::int32_t proxy_b = -1;
+    std::uint32_t epoch = 0;
+    std::uint32_t touching = 0;
   };
 
   // A proxy's keys on the two axes a sweep does not run along (b, c).
@@ -155,7 +194,8 @@ class SweepAndPrune {
     return static_cast<std::int32_t>(static_cast<std::uint32_t>(key >> 32) ^ 0x80000000u);
   }
 
-  // Current keys per axis, indexed by endpoint code o = 2 proxy + is_upper: ends_[axis][o].
+  // Enlarged keys per axis (what the arrays are sorted by), indexed by endpoint code
+  // o = 2 proxy + is_upper: ends_[axis][o].
   bool overlaps(std::int32_t a, std::int32_t b) const {
     const std::size_t x = 2 * static_cast<std::size_t>(a), y = 2 * static_cast<std::size_t>(b);
     const std::uint64_t* e0 = ends_[0].data();
@@ -205,14 +245,33 @@ class SweepAndPrune {
 
   void reserveSlots(std::size_t slots);
   void checkLive(ProxyId proxy, const char* what) const;
-  void writeBounds(ProxyId proxy, const Aabb& bounds);
   void beginPair(std::int32_t a, std::int32_t b);
   void endPair(std::int32_t a, std::int32_t b);
+
+  // Coasting.
+  void writeTight(ProxyId proxy, const Aabb& bounds);
+  bool insideEnlarged(ProxyId proxy) const;  // given bounds within the enlarged ones
+  void enlarge(ProxyId proxy, double lead);  // new enlarged bounds from the given ones
+  void handleEscapers();                     // enlarges and re-sorts what left its bounds
+  void enlargeAll(double lead);
+  void moveEscapers();                       // the few that left: only their endpoints move
+  std::size_t findEndpoint(int axis, std::uint64_t key, std::uint32_t owner) const;
+  void relocateEndpoint(int axis, std::size_t i, std::uint64_t key);
+  void reportTouching();                     // pairs(), began and ended from the candidates
+  bool touching(std::int32_t a, std::int32_t b) const {
+    const std::uint64_t* x = tight_.data() + 6 * static_cast<std::size_t>(a);
+    const std::uint64_t* y = tight_.data() + 6 * static_cast<std::size_t>(b);
+    return (x[0] < y[1]) & (y[0] < x[1]) & (x[2] < y[3]) & (y[2] < x[3]) & (x[4] < y[5]) &
+           (y[4] < x[5]);
+  }
 
   // update() in steps: removals, re-sorting (incremental or rebuild), insertions.
   void applyRemovals();
   void dropRemovedEndpoints(int axis);
-  void resort();
+  // `jump`: the enlarged bounds of many proxies changed at once (skip the insertion-sort
+  // attempt when the swaps estimated from the new keys exceed a rebuild); `allow_streak`:
+  // a rebuild may leave two axes unsorted (not while coasting: moveEscapers needs them).
+  void resort(bool jump, bool allow_streak);
   void keepHeadroom();
   // A rebuild's cost in swaps, scaled by rebuild_factor: the swap budget of insertion sort
   // (sorting all axes), or the swaps past which a streak goes on (the sweep axis only).
@@ -287,9 +346,28 @@ class SweepAndPrune {
   std::vector<ProxyId> pending_insert_;
   std::vector<ProxyId> pending_remove_;
 
-  BasicPairTable<BroadPair> pairs_;
+  // Candidates (pairs of enlarged bounds) and their changes in this update (began, ended).
+  BasicPairTable<Candidate> cands_;
+  std::vector<Candidate> cand_began_;
+  std::vector<Candidate> cand_ended_;
+  // What callers see: the touching candidates, and their changes.
+  std::vector<BroadPair> exact_;
   std::vector<BroadPair> began_;
   std::vector<BroadPair> ended_;
+
+  // Coasting. Given bounds as keys, six per slot (lower, upper per axis): tight_; the same at
+  // the proxy's last enlargement: base_ (its displacement since then sizes the next lead).
+  std::vector<std::uint64_t> tight_;
+  std::vector<std::uint64_t> base_;
+  std::vector<ProxyId> escapers_;            // proxies that left their enlarged bounds
+  std::vector<std::uint64_t> escaper_old_;   // their previous enlarged keys, six each
+  std::uint32_t updates_ = 0;                // update() calls so far
+  double lead_ = 0.0;                        // coast_updates while coasting, else 0
+  std::uint32_t last_global_ = 0;            // update of the last enlargement of everybody
+  std::uint32_t retry_at_ = 0;               // coasting off: the update that tries it again
+  std::uint32_t backoff_ = 64;               // updates it stays off after failing
+  bool moved_ = false;                       // not coasting: a live proxy moved
+  bool last_run_short_ = false;              // the last enlargement of everybody came early
 
   // Rebuild heuristics.
   bool last_rebuilt_ = false;

@@ -120,6 +120,10 @@ void SweepAndPrune::reserveSlots(std::size_t slots) {
   pending_remove_.reserve(slots);
   for (std::vector<std::uint64_t>& e : ends_) e.reserve(2 * slots);
   for (std::vector<std::uint64_t>& e : prev_ends_) e.reserve(2 * slots);
+  tight_.reserve(6 * slots);
+  base_.reserve(6 * slots);
+  escapers_.reserve(slots);
+  escaper_old_.reserve(6 * slots);
   sort_items_.reserve(2 * slots);
   sort_items2_.reserve(2 * slots);
   tmp_keys_.reserve(2 * slots + 2);
@@ -148,10 +152,16 @@ void SweepAndPrune::ActiveSet::reserve(std::size_t n) {
 }
 
 SweepAndPrune::SweepAndPrune(const SweepAndPruneConfig& config)
-    : config_(config), pairs_(config.initial_pair_capacity) {
+    : config_(config), cands_(config.initial_pair_capacity) {
+  if (!(config.coast_updates >= 0.0 && config.coast_updates <= 1e6)) {
+    throw std::invalid_argument("SweepAndPrune: coast_updates must be in [0, 1e6]");
+  }
+  if (!(config.max_lead_fraction >= 0.0 && config.max_lead_fraction <= 1e6)) {
+    throw std::invalid_argument("SweepAndPrune: max_lead_fraction must be in [0, 1e6]");
+  }
+  lead_ = config.coast_updates;
   reserveSlots(static_cast<std::size_t>(std::max(config.initial_proxy_capacity, 1)));
-  began_.reserve(pairs_.capacity());
-  ended_.reserve(pairs_.capacity());
+  keepHeadroom();
   for (int axis = 0; axis < 3; ++axis) {
     // Sentinels end every inner loop without a bounds check.
     keys_[axis] = {kLowSentinel, kHighSentinel};
@@ -160,17 +170,73 @@ SweepAndPrune::SweepAndPrune(const SweepAndPruneConfig& config)
 }
 
 // Kept inline: moveProxy runs once per body and cycle.
-inline void SweepAndPrune::writeBounds(ProxyId id, const Aabb& bounds) {
-  const std::size_t o = 2 * static_cast<std::size_t>(id);
-  const double lo[3] = {bounds.lower[0], bounds.lower[1], bounds.lower[2]};
-  const double hi[3] = {bounds.upper[0], bounds.upper[1], bounds.upper[2]};
+inline void SweepAndPrune::writeTight(ProxyId id, const Aabb& bounds) {
+  std::uint64_t* t = tight_.data() + 6 * static_cast<std::size_t>(id);
   for (int axis = 0; axis < 3; ++axis) {
-    max_width_[axis] = std::max(max_width_[axis], hi[axis] - lo[axis]);
+    t[2 * axis] = lower64(bounds.lower[axis]);
+    t[2 * axis + 1] = upper64(bounds.upper[axis]);
+  }
+}
+
+inline bool SweepAndPrune::insideEnlarged(ProxyId id) const {
+  const std::size_t o = 2 * static_cast<std::size_t>(id);
+  const std::uint64_t* t = tight_.data() + 6 * static_cast<std::size_t>(id);
+  bool inside = true;
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::uint64_t* e = ends_[axis].data() + o;
+    inside &= (e[0] <= t[2 * axis]) & (t[2 * axis + 1] <= e[1]);
+  }
+  return inside;
+}
+
+void SweepAndPrune::enlarge(ProxyId id, double lead) {
+  // Lead ahead of each side that moved outward since the last enlargement: `lead` updates of
+  // its displacement per update; behind it (and on a side that moved inward) one update's, so
+  // that a body that turns or stops does not leave at once. A side that did not move gets no
+  // room: a resting body never leaves its bounds.
+  const std::size_t o = 2 * static_cast<std::size_t>(id);
+  std::uint64_t* t = tight_.data() + 6 * static_cast<std::size_t>(id);
+  std::uint64_t* b = base_.data() + 6 * static_cast<std::size_t>(id);
+  ProxyInfo& info = info_[static_cast<std::size_t>(id)];
+  const std::uint32_t elapsed = updates_ - info.enlarged_at;
+  info.enlarged_at = updates_;
+  if (!(lead > 0.0)) {
+    for (int axis = 0; axis < 3; ++axis) {
+      std::uint64_t* e = ends_[axis].data() + o;
+      e[0] = b[2 * axis] = t[2 * axis];
+      e[1] = b[2 * axis + 1] = t[2 * axis + 1];
+      max_width_[axis] = std::max(max_width_[axis], unsortable64(e[1]) - unsortable64(e[0]));
+    }
+    return;
+  }
+  double lo[3], hi[3], extent = 0.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    lo[axis] = unsortable64(t[2 * axis]);
+    hi[axis] = unsortable64(t[2 * axis + 1]);
+    extent = std::max(extent, hi[axis] - lo[axis]);
+  }
+  {
+    const double per_update = 1.0 / static_cast<double>(std::max<std::uint32_t>(1, elapsed));
+    const double cap = config_.max_lead_fraction * extent;
+    for (int axis = 0; axis < 3; ++axis) {
+      // Displacements per update of the lower and the upper side (positive: upward).
+      const double d_lo = (lo[axis] - unsortable64(b[2 * axis])) * per_update;
+      const double d_hi = (hi[axis] - unsortable64(b[2 * axis + 1])) * per_update;
+      const double below = std::min(cap, d_lo < 0.0 ? -lead * d_lo : d_lo);
+      const double above = std::min(cap, d_hi > 0.0 ? lead * d_hi : -d_hi);
+      // Not a number (infinite bounds and the like): no room on that side.
+      if (below > 0.0) lo[axis] -= below;
+      if (above > 0.0) hi[axis] += above;
+    }
   }
   for (int axis = 0; axis < 3; ++axis) {
     std::uint64_t* e = ends_[axis].data() + o;
-    e[0] = lower64(lo[axis]);
-    e[1] = upper64(hi[axis]);
+    // Outward of the given keys whatever the rounding of the subtraction above.
+    e[0] = std::min(t[2 * axis], lower64(lo[axis]));
+    e[1] = std::max(t[2 * axis + 1], upper64(hi[axis]));
+    max_width_[axis] = std::max(max_width_[axis], unsortable64(e[1]) - unsortable64(e[0]));
+    b[2 * axis] = t[2 * axis];
+    b[2 * axis + 1] = t[2 * axis + 1];
   }
 }
 
@@ -195,14 +261,19 @@ SweepAndPrune::ProxyId SweepAndPrune::createProxy(const Aabb& bounds) {
     if (info_.size() >= reserved_slots_) reserveSlots(2 * reserved_slots_);
     info_.emplace_back();
     for (std::vector<std::uint64_t>& e : ends_) e.resize(e.size() + 2);
+    tight_.resize(tight_.size() + 6);
+    base_.resize(base_.size() + 6);
     active_pos_.push_back(-1);
   }
-  writeBounds(id, bounds);
+  writeTight(id, bounds);
   ProxyInfo& p = info_[id];
   p.next_free = -1;
   p.state = ProxyState::kPendingInsert;
   p.pending_remove = false;
   p.is_new = false;
+  p.escaped = false;
+  enlarge(id, 0.0);  // no motion seen yet: its given bounds
+  p.enlarged_at = updates_ + 1;  // as of the update that inserts it
   pending_insert_.push_back(id);
   return id;
 }
@@ -228,13 +299,50 @@ void SweepAndPrune::destroyProxy(ProxyId id) {
 void SweepAndPrune::moveProxy(ProxyId id, const Aabb& bounds) {
   if (!bounds.valid()) throw std::invalid_argument("SweepAndPrune::moveProxy: invalid bounds");
   checkLive(id, "moveProxy");
-  // Only the proxy's keys change here; update() reads them while it re-sorts.
-  writeBounds(id, bounds);
+  // Only the proxy's keys change here; update() re-sorts what left its enlarged bounds.
+  ProxyInfo& p = info_[static_cast<std::size_t>(id)];
+  if (lead_ <= 0.0 || p.state == ProxyState::kPendingInsert) {
+    // Not coasting (or not in the arrays yet): the arrays take the given bounds, as they come.
+    // The previous ones stay in base_, should coasting start again.
+    std::uint64_t* t = tight_.data() + 6 * static_cast<std::size_t>(id);
+    std::uint64_t* b = base_.data() + 6 * static_cast<std::size_t>(id);
+    const std::size_t o = 2 * static_cast<std::size_t>(id);
+    for (int axis = 0; axis < 3; ++axis) {
+      b[2 * axis] = t[2 * axis];
+      b[2 * axis + 1] = t[2 * axis + 1];
+      std::uint64_t* e = ends_[axis].data() + o;
+      e[0] = t[2 * axis] = lower64(bounds.lower[axis]);
+      e[1] = t[2 * axis + 1] = upper64(bounds.upper[axis]);
+      max_width_[axis] = std::max(max_width_[axis], bounds.upper[axis] - bounds.lower[axis]);
+    }
+    // As of the next update (a pending proxy's: the one that inserts it).
+    p.enlarged_at = p.state == ProxyState::kLive ? updates_ : updates_ + 1;
+    moved_ |= p.state == ProxyState::kLive;
+    return;
+  }
+  writeTight(id, bounds);
+  if (!p.escaped && !insideEnlarged(id)) {
+    p.escaped = true;
+    escapers_.push_back(id);
+  }
 }
 
 Aabb SweepAndPrune::storedBounds(ProxyId id) const {
   if (id < 0 || static_cast<std::size_t>(id) >= info_.size()) {
     throw std::out_of_range("SweepAndPrune::storedBounds: no such proxy");
+  }
+  Aabb box;
+  const std::uint64_t* t = tight_.data() + 6 * static_cast<std::size_t>(id);
+  for (int axis = 0; axis < 3; ++axis) {
+    box.lower[axis] = unsortable64(t[2 * axis]);
+    box.upper[axis] = unsortable64(t[2 * axis + 1]);
+  }
+  return box;
+}
+
+Aabb SweepAndPrune::enlargedBounds(ProxyId id) const {
+  if (id < 0 || static_cast<std::size_t>(id) >= info_.size()) {
+    throw std::out_of_range("SweepAndPrune::enlargedBounds: no such proxy");
   }
   Aabb box;
   for (int axis = 0; axis < 3; ++axis) {
@@ -246,40 +354,206 @@ Aabb SweepAndPrune::storedBounds(ProxyId id) const {
 
 void SweepAndPrune::beginPair(std::int32_t a, std::int32_t b) {
   bool inserted = false;
-  BroadPair* pair = pairs_.insert(a, b, &inserted);
+  Candidate* pair = cands_.insert(a, b, &inserted);
   if (inserted) {
     pair->epoch = epoch_;
-    began_.push_back(*pair);
+    cand_began_.push_back(*pair);
   }
 }
 
 void SweepAndPrune::endPair(std::int32_t a, std::int32_t b) {
-  BroadPair removed;
-  if (pairs_.erase(a, b, &removed)) ended_.push_back(removed);
+  Candidate removed;
+  if (cands_.erase(a, b, &removed)) cand_ended_.push_back(removed);
 }
 
 void SweepAndPrune::update() {
   stats_ = SweepAndPruneStats();
-  began_.clear();
-  ended_.clear();
+  cand_began_.clear();
+  cand_ended_.clear();
+  ++updates_;
   applyRemovals();
-  if (live_count_ > 0) resort();
+  const bool sorted = moved_ || !escapers_.empty() || !pending_insert_.empty();
+  if (live_count_ > 0) handleEscapers();
+  moved_ = false;
+  for (ProxyId id : escapers_) info_[static_cast<std::size_t>(id)].escaped = false;
+  escapers_.clear();
+  stats_.coasted = !sorted;
   insertPending();
-  last_rebuilt_ = stats_.rebuilt;
+  if (sorted) last_rebuilt_ = stats_.rebuilt;
+  reportTouching();
   keepHeadroom();
   // The arrays are now sorted by the current keys: remember them for the next update's events
-  // (none come from a stale axis: the next update rebuilds).
-  if (anyStale()) return;
+  // (none come from a stale axis: the next update rebuilds). Nothing changed when coasting.
+  if (!sorted || anyStale()) return;
   for (int axis = 1; axis < 3; ++axis) {
     prev_ends_[axis].resize(ends_[axis].size());
     std::memcpy(prev_ends_[axis].data(), ends_[axis].data(), ends_[axis].size() * sizeof(std::uint64_t));
   }
 }
 
-void SweepAndPrune::resort() {
-  const std::size_t began_mark = began_.size();
-  const std::size_t ended_mark = ended_.size();
-  if (!last_rebuilt_ && !anyStale()) {
+void SweepAndPrune::handleEscapers() {
+  // Removed proxies may still be listed: drop them.
+  std::size_t w = 0;
+  for (ProxyId id : escapers_) {
+    if (info_[static_cast<std::size_t>(id)].state == ProxyState::kLive) escapers_[w++] = id;
+    else info_[static_cast<std::size_t>(id)].escaped = false;
+  }
+  escapers_.resize(w);
+  stats_.escaped = static_cast<int>(w);
+  if (lead_ <= 0.0) {
+    // Not coasting: moveProxy gave the arrays the new bounds. Try coasting again when due.
+    if (!moved_) return;
+    if (config_.coast_updates > 0.0 && updates_ >= retry_at_) {
+      lead_ = config_.coast_updates;
+      last_global_ = 0;  // (not judged as a failure if it ends at once)
+    } else {
+      resort(false, true);
+      return;
+    }
+  } else if (w == 0) {
+    return;
+  }
+  // A few: move their endpoints alone (a pass over the arrays costs more). The arrays must be
+  // in order for that.
+  const std::size_t few = 1 + static_cast<std::size_t>(live_count_) / 32;
+  if (w > 0 && w <= few && !anyStale()) {
+    moveEscapers();
+    return;
+  }
+  // Many: everybody gets new enlarged bounds now, so that they leave them together again.
+  // Switch off for a while when this happens a second time in a row within fewer than three
+  // updates: the larger boxes then cost more tests than the updates in between save.
+  const bool short_run = last_global_ != 0 && updates_ - last_global_ < 3;
+  if (short_run && last_run_short_) {
+    lead_ = 0.0;
+    retry_at_ = updates_ + backoff_;
+    backoff_ = std::min<std::uint32_t>(2 * backoff_, 4096);
+  } else if (last_global_ != 0 && updates_ - last_global_ >= 6) {
+    backoff_ = 64;  // it paid: a later failure stays off for the shortest time again
+  }
+  last_run_short_ = short_run && lead_ > 0.0;
+  last_global_ = updates_;
+  enlargeAll(lead_);
+  stats_.enlarged_all = true;
+  resort(true, lead_ <= 0.0);
+}
+
+void SweepAndPrune::enlargeAll(double lead) {
+  for (std::size_t p = 0, slots = info_.size(); p < slots; ++p) {
+    if (info_[p].state == ProxyState::kLive) enlarge(static_cast<ProxyId>(p), lead);
+  }
+}
+
+void SweepAndPrune::moveEscapers() {
+  // New enlarged keys for all of them first: the pair tests below use the final keys of both
+  // proxies, so that a pair between two escapers is decided once, whatever the order.
+  escaper_old_.resize(6 * escapers_.size());
+  for (std::size_t n = 0; n < escapers_.size(); ++n) {
+    const std::size_t o = 2 * static_cast<std::size_t>(escapers_[n]);
+    for (int axis = 0; axis < 3; ++axis) {
+      escaper_old_[6 * n + 2 * axis] = ends_[axis][o];
+      escaper_old_[6 * n + 2 * axis + 1] = ends_[axis][o + 1];
+    }
+    enlarge(escapers_[n], lead_);
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    for (std::size_t n = 0; n < escapers_.size(); ++n) {
+      const std::uint32_t lower = static_cast<std::uint32_t>(escapers_[n]) << 1;
+      const std::uint64_t old_lo = escaper_old_[6 * n + 2 * axis];
+      const std::uint64_t old_hi = escaper_old_[6 * n + 2 * axis + 1];
+      const std::uint64_t new_lo = ends_[axis][lower];
+      const std::uint64_t new_hi = ends_[axis][lower + 1];
+      // Move them so that the lower endpoint never passes its own upper one.
+      if (new_lo > old_hi) {
+        relocateEndpoint(axis, findEndpoint(axis, old_hi, lower | 1u), new_hi);
+        relocateEndpoint(axis, findEndpoint(axis, old_lo, lower), new_lo);
+      } else {
+        relocateEndpoint(axis, findEndpoint(axis, old_lo, lower), new_lo);
+        relocateEndpoint(axis, findEndpoint(axis, old_hi, lower | 1u), new_hi);
+      }
+      if (axis > 0) {
+        prev_ends_[axis][lower] = new_lo;
+        prev_ends_[axis][lower + 1] = new_hi;
+      }
+    }
+  }
+}
+
+std::size_t SweepAndPrune::findEndpoint(int axis, std::uint64_t key, std::uint32_t owner) const {
+  const std::uint64_t* keys = keys_[axis].data();
+  const std::uint32_t* owners = owners_[axis].data();
+  std::size_t i = static_cast<std::size_t>(
+      std::lower_bound(keys + 1, keys + keys_[axis].size() - 1, key) - keys);
+  while (owners[i] != owner) ++i;  // equal keys: it is among them
+  return i;
+}
+
+void SweepAndPrune::relocateEndpoint(int axis, std::size_t i, std::uint64_t k) {
+  // Moves one endpoint to its new key, down or up. Passing an endpoint of the other kind
+  // changes whether the two overlap on this axis: a pair is added when the final keys overlap
+  // on every axis and removed when they do not (so no pair both ends and begins).
+  std::uint64_t* key = keys_[axis].data();
+  std::uint32_t* owner = owners_[axis].data();
+  const std::uint32_t o = owner[i];
+  const std::uint32_t o_upper = o & 1u;
+  const std::int32_t p = static_cast<std::int32_t>(o >> 1);
+  std::size_t j = i;
+  while (key[j - 1] > k) {  // the low sentinel (key 0) stops this
+    const std::uint32_t o2 = owner[j - 1];
+    if ((o2 & 1u) != o_upper) {
+      const std::int32_t q = static_cast<std::int32_t>(o2 >> 1);
+      if (o_upper == 0u) {
+        if (overlapsAcross(p, q, axis)) beginPair(p, q);
+      } else if (!overlapsAcross(p, q, axis)) {
+        endPair(p, q);
+      }
+    }
+    key[j] = key[j - 1];
+    owner[j] = o2;
+    --j;
+  }
+  while (key[j + 1] < k) {  // the high sentinel (all ones) stops this
+    const std::uint32_t o2 = owner[j + 1];
+    if ((o2 & 1u) != o_upper) {
+      const std::int32_t q = static_cast<std::int32_t>(o2 >> 1);
+      if (o_upper != 0u) {
+        if (overlapsAcross(p, q, axis)) beginPair(p, q);
+      } else if (!overlapsAcross(p, q, axis)) {
+        endPair(p, q);
+      }
+    }
+    key[j] = key[j + 1];
+    owner[j] = o2;
+    ++j;
+  }
+  key[j] = k;
+  owner[j] = o;
+}
+
+void SweepAndPrune::reportTouching() {
+  // pairs() = the candidates whose given bounds overlap; began and ended = the changes of that.
+  began_.clear();
+  ended_.clear();
+  exact_.clear();
+  for (const Candidate& c : cand_ended_) {
+    if (c.touching != 0) ended_.push_back(BroadPair{c.proxy_a, c.proxy_b, c.epoch});
+  }
+  std::vector<Candidate>& dense = cands_.mutablePairs();
+  for (Candidate& c : dense) {
+    const std::uint32_t now = touching(c.proxy_a, c.proxy_b) ? 1u : 0u;
+    if (now != c.touching) {
+      c.touching = now;
+      (now != 0 ? began_ : ended_).push_back(BroadPair{c.proxy_a, c.proxy_b, c.epoch});
+    }
+    if (now != 0) exact_.push_back(BroadPair{c.proxy_a, c.proxy_b, c.epoch});
+  }
+  stats_.candidates = static_cast<int>(dense.size());
+}
+
+void SweepAndPrune::resort(bool jump, bool allow_streak) {
+  const std::size_t began_mark = cand_began_.size();
+  const std::size_t ended_mark = cand_ended_.size();
+  if (!jump && !last_rebuilt_ && !anyStale()) {
     if (!sortAxes(true, rebuildCost(false))) {
       // Motion too large for insertion sort to pay: undo its partial pair changes, then sort
       // from scratch and diff the new pair set against the old one.
@@ -290,8 +564,8 @@ void SweepAndPrune::resort() {
   }
   // After a rebuild: rebuild again (the sweep axis only) while insertion sort would cost more.
   const std::int64_t swaps = estimateAllSwaps();
-  if (swaps > rebuildCost(true)) {
-    rebuild(true, !anyStale());
+  if (swaps > rebuildCost(allow_streak)) {
+    rebuild(allow_streak, !anyStale());
   } else if (anyStale()) {
     rebuild(false, false);  // stale axes: insertion sort would miss pair events
   } else if (!sortAxes(false, rebuildCost(false))) {
@@ -316,15 +590,20 @@ std::int64_t SweepAndPrune::estimateAllSwaps() {
 }
 
 void SweepAndPrune::keepHeadroom() {
-  // A quarter of headroom in the pair table: it then grows while the pair count climbs to its
+  // A quarter of headroom in the candidate table: it then grows while the count climbs to its
   // usual level, not later when the count first touches a new maximum by chance.
-  if (4 * static_cast<std::size_t>(pairs_.size()) > 3 * pairs_.capacity()) {
-    pairs_.reserve(2 * pairs_.capacity());
+  if (4 * static_cast<std::size_t>(cands_.size()) > 3 * cands_.capacity()) {
+    cands_.reserve(2 * cands_.capacity());
   }
-  // began <= pairs now and ended <= pairs before: with the table's capacity they never grow
-  // unless the table does.
-  if (began_.capacity() < pairs_.capacity()) began_.reserve(pairs_.capacity());
-  if (ended_.capacity() < pairs_.capacity()) ended_.reserve(pairs_.capacity());
+  // Every list holds candidates of this update or the last: with the table's capacity they
+  // never grow unless the table does.
+  const std::size_t cap = cands_.capacity();
+  for (std::vector<Candidate>* v : {&cand_began_, &cand_ended_}) {
+    if (v->capacity() < cap) v->reserve(cap);
+  }
+  for (std::vector<BroadPair>* v : {&exact_, &began_, &ended_}) {
+    if (v->capacity() < cap) v->reserve(cap);
+  }
 }
 
 void SweepAndPrune::applyRemovals() {
@@ -332,11 +611,11 @@ void SweepAndPrune::applyRemovals() {
   stats_.removed = static_cast<int>(pending_remove_.size());
 
   // Their pairs end. Walk backwards so eraseAt's swap-with-last never skips a pair.
-  std::vector<BroadPair>& dense = pairs_.mutablePairs();
+  std::vector<Candidate>& dense = cands_.mutablePairs();
   for (int i = static_cast<int>(dense.size()) - 1; i >= 0; --i) {
     if (info_[dense[i].proxy_a].pending_remove || info_[dense[i].proxy_b].pending_remove) {
-      ended_.push_back(dense[i]);
-      pairs_.eraseAt(i);
+      cand_ended_.push_back(dense[i]);
+      cands_.eraseAt(i);
     }
   }
   for (int axis = 0; axis < 3; ++axis) dropRemovedEndpoints(axis);
@@ -526,15 +805,15 @@ inline std::size_t SweepAndPrune::sinkEndpoint(int axis, std::size_t i) {
 }
 
 void SweepAndPrune::rollBack(std::size_t began_mark, std::size_t ended_mark) {
-  for (std::size_t i = began_mark; i < began_.size(); ++i) {
-    pairs_.erase(began_[i].proxy_a, began_[i].proxy_b);
+  for (std::size_t i = began_mark; i < cand_began_.size(); ++i) {
+    cands_.erase(cand_began_[i].proxy_a, cand_began_[i].proxy_b);
   }
-  for (std::size_t i = ended_mark; i < ended_.size(); ++i) {
-    BroadPair* pair = pairs_.insert(ended_[i].proxy_a, ended_[i].proxy_b, nullptr);
-    *pair = ended_[i];
+  for (std::size_t i = ended_mark; i < cand_ended_.size(); ++i) {
+    Candidate* pair = cands_.insert(cand_ended_[i].proxy_a, cand_ended_[i].proxy_b, nullptr);
+    *pair = cand_ended_[i];
   }
-  began_.resize(began_mark);
-  ended_.resize(ended_mark);
+  cand_began_.resize(began_mark);
+  cand_ended_.resize(ended_mark);
 }
 
 
@@ -563,11 +842,11 @@ void SweepAndPrune::rebuild(bool streak, bool keys_read) {
   // Stamp every pair the sweep finds; unstamped survivors ended.
   ++epoch_;
   findPairs(sweep_axis_, sweep_tests_, SweepMode::kRebuild);
-  std::vector<BroadPair>& dense = pairs_.mutablePairs();
+  std::vector<Candidate>& dense = cands_.mutablePairs();
   for (int i = static_cast<int>(dense.size()) - 1; i >= 0; --i) {
     if (dense[i].epoch != epoch_) {
-      ended_.push_back(dense[i]);
-      pairs_.eraseAt(i);
+      cand_ended_.push_back(dense[i]);
+      cands_.eraseAt(i);
     }
   }
   stats_.rebuilt = true;
@@ -708,9 +987,9 @@ void SweepAndPrune::foundPair(std::int32_t a, std::int32_t b, bool rebuild) {
     return;
   }
   bool inserted = false;
-  BroadPair* pair = pairs_.insert(a, b, &inserted);
+  Candidate* pair = cands_.insert(a, b, &inserted);
   pair->epoch = epoch_;
-  if (inserted) began_.push_back(*pair);
+  if (inserted) cand_began_.push_back(*pair);
 }
 
 template <bool kSlabs>

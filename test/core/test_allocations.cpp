@@ -89,12 +89,18 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
   for (int i = 0; i < 50; ++i) cycle(0.05, true);
 
   const long before = wp_test::allocationCount();
-  bool rebuilt = false;
+  bool rebuilt = false, enlarged_all = false, moved_alone = false;
   for (int i = 0; i < 200; ++i) {
-    cycle(i % 50 == 0 ? 20.0 : 0.05, true);
-    rebuilt |= sap.stats().rebuilt;
+    cycle(i % 50 == 0 ? 20.0 : 0.05, i % 3 == 0);
+    const wp::SweepAndPruneStats& st = sap.stats();
+    rebuilt |= st.rebuilt;
+    enlarged_all |= st.enlarged_all;
+    moved_alone |= st.escaped > 0 && !st.enlarged_all && !st.rebuilt;
   }
+  // Every path ran: rebuilds, everybody enlarged again, a few moved alone (coasting).
   EXPECT_TRUE(rebuilt);
+  EXPECT_TRUE(enlarged_all);
+  EXPECT_TRUE(moved_alone);
   EXPECT_EQ(wp_test::allocationCount() - before, 0);
 }
 

@@ -16,6 +16,7 @@
 #include <iterator>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -113,6 +114,12 @@ class Harness {
         ASSERT_GE(s.upper[k], o.box.upper[k]) << "object " << obj << " axis " << k;
         ASSERT_LE(o.box.lower[k] - s.lower[k], 1e-6 * std::max(1.0, std::abs(o.box.lower[k])));
         ASSERT_LE(s.upper[k] - o.box.upper[k], 1e-6 * std::max(1.0, std::abs(o.box.upper[k])));
+      }
+      // The enlarged bounds (what the arrays sort) contain the stored ones.
+      Aabb e = sap_.enlargedBounds(o.proxy);
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_LE(e.lower[k], s.lower[k]) << "object " << obj << " axis " << k;
+        ASSERT_GE(e.upper[k], s.upper[k]) << "object " << obj << " axis " << k;
       }
     }
 
@@ -271,6 +278,11 @@ void runScene(Rng& rng, bool exact, RunStats* stats) {
   cfg.initial_proxy_capacity = caps[pct(rng) % 3];
   cfg.initial_pair_capacity = caps[pct(rng) % 3];
   cfg.rebuild_factor = factors[pct(rng) % 6];
+  // Coasting off, barely on, default, far ahead; leads capped tightly or hardly at all.
+  const double leads[] = {0.0, 1.0, 8.0, 8.0, 100.0};
+  const double caps_of_lead[] = {0.5, 0.05, 50.0};
+  cfg.coast_updates = leads[pct(rng) % 5];
+  cfg.max_lead_fraction = caps_of_lead[pct(rng) % 3];
   Harness h(cfg, exact);
 
   auto randomLive = [&]() {
@@ -468,10 +480,12 @@ TEST(SweepAndPrune, MoveOfProxyCreatedSinceLastUpdate) {
 }
 
 TEST(SweepAndPrune, SmallMotionSortsIncrementallyLargeJumpsRebuild) {
-  // Default config; 250 well-separated boxes. Sub-spacing jitter must stay on the
+  // 250 well-separated boxes, coasting off. Sub-spacing jitter must stay on the
   // insertion-sort path; re-scattering every box costs O(n^2) swaps and must rebuild.
   Rng rng(5);
-  Harness h(SweepAndPruneConfig(), true);
+  SweepAndPruneConfig cfg;
+  cfg.coast_updates = 0.0;
+  Harness h(cfg, true);
   for (const Aabb& b : wp_test::spreadBoxes(rng, 250)) h.create(b);
   h.updateAndCheck();
   std::uniform_int_distribution<int> step(-1, 1);
@@ -556,6 +570,7 @@ TEST(SweepAndPrune, RebuildStreaksEnteredAndLeftUnderChurnEqualBruteForce) {
     SweepAndPruneConfig cfg;
     const double factors[] = {1.0, 1.0, 0.3, 3.0};  // where the streaks start and end
     cfg.rebuild_factor = factors[scene % 4];
+    cfg.coast_updates = 0.0;  // the arrays hold the given bounds: every move re-sorts
     Harness h(cfg, true);
     StreakScene s(n, rng, h);
     std::vector<int>& obj_of = s.obj_of;
@@ -621,6 +636,7 @@ TEST(SweepAndPrune, RebuildsAtSmallMotionOnLargeScenesEqualBruteForce) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   SweepAndPruneConfig cfg;
   cfg.rebuild_factor = 0.0;
+  cfg.coast_updates = 0.0;
   Harness h(cfg, true);
   StreakScene s(2500, rng, h);
   std::vector<int>& obj_of = s.obj_of;
@@ -667,6 +683,7 @@ TEST(SweepAndPrune, RebuildsOfVeryLargeScenesEqualSortAndSweep) {
   const double side = std::cbrt(10.0 * n);
   SweepAndPruneConfig cfg;
   cfg.rebuild_factor = 0.0;
+  cfg.coast_updates = 0.0;
   SweepAndPrune sap(cfg);
   std::vector<Eigen::Vector3d> center(n), half(n);
   std::vector<Aabb> box(n);
@@ -722,6 +739,181 @@ TEST(SweepAndPrune, RebuildsOfVeryLargeScenesEqualSortAndSweep) {
     ASSERT_EQ(mapped(sap.beganPairs()), minus(now, before));
     ASSERT_EQ(mapped(sap.endedPairs()), minus(before, now));
     before = now;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Coasting: the arrays hold enlarged bounds; pairs() filters their candidates.
+
+namespace {
+
+// Boxes on the 1/64 grid in a cube of side (10 n)^(1/3), each with a constant velocity of
+// -2..2 grid steps per update and axis, bouncing off the walls.
+struct DriftScene {
+  double side = 0.0;
+  std::vector<Eigen::Vector3d> center, half, velocity;
+  std::vector<int> obj_of;
+
+  DriftScene(int n, Rng& rng, Harness& h) : side(std::cbrt(10.0 * n)) {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::uniform_int_distribution<int> step(-2, 2);
+    for (int i = 0; i < n; ++i) {
+      Eigen::Vector3d c, hf, v;
+      for (int k = 0; k < 3; ++k) {
+        hf[k] = std::round(64.0 * (0.25 + 0.5 * unit(rng))) / 64.0;
+        c[k] = std::round(64.0 * (hf[k] + (side - 2.0 * hf[k]) * unit(rng))) / 64.0;
+        v[k] = step(rng) / 64.0;
+      }
+      center.push_back(c);
+      half.push_back(hf);
+      velocity.push_back(v);
+      obj_of.push_back(h.create(gridBox(c, hf)));
+    }
+  }
+
+  void step(Harness& h) {
+    for (std::size_t i = 0; i < center.size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        center[i][k] += velocity[i][k];
+        if (center[i][k] - half[i][k] < 0.0 || center[i][k] + half[i][k] > side) {
+          velocity[i][k] = -velocity[i][k];
+          center[i][k] += 2.0 * velocity[i][k];
+        }
+      }
+      h.move(obj_of[i], gridBox(center[i], half[i]));
+    }
+  }
+};
+
+// What the updates of a run did.
+struct CoastCounts {
+  int updates = 0, coasted = 0, moved_alone = 0, enlarged_all = 0, rebuilt = 0;
+  int tight_candidates = 0;  // updates with no candidate beyond pairs()
+
+  void add(const SweepAndPrune& sap) {
+    const auto& s = sap.stats();
+    ++updates;
+    coasted += s.coasted;
+    moved_alone += s.escaped > 0 && !s.enlarged_all && !s.rebuilt;
+    enlarged_all += s.enlarged_all;
+    rebuilt += s.rebuilt;
+    tight_candidates += s.candidates == static_cast<int>(sap.pairs().size());
+    EXPECT_GE(s.candidates, static_cast<int>(sap.pairs().size()));
+  }
+};
+
+}  // namespace
+
+// Steady motion: most updates sort nothing or move a few proxies alone, everybody is enlarged
+// again every few updates, and pairs, began and ended equal brute force in every update. With
+// coasting off the same scene re-sorts in every update.
+TEST(SweepAndPrune, SteadyMotionCoastsBetweenEnlargementsAndEqualsBruteForce) {
+  for (double coast : {8.0, 0.0}) {
+    SCOPED_TRACE(testing::Message() << "coast_updates " << coast);
+    Rng rng(170017);
+    SweepAndPruneConfig cfg;
+    cfg.coast_updates = coast;
+    Harness h(cfg, true);
+    DriftScene scene(600, rng, h);
+    h.updateAndCheck();
+    CoastCounts counts;
+    for (int cycle = 0; cycle < 80; ++cycle) {
+      scene.step(h);
+      h.updateAndCheck();
+      if (::testing::Test::HasFatalFailure()) return;
+      counts.add(h.sap());
+    }
+    std::printf("coast %.0f: %d updates, %d coasted, %d moved a few alone, %d enlarged all, "
+                "%d rebuilt\n", coast, counts.updates, counts.coasted, counts.moved_alone,
+                counts.enlarged_all, counts.rebuilt);
+    if (coast > 0.0) {
+      EXPECT_GE(counts.coasted + counts.moved_alone, 55);
+      EXPECT_LE(counts.enlarged_all, 20);
+      EXPECT_GE(counts.enlarged_all, 5);
+    } else {
+      EXPECT_EQ(counts.coasted, 0);
+      EXPECT_EQ(counts.moved_alone, 0);
+      EXPECT_EQ(counts.tight_candidates, counts.updates);
+    }
+  }
+}
+
+// A resting scene in which a few boxes at a time start, stop, turn back or jump: they leave
+// their enlarged bounds alone and only their endpoints move (pairs between two of them
+// included); brute force in every update.
+TEST(SweepAndPrune, FewBoxesLeavingTheirBoundsMoveAloneAndStayExact) {
+  Rng rng(180018);
+  std::uniform_int_distribution<int> pct(0, 99);
+  std::uniform_int_distribution<int> step(-3, 3);
+  Harness h(SweepAndPruneConfig(), true);
+  DriftScene scene(400, rng, h);
+  for (Eigen::Vector3d& v : scene.velocity) v.setZero();
+  h.updateAndCheck();
+  CoastCounts counts;
+  for (int cycle = 0; cycle < 200; ++cycle) {
+    // One to three boxes change their motion; some of them are close to each other.
+    for (int j = 0, m = 1 + pct(rng) % 3; j < m; ++j) {
+      const std::size_t i = static_cast<std::size_t>(pct(rng)) * scene.center.size() / 100;
+      const int kind = pct(rng) % 4;
+      if (kind == 0) scene.velocity[i].setZero();                 // stops
+      if (kind == 1) scene.velocity[i] = -scene.velocity[i];      // turns back
+      if (kind == 2) {                                            // starts or turns
+        for (int k = 0; k < 3; ++k) scene.velocity[i][k] = step(rng) / 64.0;
+      }
+      if (kind == 3) {                                            // jumps next to another box
+        scene.center[i] = scene.center[(i + 1) % scene.center.size()];
+        scene.center[i].x() += 0.5;
+      }
+    }
+    scene.step(h);
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    counts.add(h.sap());
+  }
+  std::printf("few leaving: %d updates, %d coasted, %d moved a few alone, %d enlarged all, "
+              "%d rebuilt\n", counts.updates, counts.coasted, counts.moved_alone,
+              counts.enlarged_all, counts.rebuilt);
+  EXPECT_GE(counts.moved_alone, 50);
+  EXPECT_GE(counts.coasted, 5);
+}
+
+// Motion of two box sizes per update: enlarging everybody again after every update would only
+// cost tests, so coasting switches itself off (the candidates are then the pairs) and tries
+// again later; brute force in every update throughout.
+TEST(SweepAndPrune, LargeMotionSwitchesCoastingOffAndStaysExact) {
+  Rng rng(190019);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Harness h(SweepAndPruneConfig(), true);
+  DriftScene scene(300, rng, h);
+  h.updateAndCheck();
+  CoastCounts counts;
+  for (int cycle = 0; cycle < 200; ++cycle) {
+    for (std::size_t i = 0; i < scene.center.size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        scene.center[i][k] += 2.0 * (2.0 * unit(rng) - 1.0);
+        scene.center[i][k] =
+            std::clamp(scene.center[i][k], scene.half[i][k], scene.side - scene.half[i][k]);
+      }
+      h.move(scene.obj_of[i], gridBox(scene.center[i], scene.half[i]));
+    }
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    counts.add(h.sap());
+  }
+  std::printf("large motion: %d updates, %d with no candidate beyond the pairs, %d enlarged "
+              "all\n", counts.updates, counts.tight_candidates, counts.enlarged_all);
+  EXPECT_GE(counts.tight_candidates, 150);
+  EXPECT_LE(counts.enlarged_all, 20);
+}
+
+TEST(SweepAndPrune, InvalidCoastSettingsAreRejected) {
+  for (double bad : {-1.0, std::nan(""), 1e300}) {
+    SweepAndPruneConfig cfg;
+    cfg.coast_updates = bad;
+    EXPECT_THROW(SweepAndPrune{cfg}, std::invalid_argument);
+    cfg = SweepAndPruneConfig();
+    cfg.max_lead_fraction = bad;
+    EXPECT_THROW(SweepAndPrune{cfg}, std::invalid_argument);
   }
 }
 
