@@ -865,6 +865,25 @@ TEST(SweepAndPrune, FewBoxesLeavingTheirBoundsMoveAloneAndStayExact) {
         scene.center[i].x() += 0.5;
       }
     }
+    // Every 10th update two boxes are put side by side (they overlap), and in the next they
+    // jump together: while the first moves, it passes the second's old endpoints, yet their
+    // pair neither ends nor begins.
+    const std::size_t a = static_cast<std::size_t>(cycle / 10) * 7 % scene.center.size();
+    const std::size_t b = (a + 1) % scene.center.size();
+    if (cycle % 10 == 0) {
+      scene.center[a] = scene.center[b];
+      scene.center[a].y() += 0.25;
+      scene.velocity[a].setZero();
+      scene.velocity[b].setZero();
+    } else if (cycle % 10 == 1) {
+      const Eigen::Vector3d jump(cycle % 20 == 1 ? 1.5 : -1.5, 0.75, -0.5);
+      for (std::size_t i : {a, b}) {
+        scene.center[i] += jump;
+        for (int k = 0; k < 3; ++k) {
+          scene.center[i][k] = std::clamp(scene.center[i][k], 2.0, scene.side - 2.0);
+        }
+      }
+    }
     scene.step(h);
     h.updateAndCheck();
     if (::testing::Test::HasFatalFailure()) return;
