@@ -368,6 +368,8 @@ class SweepAndPrune {
   std::uint32_t backoff_ = 64;               // updates it stays off after failing
   bool moved_ = false;                       // not coasting: a live proxy moved
   bool last_run_short_ = false;              // the last enlargement of everybody came early
+  std::uint32_t recip_of_ = 1;               // enlarge(): 1 / recip_of_ = recip_
+  double recip_ = 1.0;
 
   // Rebuild heuristics.
   bool last_rebuilt_ = false;

@@ -30,7 +30,10 @@ inline std::uint64_t lower64(double d) { return sortable64(d) & ~std::uint64_t{1
 inline std::uint64_t upper64(double d) { return sortable64(d) | 1u; }
 
 inline double unsortable64(std::uint64_t key) {
-  const std::uint64_t bits = (key & kSign64) ? (key & ~kSign64) : ~key;
+  // Keys with the sign bit came from positives (clear it), the others from negatives (flip
+  // every bit); without branches.
+  const std::uint64_t flip = kSign64 | static_cast<std::uint64_t>(static_cast<std::int64_t>(~key) >> 63);
+  const std::uint64_t bits = key ^ flip;
   double d;
   std::memcpy(&d, &bits, sizeof d);
   return d;
@@ -215,26 +218,30 @@ void SweepAndPrune::enlarge(ProxyId id, double lead) {
     hi[axis] = unsortable64(t[2 * axis + 1]);
     extent = std::max(extent, hi[axis] - lo[axis]);
   }
-  {
-    const double per_update = 1.0 / static_cast<double>(std::max<std::uint32_t>(1, elapsed));
-    const double cap = config_.max_lead_fraction * extent;
-    for (int axis = 0; axis < 3; ++axis) {
-      // Displacements per update of the lower and the upper side (positive: upward).
-      const double d_lo = (lo[axis] - unsortable64(b[2 * axis])) * per_update;
-      const double d_hi = (hi[axis] - unsortable64(b[2 * axis + 1])) * per_update;
-      const double below = std::min(cap, d_lo < 0.0 ? -lead * d_lo : d_lo);
-      const double above = std::min(cap, d_hi > 0.0 ? lead * d_hi : -d_hi);
-      // Not a number (infinite bounds and the like): no room on that side.
-      if (below > 0.0) lo[axis] -= below;
-      if (above > 0.0) hi[axis] += above;
-    }
+  // (Enlarging everybody divides by the same count again and again.)
+  if (elapsed != recip_of_) {
+    recip_of_ = elapsed;
+    recip_ = 1.0 / static_cast<double>(std::max<std::uint32_t>(1, elapsed));
   }
+  const double per_update = recip_;
+  const double cap = config_.max_lead_fraction * extent;
   for (int axis = 0; axis < 3; ++axis) {
+    // Displacements per update of the lower and the upper side (positive: upward). Without
+    // branches (the directions are random): max(-lead d, d) is lead |d| for a side moving
+    // outward and |d| for one moving inward.
+    const double d_lo = (lo[axis] - unsortable64(b[2 * axis])) * per_update;
+    const double d_hi = (hi[axis] - unsortable64(b[2 * axis + 1])) * per_update;
+    const double below = std::min(cap, std::max(-lead * d_lo, d_lo));
+    const double above = std::min(cap, std::max(lead * d_hi, -d_hi));
+    // Not a number (infinite bounds and the like): no room on that side.
+    const double lo_e = lo[axis] - (below > 0.0 ? below : 0.0);
+    const double hi_e = hi[axis] + (above > 0.0 ? above : 0.0);
     std::uint64_t* e = ends_[axis].data() + o;
     // Outward of the given keys whatever the rounding of the subtraction above.
-    e[0] = std::min(t[2 * axis], lower64(lo[axis]));
-    e[1] = std::max(t[2 * axis + 1], upper64(hi[axis]));
-    max_width_[axis] = std::max(max_width_[axis], unsortable64(e[1]) - unsortable64(e[0]));
+    e[0] = std::min(t[2 * axis], lower64(lo_e));
+    e[1] = std::max(t[2 * axis + 1], upper64(hi_e));
+    // (Widths only bound the windows of insertions, which allow for rounding.)
+    max_width_[axis] = std::max(max_width_[axis], hi_e - lo_e);
     b[2 * axis] = t[2 * axis];
     b[2 * axis + 1] = t[2 * axis + 1];
   }
@@ -875,11 +882,27 @@ void SweepAndPrune::radixSortAxis(int axis) {
   const bool wide = n >= 4096;
   const int passes = n < 256 ? 2 : n < 4096 ? 3 : n < 65536 ? 2 : 3;
   const int prefix_bits = std::min(32, (wide ? 11 : 8) * passes);
-  const std::uint64_t range = hi - lo;
-  const int width = range == 0 ? 0 : 64 - __builtin_clzll(range);
-  const int shift = std::max(0, width - prefix_bits);
   sort_items_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) sort_items_[i] = (((keys[i + 1] - lo) >> shift) << 32) | i;
+  // Prefix: the coordinate's place in [lo, hi] in 2^prefix_bits steps (monotone in the key).
+  // Keys themselves are spaced logarithmically: on an axis that crosses zero, or spans many
+  // octaves, their high bits would leave most coordinates in a few prefixes, and the
+  // insertion pass after the radix sort would do the sorting.
+  const double x_lo = unsortable64(lo), span = unsortable64(hi) - x_lo;
+  if (std::isfinite(span) && span > 0.0) {
+    const double top = std::ldexp(1.0, prefix_bits) - 1.0;
+    const double scale = top / span;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double v = (unsortable64(keys[i + 1]) - x_lo) * scale;
+      const std::uint64_t prefix = static_cast<std::uint64_t>(v < top ? (v > 0.0 ? v : 0.0) : top);
+      sort_items_[i] = (prefix << 32) | i;
+    }
+  } else {
+    // Infinite bounds: the keys' own high bits.
+    const std::uint64_t range = hi - lo;
+    const int width = range == 0 ? 0 : 64 - __builtin_clzll(range);
+    const int shift = std::max(0, width - prefix_bits);
+    for (std::size_t i = 0; i < n; ++i) sort_items_[i] = (((keys[i + 1] - lo) >> shift) << 32) | i;
+  }
   const std::uint64_t* sorted = wide ? radixSortHigh32<11>(&sort_items_, &sort_items2_, passes)
                                      : radixSortHigh32<8>(&sort_items_, &sort_items2_, passes);
   tmp_keys_.resize(n + 2);
