@@ -32,9 +32,12 @@
 /// side is SweepAndPruneConfig::coast_updates updates of that side's own displacement per
 /// update since its last enlargement (behind it, one update's), capped at
 /// max_lead_fraction of the box's largest extent. Up to 1 + n / 32 proxies leave their bounds
-/// alone; more make everybody enlarged again. Coasting switches itself off for a while (64 to
-/// 4 096 updates) when that happens twice in a row within fewer than three updates (large
-/// motion: the enlarged boxes would only cost tests).
+/// alone; more make everybody enlarged again. Each time everybody is enlarged again, the run
+/// of updates since the last time is judged with a cost model (work units counted from the
+/// candidates scanned, swaps, searches and rebuilds) against what the same updates would have
+/// cost without coasting (estimated from the swaps of the jump); when coasting cost more
+/// (large motion, dense small scenes), it switches itself off for 64 updates, twice as long
+/// after each failure in a row (up to 4 096), then tries again.
 
 #include <cstdint>
 #include <vector>
@@ -65,9 +68,10 @@ struct SweepAndPruneConfig {
 struct BroadPair {
   std::int32_t proxy_a = -1;
   std::int32_t proxy_b = -1;
-  /// The structure's own bookkeeping (the last rebuild that found the pair); means nothing
-  /// to callers.
+  /// The structure's own bookkeeping (the last rebuild that found the pair, whether the given
+  /// bounds overlapped at the last update); means nothing to callers.
   std::uint32_t epoch = 0;
+  std::uint32_t touching = 0;
 };
 
 /// Counters of the last update(), for benchmarks and diagnostics.
@@ -102,18 +106,18 @@ class SweepAndPrune {
   void update();
 
   /// Every pair overlapping after the last update(), in no particular order.
-  const std::vector<BroadPair>& pairs() const { return exact_; }
+  const std::vector<BroadPair>& pairs() const { return *pairs_out_; }
   /// Pairs that started overlapping in the last update(). With endedPairs() this is all a
   /// caller needs to keep its own per-pair state: pairs() after an update equals pairs()
   /// before it, minus endedPairs(), plus beganPairs() (the two never share a pair).
-  const std::vector<BroadPair>& beganPairs() const { return began_; }
+  const std::vector<BroadPair>& beganPairs() const { return *began_out_; }
   /// Pairs that stopped overlapping (or lost a proxy) in the last update(). They may name
   /// proxies destroyed in that update, whose ids a later createProxy() reuses.
-  const std::vector<BroadPair>& endedPairs() const { return ended_; }
+  const std::vector<BroadPair>& endedPairs() const { return *ended_out_; }
   /// True when (a, b), in either order, is one of pairs().
   bool hasPair(ProxyId a, ProxyId b) const {
-    const Candidate* c = cands_.find(a, b);
-    return c != nullptr && c->touching != 0;
+    const BroadPair* c = cands_.find(a, b);
+    return c != nullptr && (fat_count_ == 0 || c->touching != 0);
   }
 
   /// The bounds the structure tests with (the given ones, moved outward by at most one ulp).
@@ -132,17 +136,14 @@ class SweepAndPrune {
     bool pending_remove;
     bool is_new;  // inserted in the current update
     bool escaped;  // listed in escapers_ this update
+    bool fat;      // its enlarged bounds differ from its given ones
     std::uint32_t enlarged_at;  // update count at its last enlargement
   };
 
-  // A pair of enlarged bounds (a candidate); `touching`: its given bounds overlapped at the
-  // end of the last update (it is then one of pairs()).
-  struct Candidate {
-    std::int32_t proxy_a = -1;
-    std::int32_t proxy_b = -1;
-    std::uint32_t epoch = 0;
-    std::uint32_t touching = 0;
-  };
+  // A pair of enlarged bounds (a candidate) is a BroadPair; `touching`: its given bounds
+  // overlapped at the end of the last update (it is then one of pairs()). Not kept while no
+  // proxy is enlarged (the candidates are the pairs then): see flags_valid_.
+  using Candidate = BroadPair;
 
   // A proxy's keys on the two axes a sweep does not run along (b, c).
   struct EndKeys {
@@ -245,6 +246,10 @@ class SweepAndPrune {
 
   void reserveSlots(std::size_t slots);
   void checkLive(ProxyId proxy, const char* what) const;
+  void setFat(ProxyInfo& p, bool fat) {
+    fat_count_ += static_cast<int>(fat) - static_cast<int>(p.fat);
+    p.fat = fat;
+  }
   void beginPair(std::int32_t a, std::int32_t b);
   void endPair(std::int32_t a, std::int32_t b);
 
@@ -256,7 +261,10 @@ class SweepAndPrune {
   void enlargeAll(double lead);
   void moveEscapers();                       // the few that left: only their endpoints move
   std::size_t findEndpoint(int axis, std::uint64_t key, std::uint32_t owner) const;
-  void relocateEndpoint(int axis, std::size_t i, std::uint64_t key);
+  std::size_t relocateEndpoint(int axis, std::size_t i, std::uint64_t key);  // returns swaps
+  // Coasting's cost model (work units, see the constants in the source).
+  double rebuildWork(double axes_sorted, double pairs) const;
+  void judgeRun(double endpoints);
   void reportTouching();                     // pairs(), began and ended from the candidates
   bool touching(std::int32_t a, std::int32_t b) const {
     const std::uint64_t* x = tight_.data() + 6 * static_cast<std::size_t>(a);
@@ -350,10 +358,17 @@ class SweepAndPrune {
   BasicPairTable<Candidate> cands_;
   std::vector<Candidate> cand_began_;
   std::vector<Candidate> cand_ended_;
-  // What callers see: the touching candidates, and their changes.
+  // What callers see: the touching candidates, and their changes; or, while no proxy is
+  // enlarged, the candidates and theirs.
   std::vector<BroadPair> exact_;
   std::vector<BroadPair> began_;
   std::vector<BroadPair> ended_;
+  const std::vector<BroadPair>* pairs_out_ = &exact_;
+  const std::vector<BroadPair>* began_out_ = &began_;
+  const std::vector<BroadPair>* ended_out_ = &ended_;
+  int fat_count_ = 0;         // live proxies whose enlarged bounds differ from the given ones
+  bool flags_valid_ = true;   // every candidate's `touching` is up to date
+  bool tight_last_ = true;    // no proxy was enlarged at the end of the last update
 
   // Coasting. Given bounds as keys, six per slot (lower, upper per axis): tight_; the same at
   // the proxy's last enlargement: base_ (its displacement since then sizes the next lead).
@@ -367,7 +382,8 @@ class SweepAndPrune {
   std::uint32_t retry_at_ = 0;               // coasting off: the update that tries it again
   std::uint32_t backoff_ = 64;               // updates it stays off after failing
   bool moved_ = false;                       // not coasting: a live proxy moved
-  bool last_run_short_ = false;              // the last enlargement of everybody came early
+  double run_work_ = 0.0;                    // work of the coasting run under way
+  std::int64_t last_estimate_ = -1;          // swaps estimated by the last re-sort after a jump
   std::uint32_t recip_of_ = 1;               // enlarge(): 1 / recip_of_ = recip_
   double recip_ = 1.0;
 

@@ -16,6 +16,17 @@ constexpr std::uint64_t kSign64 = 0x8000000000000000ull;
 // A plain sweep with fewer overlap tests per proxy than this is cheaper than a slab sweep.
 constexpr std::int64_t kSlabTestsPerProxy = 16;
 
+// Work units of coasting's cost model (about a nanosecond each on the benchmark machine: perf
+// profiles of the uniform, walker and robot-cell scenes, bench/results/NOTES.md section 19).
+constexpr double kScanWork = 4.0;     // one candidate tested on the given bounds
+constexpr double kSwapWork = 10.0;    // one swap (insertion sort or a relocated endpoint)
+constexpr double kPassWork = 1.5;     // one endpoint read in a pass over an axis
+constexpr double kSearchWork = 100.0; // finding a proxy's six endpoints (binary searches)
+constexpr double kEnlargeWork = 20.0; // enlarging one proxy
+constexpr double kSortWork = 12.0;    // one endpoint radix-sorted in a rebuild, per axis
+constexpr double kTestWork = 1.5;     // one overlap test of a rebuild's sweep
+constexpr double kFoundWork = 25.0;   // one pair found (and stamped) by a rebuild
+
 // Order-preserving map double -> uint64: flip all bits of negatives, set the sign of
 // positives; without branches on the sign.
 inline std::uint64_t sortable64(double d) {
@@ -210,6 +221,7 @@ void SweepAndPrune::enlarge(ProxyId id, double lead) {
       e[1] = b[2 * axis + 1] = t[2 * axis + 1];
       max_width_[axis] = std::max(max_width_[axis], unsortable64(e[1]) - unsortable64(e[0]));
     }
+    setFat(info, false);
     return;
   }
   double lo[3], hi[3], extent = 0.0;
@@ -225,6 +237,7 @@ void SweepAndPrune::enlarge(ProxyId id, double lead) {
   }
   const double per_update = recip_;
   const double cap = config_.max_lead_fraction * extent;
+  bool fat = false;
   for (int axis = 0; axis < 3; ++axis) {
     // Displacements per update of the lower and the upper side (positive: upward). Without
     // branches (the directions are random): max(-lead d, d) is lead |d| for a side moving
@@ -240,11 +253,13 @@ void SweepAndPrune::enlarge(ProxyId id, double lead) {
     // Outward of the given keys whatever the rounding of the subtraction above.
     e[0] = std::min(t[2 * axis], lower64(lo_e));
     e[1] = std::max(t[2 * axis + 1], upper64(hi_e));
+    fat |= (e[0] != t[2 * axis]) | (e[1] != t[2 * axis + 1]);
     // (Widths only bound the windows of insertions, which allow for rounding.)
     max_width_[axis] = std::max(max_width_[axis], hi_e - lo_e);
     b[2 * axis] = t[2 * axis];
     b[2 * axis + 1] = t[2 * axis + 1];
   }
+  setFat(info, fat);
 }
 
 inline void SweepAndPrune::checkLive(ProxyId id, const char* what) const {
@@ -279,6 +294,7 @@ SweepAndPrune::ProxyId SweepAndPrune::createProxy(const Aabb& bounds) {
   p.pending_remove = false;
   p.is_new = false;
   p.escaped = false;
+  p.fat = false;
   enlarge(id, 0.0);  // no motion seen yet: its given bounds
   p.enlarged_at = updates_ + 1;  // as of the update that inserts it
   pending_insert_.push_back(id);
@@ -324,6 +340,7 @@ void SweepAndPrune::moveProxy(ProxyId id, const Aabb& bounds) {
     }
     // As of the next update (a pending proxy's: the one that inserts it).
     p.enlarged_at = p.state == ProxyState::kLive ? updates_ : updates_ + 1;
+    setFat(p, false);
     moved_ |= p.state == ProxyState::kLive;
     return;
   }
@@ -378,6 +395,12 @@ void SweepAndPrune::update() {
   cand_began_.clear();
   cand_ended_.clear();
   ++updates_;
+  // Coasting may enlarge somebody in this update: from here on candidates and pairs differ,
+  // and each candidate's `touching` must say what it was (the candidates were the pairs).
+  if (!flags_valid_ && (lead_ > 0.0 || (config_.coast_updates > 0.0 && updates_ >= retry_at_))) {
+    for (Candidate& c : cands_.mutablePairs()) c.touching = 1;
+    flags_valid_ = true;
+  }
   applyRemovals();
   const bool sorted = moved_ || !escapers_.empty() || !pending_insert_.empty();
   if (live_count_ > 0) handleEscapers();
@@ -428,21 +451,43 @@ void SweepAndPrune::handleEscapers() {
     return;
   }
   // Many: everybody gets new enlarged bounds now, so that they leave them together again.
-  // Switch off for a while when this happens a second time in a row within fewer than three
-  // updates: the larger boxes then cost more tests than the updates in between save.
-  const bool short_run = last_global_ != 0 && updates_ - last_global_ < 3;
-  if (short_run && last_run_short_) {
+  last_estimate_ = -1;
+  enlargeAll(lead_);
+  stats_.enlarged_all = true;
+  resort(true, false);  // every axis in order: moveEscapers needs them
+  const double endpoints = 2.0 * live_count_;
+  double work = kEnlargeWork * live_count_ + kSwapWork * static_cast<double>(stats_.swaps);
+  work += stats_.rebuilt ? rebuildWork(3.0, static_cast<double>(cands_.size()))
+                         : kPassWork * 3.0 * endpoints;
+  if (last_global_ != 0) judgeRun(endpoints);
+  run_work_ = work;
+  last_global_ = updates_;
+}
+
+double SweepAndPrune::rebuildWork(double axes_sorted, double pairs) const {
+  return kSortWork * axes_sorted * 2.0 * live_count_ + kTestWork * static_cast<double>(sweep_tests_) +
+         kFoundWork * pairs;
+}
+
+void SweepAndPrune::judgeRun(double endpoints) {
+  // The run that ends here, from the last enlargement of everybody to this one, against what
+  // the same updates would have cost without coasting: one pass over every axis and the
+  // swaps of its motion (this jump's estimated swaps, spread over the run), or a rebuild of
+  // the given bounds (one axis sorted) if cheaper; both with the scan of the pairs. Coasting
+  // that costs more switches off for a while (longer after each failure in a row).
+  const double run = static_cast<double>(updates_ - last_global_);
+  const double swaps = static_cast<double>(last_estimate_ >= 0 ? last_estimate_ : stats_.swaps);
+  const double pairs = static_cast<double>(exact_.size());
+  const double without = kScanWork * pairs +
+                         std::min(kPassWork * 3.0 * endpoints + kSwapWork * swaps / run,
+                                  rebuildWork(1.0, pairs));
+  if (run_work_ / run > without) {
     lead_ = 0.0;
     retry_at_ = updates_ + backoff_;
     backoff_ = std::min<std::uint32_t>(2 * backoff_, 4096);
-  } else if (last_global_ != 0 && updates_ - last_global_ >= 6) {
-    backoff_ = 64;  // it paid: a later failure stays off for the shortest time again
+  } else {
+    backoff_ = 64;
   }
-  last_run_short_ = short_run && lead_ > 0.0;
-  last_global_ = updates_;
-  enlargeAll(lead_);
-  stats_.enlarged_all = true;
-  resort(true, lead_ <= 0.0);
 }
 
 void SweepAndPrune::enlargeAll(double lead) {
@@ -463,6 +508,7 @@ void SweepAndPrune::moveEscapers() {
     }
     enlarge(escapers_[n], lead_);
   }
+  std::size_t swaps = 0;
   for (int axis = 0; axis < 3; ++axis) {
     for (std::size_t n = 0; n < escapers_.size(); ++n) {
       const std::uint32_t lower = static_cast<std::uint32_t>(escapers_[n]) << 1;
@@ -472,11 +518,11 @@ void SweepAndPrune::moveEscapers() {
       const std::uint64_t new_hi = ends_[axis][lower + 1];
       // Move them so that the lower endpoint never passes its own upper one.
       if (new_lo > old_hi) {
-        relocateEndpoint(axis, findEndpoint(axis, old_hi, lower | 1u), new_hi);
-        relocateEndpoint(axis, findEndpoint(axis, old_lo, lower), new_lo);
+        swaps += relocateEndpoint(axis, findEndpoint(axis, old_hi, lower | 1u), new_hi);
+        swaps += relocateEndpoint(axis, findEndpoint(axis, old_lo, lower), new_lo);
       } else {
-        relocateEndpoint(axis, findEndpoint(axis, old_lo, lower), new_lo);
-        relocateEndpoint(axis, findEndpoint(axis, old_hi, lower | 1u), new_hi);
+        swaps += relocateEndpoint(axis, findEndpoint(axis, old_lo, lower), new_lo);
+        swaps += relocateEndpoint(axis, findEndpoint(axis, old_hi, lower | 1u), new_hi);
       }
       if (axis > 0) {
         prev_ends_[axis][lower] = new_lo;
@@ -484,6 +530,7 @@ void SweepAndPrune::moveEscapers() {
       }
     }
   }
+  run_work_ += kSearchWork * static_cast<double>(escapers_.size()) + kSwapWork * static_cast<double>(swaps);
 }
 
 std::size_t SweepAndPrune::findEndpoint(int axis, std::uint64_t key, std::uint32_t owner) const {
@@ -495,7 +542,7 @@ std::size_t SweepAndPrune::findEndpoint(int axis, std::uint64_t key, std::uint32
   return i;
 }
 
-void SweepAndPrune::relocateEndpoint(int axis, std::size_t i, std::uint64_t k) {
+std::size_t SweepAndPrune::relocateEndpoint(int axis, std::size_t i, std::uint64_t k) {
   // Moves one endpoint to its new key, down or up. Passing an endpoint of the other kind
   // changes whether the two overlap on this axis: a pair is added when the final keys overlap
   // on every axis and removed when they do not (so no pair both ends and begins).
@@ -535,26 +582,43 @@ void SweepAndPrune::relocateEndpoint(int axis, std::size_t i, std::uint64_t k) {
   }
   key[j] = k;
   owner[j] = o;
+  return j > i ? j - i : i - j;
 }
 
 void SweepAndPrune::reportTouching() {
+  std::vector<Candidate>& dense = cands_.mutablePairs();
+  stats_.candidates = static_cast<int>(dense.size());
+  // No enlarged bounds, now and at the last update: the candidates are the pairs, and their
+  // changes the changes. (The first update without them still scans: a candidate of enlarged
+  // bounds that did not touch may have begun to, without being a new candidate.)
+  const bool was_tight = tight_last_;
+  tight_last_ = fat_count_ == 0;
+  if (fat_count_ == 0 && was_tight) {
+    pairs_out_ = &dense;
+    began_out_ = &cand_began_;
+    ended_out_ = &cand_ended_;
+    flags_valid_ = false;
+    return;
+  }
   // pairs() = the candidates whose given bounds overlap; began and ended = the changes of that.
+  pairs_out_ = &exact_;
+  began_out_ = &began_;
+  ended_out_ = &ended_;
   began_.clear();
   ended_.clear();
   exact_.clear();
   for (const Candidate& c : cand_ended_) {
-    if (c.touching != 0) ended_.push_back(BroadPair{c.proxy_a, c.proxy_b, c.epoch});
+    if (c.touching != 0) ended_.push_back(c);
   }
-  std::vector<Candidate>& dense = cands_.mutablePairs();
   for (Candidate& c : dense) {
     const std::uint32_t now = touching(c.proxy_a, c.proxy_b) ? 1u : 0u;
     if (now != c.touching) {
       c.touching = now;
-      (now != 0 ? began_ : ended_).push_back(BroadPair{c.proxy_a, c.proxy_b, c.epoch});
+      (now != 0 ? began_ : ended_).push_back(c);
     }
-    if (now != 0) exact_.push_back(BroadPair{c.proxy_a, c.proxy_b, c.epoch});
+    if (now != 0) exact_.push_back(c);
   }
-  stats_.candidates = static_cast<int>(dense.size());
+  if (lead_ > 0.0) run_work_ += kScanWork * static_cast<double>(dense.size());
 }
 
 void SweepAndPrune::resort(bool jump, bool allow_streak) {
@@ -571,6 +635,7 @@ void SweepAndPrune::resort(bool jump, bool allow_streak) {
   }
   // After a rebuild: rebuild again (the sweep axis only) while insertion sort would cost more.
   const std::int64_t swaps = estimateAllSwaps();
+  last_estimate_ = swaps;
   if (swaps > rebuildCost(allow_streak)) {
     rebuild(allow_streak, !anyStale());
   } else if (anyStale()) {
@@ -629,6 +694,7 @@ void SweepAndPrune::applyRemovals() {
 
   for (ProxyId id : pending_remove_) {
     ProxyInfo& p = info_[id];
+    setFat(p, false);
     p.state = ProxyState::kFree;
     p.pending_remove = false;
     p.next_free = free_list_;

@@ -99,6 +99,8 @@ class Harness {
     c.initial_pair_capacity = wp_fuzz::pickByBits(capacities, b, 2);
     static const double factors[] = {1.0, 0.0, 0.05, 0.5, 2.0, 1e9, 1e-3, 1.0};
     c.rebuild_factor = wp_fuzz::pickByBits(factors, b, 4);
+    static const double leads[] = {8.0, 0.0};  // coasting on (the default) or off
+    c.coast_updates = wp_fuzz::pickByBits(leads, b, 7);
     return c;
   }
 
@@ -238,6 +240,14 @@ class Harness {
         if (!(s.lower[k] <= g.lower[k]) || !(s.upper[k] >= g.upper[k])) {
           fail("storedBounds() does not contain the given bounds",
                std::to_string(kv.first) + " given " + str(g) + " stored " + str(s));
+        }
+      }
+      // The enlarged bounds the arrays sort (coasting) contain the stored ones.
+      const wp::Aabb e = sap_.enlargedBounds(kv.first);
+      for (int k = 0; k < 3; ++k) {
+        if (!(e.lower[k] <= s.lower[k]) || !(e.upper[k] >= s.upper[k])) {
+          fail("enlargedBounds() does not contain storedBounds()",
+               std::to_string(kv.first) + " stored " + str(s) + " enlarged " + str(e));
         }
       }
       stored[kv.first] = s;
