@@ -32,7 +32,9 @@
 /// side is SweepAndPruneConfig::coast_updates updates of that side's own displacement per
 /// update since its last enlargement (behind it, one update's), capped at
 /// max_lead_fraction of the box's largest extent. Up to 1 + n / 32 proxies leave their bounds
-/// alone; more make everybody enlarged again. Each time everybody is enlarged again, the run
+/// alone; more make everybody enlarged again, and so does a run of 4 coast_updates updates
+/// (leads measured anew; a resting body's shrink to nothing). Each time everybody is enlarged
+/// again, the run
 /// of updates since the last time is judged with a cost model (work units counted from the
 /// candidates scanned, swaps, searches and rebuilds) against what the same updates would have
 /// cost without coasting (estimated from the swaps of the jump); when coasting cost more
@@ -383,6 +385,7 @@ class SweepAndPrune {
   std::uint32_t backoff_ = 64;               // updates it stays off after failing
   bool moved_ = false;                       // not coasting: a live proxy moved
   double run_work_ = 0.0;                    // work of the coasting run under way
+  bool judge_next_ = false;                  // a run is under way (judged when it ends)
   std::int64_t last_estimate_ = -1;          // swaps estimated by the last re-sort after a jump
   std::uint32_t recip_of_ = 1;               // enlarge(): 1 / recip_of_ = recip_
   double recip_ = 1.0;

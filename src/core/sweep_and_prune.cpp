@@ -435,20 +435,23 @@ void SweepAndPrune::handleEscapers() {
     if (!moved_) return;
     if (config_.coast_updates > 0.0 && updates_ >= retry_at_) {
       lead_ = config_.coast_updates;
-      last_global_ = 0;  // (not judged as a failure if it ends at once)
+      judge_next_ = false;  // the run starts here
     } else {
       resort(false, true);
       return;
     }
-  } else if (w == 0) {
-    return;
-  }
-  // A few: move their endpoints alone (a pass over the arrays costs more). The arrays must be
-  // in order for that.
-  const std::size_t few = 1 + static_cast<std::size_t>(live_count_) / 32;
-  if (w > 0 && w <= few && !anyStale()) {
-    moveEscapers();
-    return;
+  } else {
+    // A run lasts at most 4 coast_updates updates: then everybody is enlarged again, with
+    // leads measured anew (stale ones only cost tests), and the run is judged.
+    const bool run_over = updates_ - last_global_ >= 4.0 * config_.coast_updates;
+    if (w == 0 && !run_over) return;
+    // A few: move their endpoints alone (a pass over the arrays costs more). The arrays must
+    // be in order for that.
+    const std::size_t few = 1 + static_cast<std::size_t>(live_count_) / 32;
+    if (w > 0 && w <= few && !anyStale() && !run_over) {
+      moveEscapers();
+      return;
+    }
   }
   // Many: everybody gets new enlarged bounds now, so that they leave them together again.
   last_estimate_ = -1;
@@ -459,7 +462,8 @@ void SweepAndPrune::handleEscapers() {
   double work = kEnlargeWork * live_count_ + kSwapWork * static_cast<double>(stats_.swaps);
   work += stats_.rebuilt ? rebuildWork(3.0, static_cast<double>(cands_.size()))
                          : kPassWork * 3.0 * endpoints;
-  if (last_global_ != 0) judgeRun(endpoints);
+  if (judge_next_) judgeRun(endpoints);
+  judge_next_ = true;
   run_work_ = work;
   last_global_ = updates_;
 }

@@ -896,6 +896,36 @@ TEST(SweepAndPrune, FewBoxesLeavingTheirBoundsMoveAloneAndStayExact) {
   EXPECT_GE(counts.coasted, 5);
 }
 
+// Two overlapping boxes among resting ones jump together, again and again: only their
+// endpoints move (two proxies left their bounds), and while the first moves it passes the
+// second's old endpoints, yet their pair must neither end nor begin.
+TEST(SweepAndPrune, TwoOverlappingBoxesJumpingTogetherKeepTheirPair) {
+  Rng rng(200020);
+  Harness h(SweepAndPruneConfig(), true);
+  DriftScene scene(100, rng, h);
+  const Eigen::Vector3d half(0.5, 0.5, 0.5);
+  Eigen::Vector3d ca(5.0, 5.0, 5.0), cb(5.0, 5.25, 5.0);
+  const int a = h.create(gridBox(ca, half));
+  const int b = h.create(gridBox(cb, half));
+  h.updateAndCheck();
+  const double jumps[][3] = {{2.0, 0.75, -0.5}, {-2.0, -0.75, 0.5}, {0.0, 2.5, 0.0},
+                             {0.0, -2.5, 0.0}, {-1.5, 0.0, 2.25}, {1.5, 0.0, -2.25}};
+  for (int round = 0; round < 12; ++round) {
+    SCOPED_TRACE(testing::Message() << "round " << round);
+    const Eigen::Vector3d jump(jumps[round % 6][0], jumps[round % 6][1], jumps[round % 6][2]);
+    ca += jump;
+    cb += jump;
+    h.move(a, gridBox(ca, half));
+    h.move(b, gridBox(cb, half));
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    const auto& st = h.sap().stats();
+    EXPECT_EQ(st.escaped, 2);
+    EXPECT_FALSE(st.enlarged_all);
+    EXPECT_FALSE(st.rebuilt);
+  }
+}
+
 // Motion of two box sizes per update: enlarging everybody again after every update would only
 // cost tests, so coasting switches itself off (the candidates are then the pairs) and tries
 // again later; brute force in every update throughout.
