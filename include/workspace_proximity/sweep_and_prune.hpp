@@ -257,7 +257,8 @@ class SweepAndPrune {
 
   // Coasting.
   void writeTight(ProxyId proxy, const Aabb& bounds);
-  bool insideEnlarged(ProxyId proxy) const;  // given bounds within the enlarged ones
+  // Given bounds within the enlarged ones; `equal`: the same.
+  bool insideEnlarged(ProxyId proxy, bool* equal) const;
   void enlarge(ProxyId proxy, double lead);  // new enlarged bounds from the given ones
   void handleEscapers();                     // enlarges and re-sorts what left its bounds
   void enlargeAll(double lead);

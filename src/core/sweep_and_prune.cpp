@@ -192,14 +192,16 @@ inline void SweepAndPrune::writeTight(ProxyId id, const Aabb& bounds) {
   }
 }
 
-inline bool SweepAndPrune::insideEnlarged(ProxyId id) const {
+inline bool SweepAndPrune::insideEnlarged(ProxyId id, bool* equal) const {
   const std::size_t o = 2 * static_cast<std::size_t>(id);
   const std::uint64_t* t = tight_.data() + 6 * static_cast<std::size_t>(id);
-  bool inside = true;
+  bool inside = true, same = true;
   for (int axis = 0; axis < 3; ++axis) {
     const std::uint64_t* e = ends_[axis].data() + o;
     inside &= (e[0] <= t[2 * axis]) & (t[2 * axis + 1] <= e[1]);
+    same &= (e[0] == t[2 * axis]) & (t[2 * axis + 1] == e[1]);
   }
+  *equal = same;
   return inside;
 }
 
@@ -246,9 +248,10 @@ void SweepAndPrune::enlarge(ProxyId id, double lead) {
     const double d_hi = (hi[axis] - unsortable64(b[2 * axis + 1])) * per_update;
     const double below = std::min(cap, std::max(-lead * d_lo, d_lo));
     const double above = std::min(cap, std::max(lead * d_hi, -d_hi));
-    // Not a number (infinite bounds and the like): no room on that side.
-    const double lo_e = lo[axis] - (below > 0.0 ? below : 0.0);
-    const double hi_e = hi[axis] + (above > 0.0 ? above : 0.0);
+    // Not a number: no room on that side. Finite: keys of infinities read back as NaN.
+    constexpr double kMax = std::numeric_limits<double>::max();
+    const double lo_e = std::max(-kMax, lo[axis] - (below > 0.0 ? below : 0.0));
+    const double hi_e = std::min(kMax, hi[axis] + (above > 0.0 ? above : 0.0));
     std::uint64_t* e = ends_[axis].data() + o;
     // Outward of the given keys whatever the rounding of the subtraction above.
     e[0] = std::min(t[2 * axis], lower64(lo_e));
@@ -345,9 +348,13 @@ void SweepAndPrune::moveProxy(ProxyId id, const Aabb& bounds) {
     return;
   }
   writeTight(id, bounds);
-  if (!p.escaped && !insideEnlarged(id)) {
+  if (p.escaped) return;  // enlarged anew in the update, from its latest bounds
+  bool equal = false;
+  if (!insideEnlarged(id, &equal)) {
     p.escaped = true;
     escapers_.push_back(id);
+  } else {
+    setFat(p, !equal);  // a box that shrank inside its bounds is enlarged now
   }
 }
 

@@ -896,6 +896,67 @@ TEST(SweepAndPrune, FewBoxesLeavingTheirBoundsMoveAloneAndStayExact) {
   EXPECT_GE(counts.coasted, 5);
 }
 
+// A box that shrinks stays inside its enlarged bounds (it is not re-sorted), yet its pairs
+// end as soon as the given bounds part; growing back inside them starts the pair again. (Found
+// by fuzz_sweep_and_prune: while no box was enlarged, the candidates were taken for the pairs.)
+TEST(SweepAndPrune, BoxShrinkingInsideItsEnlargedBoundsEndsItsPairs) {
+  Harness h(SweepAndPruneConfig(), true);
+  const int a = h.create(makeBox(0, 0, 0, 2, 2, 2));
+  const int b = h.create(makeBox(1.5, 1.5, 1.5, 3, 3, 3));
+  h.create(makeBox(10, 10, 10, 11, 11, 11));
+  h.updateAndCheck();
+  ASSERT_EQ(h.sap().pairs().size(), 1u);
+  h.move(b, makeBox(2.5, 1.5, 1.5, 3, 3, 3));  // shrinks away from a
+  h.updateAndCheck();
+  EXPECT_TRUE(h.sap().pairs().empty());
+  EXPECT_EQ(h.sap().endedPairs().size(), 1u);
+  EXPECT_TRUE(h.sap().stats().coasted);
+  h.move(b, makeBox(1.75, 1.5, 1.5, 3, 3, 3));  // grows back, still inside
+  h.updateAndCheck();
+  EXPECT_EQ(h.sap().pairs().size(), 1u);
+  EXPECT_EQ(h.sap().beganPairs().size(), 1u);
+  h.move(a, makeBox(0, 0, 0, 1, 1, 1));  // a shrinks too
+  h.updateAndCheck();
+  EXPECT_TRUE(h.sap().pairs().empty());
+}
+
+// Leads that would carry an enlarged bound past the largest double stop there: every bound the
+// structure holds stays finite (an infinite key reads back as not-a-number), and the pairs
+// still contain brute force (arbitrary doubles).
+TEST(SweepAndPrune, EnlargedBoundsStayFiniteNearTheLargestDouble) {
+  Harness h(SweepAndPruneConfig(), false);
+  const double wide = 1e308;  // lead cap: half of it
+  std::vector<int> obj;
+  for (int i = 0; i < 6; ++i) {
+    const double x = (i % 2 == 0 ? 1.0 : -1.0) * 1e306 * (1 + i);
+    obj.push_back(h.create(i % 2 == 0 ? makeBox(x, 0, 0, x + wide, 1, 1)
+                                      : makeBox(x - wide, 0, 0, x, 1, 1)));
+  }
+  h.create(makeBox(-1, -1, -1, 1, 1, 1));
+  h.updateAndCheck();
+  for (int cycle = 0; cycle < 12; ++cycle) {
+    for (int i = 0; i < 6; ++i) {
+      // Outward by 1e307 per update until the far side sits near the largest double.
+      Aabb b = h.box(obj[i]);
+      const double step = std::min(1e307, 1.79e308 - std::max(b.upper.x(), -b.lower.x()));
+      if (i % 2 == 0) {
+        b.lower.x() += step;
+        b.upper.x() += step;
+      } else {
+        b.lower.x() -= step;
+        b.upper.x() -= step;
+      }
+      h.move(obj[i], b);
+    }
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    for (int i = 0; i < 6; ++i) {
+      const Aabb e = h.sap().enlargedBounds(i);
+      EXPECT_TRUE(e.lower.allFinite() && e.upper.allFinite()) << "proxy " << i << " cycle " << cycle;
+    }
+  }
+}
+
 // Two overlapping boxes among resting ones jump together, again and again: only their
 // endpoints move (two proxies left their bounds), and while the first moves it passes the
 // second's old endpoints, yet their pair must neither end nor begin.
