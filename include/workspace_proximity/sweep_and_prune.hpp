@@ -262,6 +262,7 @@ class SweepAndPrune {
   void enlarge(ProxyId proxy, double lead);  // new enlarged bounds from the given ones
   void handleEscapers();                     // enlarges and re-sorts what left its bounds
   void enlargeAll(double lead);
+  void validateFlags();                      // `touching` of every candidate, before enlarging
   void moveEscapers();                       // the few that left: only their endpoints move
   std::size_t findEndpoint(int axis, std::uint64_t key, std::uint32_t owner) const;
   std::size_t relocateEndpoint(int axis, std::size_t i, std::uint64_t key);  // returns swaps

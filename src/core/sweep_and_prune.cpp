@@ -402,12 +402,6 @@ void SweepAndPrune::update() {
   cand_began_.clear();
   cand_ended_.clear();
   ++updates_;
-  // Coasting may enlarge somebody in this update: from here on candidates and pairs differ,
-  // and each candidate's `touching` must say what it was (the candidates were the pairs).
-  if (!flags_valid_ && (lead_ > 0.0 || (config_.coast_updates > 0.0 && updates_ >= retry_at_))) {
-    for (Candidate& c : cands_.mutablePairs()) c.touching = 1;
-    flags_valid_ = true;
-  }
   applyRemovals();
   const bool sorted = moved_ || !escapers_.empty() || !pending_insert_.empty();
   if (live_count_ > 0) handleEscapers();
@@ -456,11 +450,13 @@ void SweepAndPrune::handleEscapers() {
     // be in order for that.
     const std::size_t few = 1 + static_cast<std::size_t>(live_count_) / 32;
     if (w > 0 && w <= few && !anyStale() && !run_over) {
+      validateFlags();
       moveEscapers();
       return;
     }
   }
   // Many: everybody gets new enlarged bounds now, so that they leave them together again.
+  validateFlags();
   last_estimate_ = -1;
   enlargeAll(lead_);
   stats_.enlarged_all = true;
@@ -499,6 +495,16 @@ void SweepAndPrune::judgeRun(double endpoints) {
   } else {
     backoff_ = 64;
   }
+}
+
+void SweepAndPrune::validateFlags() {
+  // Somebody is enlarged in this update: from here on candidates and pairs may differ, and each
+  // candidate's `touching` must say what it was. Not kept so far, the candidates were the pairs
+  // (those that ended in this update so far too).
+  if (flags_valid_) return;
+  for (Candidate& c : cands_.mutablePairs()) c.touching = 1;
+  for (Candidate& c : cand_ended_) c.touching = 1;
+  flags_valid_ = true;
 }
 
 void SweepAndPrune::enlargeAll(double lead) {
@@ -608,7 +614,17 @@ void SweepAndPrune::reportTouching() {
     pairs_out_ = &dense;
     began_out_ = &cand_began_;
     ended_out_ = &cand_ended_;
-    flags_valid_ = false;
+    // Coasting on (a box that shrinks inside its bounds is enlarged, without an update that
+    // enlarges): keep `touching` up to date, for the new candidates only. Off: not needed until
+    // coasting starts again (validateFlags).
+    if (lead_ > 0.0 && flags_valid_) {
+      for (const Candidate& c : cand_began_) {
+        Candidate* pair = cands_.find(c.proxy_a, c.proxy_b);
+        if (pair != nullptr) pair->touching = 1;
+      }
+    } else {
+      flags_valid_ = false;
+    }
     return;
   }
   // pairs() = the candidates whose given bounds overlap; began and ended = the changes of that.
