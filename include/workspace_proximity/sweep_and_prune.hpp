@@ -126,6 +126,9 @@ class SweepAndPrune {
   Aabb storedBounds(ProxyId proxy) const;
   /// The enlarged bounds the arrays hold for the proxy (they contain storedBounds()).
   Aabb enlargedBounds(ProxyId proxy) const;
+  /// Every pair whose enlarged bounds overlap (closed intervals; pairs() is a subset), in no
+  /// particular order: for diagnostics and tests.
+  const std::vector<BroadPair>& candidatePairs() const { return cands_.pairs(); }
   int proxyCount() const { return live_count_; }
   const SweepAndPruneStats& stats() const { return stats_; }
 
@@ -260,7 +263,9 @@ class SweepAndPrune {
   // Given bounds within the enlarged ones; `equal`: the same.
   bool insideEnlarged(ProxyId proxy, bool* equal) const;
   void enlarge(ProxyId proxy, double lead);  // new enlarged bounds from the given ones
-  void handleEscapers();                     // enlarges and re-sorts what left its bounds
+  // What an update did to the arrays: nothing, moved a few proxies' endpoints, or re-sorted.
+  enum class Sorted : std::uint8_t { kNothing, kFew, kAll };
+  Sorted handleEscapers();  // enlarges and re-sorts what left its bounds
   void enlargeAll(double lead);
   void validateFlags();                      // `touching` of every candidate, before enlarging
   void moveEscapers();                       // the few that left: only their endpoints move

@@ -403,8 +403,10 @@ void SweepAndPrune::update() {
   cand_ended_.clear();
   ++updates_;
   applyRemovals();
-  const bool sorted = moved_ || !escapers_.empty() || !pending_insert_.empty();
-  if (live_count_ > 0) handleEscapers();
+  // (A run's end enlarges everybody even when nobody left: ask what it did.)
+  const Sorted done = live_count_ > 0 ? handleEscapers() : Sorted::kNothing;
+  const bool inserted = !pending_insert_.empty();
+  const bool sorted = done != Sorted::kNothing || inserted;
   moved_ = false;
   for (ProxyId id : escapers_) info_[static_cast<std::size_t>(id)].escaped = false;
   escapers_.clear();
@@ -414,15 +416,16 @@ void SweepAndPrune::update() {
   reportTouching();
   keepHeadroom();
   // The arrays are now sorted by the current keys: remember them for the next update's events
-  // (none come from a stale axis: the next update rebuilds). Nothing changed when coasting.
-  if (!sorted || anyStale()) return;
+  // (none come from a stale axis: the next update rebuilds). Nothing changed when coasting;
+  // moveEscapers() wrote the keys it changed.
+  if ((done != Sorted::kAll && !inserted) || anyStale()) return;
   for (int axis = 1; axis < 3; ++axis) {
     prev_ends_[axis].resize(ends_[axis].size());
     std::memcpy(prev_ends_[axis].data(), ends_[axis].data(), ends_[axis].size() * sizeof(std::uint64_t));
   }
 }
 
-void SweepAndPrune::handleEscapers() {
+SweepAndPrune::Sorted SweepAndPrune::handleEscapers() {
   // Removed proxies may still be listed: drop them.
   std::size_t w = 0;
   for (ProxyId id : escapers_) {
@@ -433,26 +436,26 @@ void SweepAndPrune::handleEscapers() {
   stats_.escaped = static_cast<int>(w);
   if (lead_ <= 0.0) {
     // Not coasting: moveProxy gave the arrays the new bounds. Try coasting again when due.
-    if (!moved_) return;
+    if (!moved_) return Sorted::kNothing;
     if (config_.coast_updates > 0.0 && updates_ >= retry_at_) {
       lead_ = config_.coast_updates;
       judge_next_ = false;  // the run starts here
     } else {
       resort(false, true);
-      return;
+      return Sorted::kAll;
     }
   } else {
     // A run lasts at most 4 coast_updates updates: then everybody is enlarged again, with
     // leads measured anew (stale ones only cost tests), and the run is judged.
     const bool run_over = updates_ - last_global_ >= 4.0 * config_.coast_updates;
-    if (w == 0 && !run_over) return;
+    if (w == 0 && !run_over) return Sorted::kNothing;
     // A few: move their endpoints alone (a pass over the arrays costs more). The arrays must
     // be in order for that.
     const std::size_t few = 1 + static_cast<std::size_t>(live_count_) / 32;
     if (w > 0 && w <= few && !anyStale() && !run_over) {
       validateFlags();
       moveEscapers();
-      return;
+      return Sorted::kFew;
     }
   }
   // Many: everybody gets new enlarged bounds now, so that they leave them together again.
@@ -469,6 +472,7 @@ void SweepAndPrune::handleEscapers() {
   judge_next_ = true;
   run_work_ = work;
   last_global_ = updates_;
+  return Sorted::kAll;
 }
 
 double SweepAndPrune::rebuildWork(double axes_sorted, double pairs) const {

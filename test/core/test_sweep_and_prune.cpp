@@ -133,6 +133,24 @@ class Harness {
     }
     std::sort(brute.begin(), brute.end());
 
+    // The candidates are exactly the pairs of enlarged bounds that overlap (brute force over
+    // enlargedBounds(): closed intervals on the values the structure's keys stand for).
+    {
+      std::vector<PairCode> fat;
+      for (std::size_t i = 0; i < live_.size(); ++i) {
+        const Aabb ei = sap_.enlargedBounds(objs_[live_[i]].proxy);
+        for (std::size_t j = i + 1; j < live_.size(); ++j) {
+          if (bruteOverlap(ei, sap_.enlargedBounds(objs_[live_[j]].proxy)))
+            fat.push_back(pairCode(live_[i], live_[j]));
+        }
+      }
+      std::sort(fat.begin(), fat.end());
+      std::vector<PairCode> cands = mapPairs(sap_.candidatePairs(), proxy_to_obj_, "candidatePairs()");
+      if (::testing::Test::HasFatalFailure()) return;
+      ASSERT_TRUE(minus(fat, cands).empty()) << describe(minus(fat, cands), "candidates missing");
+      ASSERT_TRUE(minus(cands, fat).empty()) << describe(minus(cands, fat), "stale candidates");
+    }
+
     // Reported pairs, mapped to object ids: ordered, live, no duplicates.
     std::vector<PairCode> reported = mapPairs(sap_.pairs(), proxy_to_obj_, "pairs()");
     if (::testing::Test::HasFatalFailure()) return;
