@@ -140,7 +140,7 @@ class Harness {
       for (std::size_t i = 0; i < live_.size(); ++i) {
         const Aabb ei = sap_.enlargedBounds(objs_[live_[i]].proxy);
         for (std::size_t j = i + 1; j < live_.size(); ++j) {
-          if (bruteOverlap(ei, sap_.enlargedBounds(objs_[live_[j]].proxy)))
+          if (oracle::readBackOverlap(ei, sap_.enlargedBounds(objs_[live_[j]].proxy)))
             fat.push_back(pairCode(live_[i], live_[j]));
         }
       }

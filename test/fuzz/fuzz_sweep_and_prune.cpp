@@ -232,7 +232,7 @@ class Harness {
       fail("proxyCount() differs from the live proxies",
            std::to_string(sap_.proxyCount()) + " vs " + std::to_string(proxies_.size()));
     }
-    std::map<ProxyId, wp::Aabb> stored;
+    std::map<ProxyId, wp::Aabb> stored, enlarged;
     for (const auto& kv : proxies_) {
       const wp::Aabb s = sap_.storedBounds(kv.first);
       const wp::Aabb& g = kv.second.bounds;
@@ -251,6 +251,7 @@ class Harness {
         }
       }
       stored[kv.first] = s;
+      enlarged[kv.first] = e;
     }
 
     // The structure's pairs, each once, ordered, naming live proxies, known to hasPair().
@@ -264,6 +265,24 @@ class Harness {
       if (!actual.insert(key).second) fail("pair listed twice", str(key));
       if (!sap_.hasPair(p.proxy_b, p.proxy_a) || !sap_.hasPair(p.proxy_a, p.proxy_b)) {
         fail("hasPair() does not know a listed pair", str(key));
+      }
+    }
+
+    // The candidates: exactly the pairs whose enlarged bounds overlap (closed intervals on the
+    // values the keys stand for), each once.
+    std::set<Pair> candidates;
+    for (const wp::BroadPair& p : sap_.candidatePairs()) {
+      const Pair key{std::min(p.proxy_a, p.proxy_b), std::max(p.proxy_a, p.proxy_b)};
+      if (!candidates.insert(key).second) fail("candidate listed twice", str(key));
+    }
+    for (auto i = proxies_.begin(); i != proxies_.end(); ++i) {
+      for (auto j = std::next(i); j != proxies_.end(); ++j) {
+        const Pair key{i->first, j->first};
+        const bool fat = oracle::readBackOverlap(enlarged[i->first], enlarged[j->first]);
+        if (fat != (candidates.count(key) != 0)) {
+          fail(fat ? "candidate missing" : "stale candidate",
+               str(key) + " enlarged " + str(enlarged[i->first]) + " " + str(enlarged[j->first]));
+        }
       }
     }
 

@@ -29,6 +29,20 @@ inline bool aabbOverlap(const workspace_proximity::Aabb& a, const workspace_prox
   return true;
 }
 
+/// The same for bounds read back from a SweepAndPrune (storedBounds(), enlargedBounds()): an
+/// upper bound read back as -0.0 stands for a key just below zero (the upper-tagged key of the
+/// smallest negative number), so it does not reach a lower bound at +0.0.
+inline bool readBackOverlap(const workspace_proximity::Aabb& a, const workspace_proximity::Aabb& b) {
+  auto reaches = [](double lower, double upper) {
+    if (lower == 0.0 && upper == 0.0) return !std::signbit(upper) || std::signbit(lower);
+    return lower <= upper;
+  };
+  for (int k = 0; k < 3; ++k) {
+    if (!reaches(a.lower[k], b.upper[k]) || !reaches(b.lower[k], a.upper[k])) return false;
+  }
+  return true;
+}
+
 // ------------------------------------------------------------------------------------------
 // Motion: pose at time t under constant linear and world-frame angular velocity, written out
 // with Rodrigues' formula, independently of BodyMotion::poseAt.
