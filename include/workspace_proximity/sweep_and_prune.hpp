@@ -25,21 +25,19 @@
 /// Coasting (enlarged bounds, a neighbour list in molecular dynamics' terms): the arrays hold
 /// each proxy's bounds enlarged ahead of its motion, so the pairs they give are candidates, and
 /// pairs() are the candidates whose given bounds overlap, tested every update (one scan of the
-/// candidates). An update in which no proxy left its enlarged bounds sorts nothing. When a few
-/// proxies left them, only their endpoints move in the arrays; when many did, every proxy is
+/// candidates; none while no proxy is enlarged). An update in which no proxy left its enlarged
+/// bounds sorts nothing. When up to 1 + n / 32 proxies left them, only their endpoints move in
+/// the arrays; when more did, or after a run of 4 coast_updates updates, every proxy is
 /// enlarged again at once and the arrays are re-sorted or rebuilt as above, so a steady motion
-/// costs one re-sort every few updates instead of one per update. The lead ahead of a moving
-/// side is SweepAndPruneConfig::coast_updates updates of that side's own displacement per
-/// update since its last enlargement (behind it, one update's), capped at
-/// max_lead_fraction of the box's largest extent. Up to 1 + n / 32 proxies leave their bounds
-/// alone; more make everybody enlarged again, and so does a run of 4 coast_updates updates
-/// (leads measured anew; a resting body's shrink to nothing). Each time everybody is enlarged
-/// again, the run
-/// of updates since the last time is judged with a cost model (work units counted from the
-/// candidates scanned, swaps, searches and rebuilds) against what the same updates would have
-/// cost without coasting (estimated from the swaps of the jump); when coasting cost more
-/// (large motion, dense small scenes), it switches itself off for 64 updates, twice as long
-/// after each failure in a row (up to 4 096), then tries again.
+/// costs one re-sort every few updates instead of one per update. The lead ahead of a side
+/// that moved outward is SweepAndPruneConfig::coast_updates updates of that side's own
+/// displacement per update since its last enlargement, capped at max_lead_fraction of the
+/// box's largest extent; a side that moved inward gets one update's, a resting side none. Each
+/// time everybody is enlarged again, the run of updates since the last time is judged with a
+/// cost model (work units counted from the candidates scanned, swaps, searches and rebuilds)
+/// against what the same updates would have cost without coasting (estimated from the swaps of
+/// the jump); when coasting cost more (large motion, dense scenes), it switches itself off for
+/// 64 updates, twice as long after each failure in a row (up to 4 096), then tries again.
 
 #include <cstdint>
 #include <vector>
