@@ -565,40 +565,34 @@ std::size_t SweepAndPrune::findEndpoint(int axis, std::uint64_t key, std::uint32
 
 std::size_t SweepAndPrune::relocateEndpoint(int axis, std::size_t i, std::uint64_t k) {
   // Moves one endpoint to its new key, down or up. Passing an endpoint of the other kind
-  // changes whether the two overlap on this axis: a pair is added when the final keys overlap
-  // on every axis and removed when they do not (so no pair both ends and begins).
+  // changes whether the two overlap on this axis: they start to when p's lower moves below or
+  // p's upper moves above the other's, and stop in the other two cases. A pair is added or
+  // removed by the final keys on every axis (so no pair both ends and begins).
   std::uint64_t* key = keys_[axis].data();
   std::uint32_t* owner = owners_[axis].data();
   const std::uint32_t o = owner[i];
   const std::uint32_t o_upper = o & 1u;
   const std::int32_t p = static_cast<std::int32_t>(o >> 1);
+  auto pass = [&](std::uint32_t o2, bool starts) {
+    if ((o2 & 1u) == o_upper) return;
+    const std::int32_t q = static_cast<std::int32_t>(o2 >> 1);
+    if (starts) {
+      if (overlapsAcross(p, q, axis)) beginPair(p, q);
+    } else if (!overlapsAcross(p, q, axis)) {
+      endPair(p, q);
+    }
+  };
   std::size_t j = i;
   while (key[j - 1] > k) {  // the low sentinel (key 0) stops this
-    const std::uint32_t o2 = owner[j - 1];
-    if ((o2 & 1u) != o_upper) {
-      const std::int32_t q = static_cast<std::int32_t>(o2 >> 1);
-      if (o_upper == 0u) {
-        if (overlapsAcross(p, q, axis)) beginPair(p, q);
-      } else if (!overlapsAcross(p, q, axis)) {
-        endPair(p, q);
-      }
-    }
+    pass(owner[j - 1], o_upper == 0u);
     key[j] = key[j - 1];
-    owner[j] = o2;
+    owner[j] = owner[j - 1];
     --j;
   }
   while (key[j + 1] < k) {  // the high sentinel (all ones) stops this
-    const std::uint32_t o2 = owner[j + 1];
-    if ((o2 & 1u) != o_upper) {
-      const std::int32_t q = static_cast<std::int32_t>(o2 >> 1);
-      if (o_upper != 0u) {
-        if (overlapsAcross(p, q, axis)) beginPair(p, q);
-      } else if (!overlapsAcross(p, q, axis)) {
-        endPair(p, q);
-      }
-    }
+    pass(owner[j + 1], o_upper != 0u);
     key[j] = key[j + 1];
-    owner[j] = o2;
+    owner[j] = owner[j + 1];
     ++j;
   }
   key[j] = k;
@@ -701,10 +695,7 @@ void SweepAndPrune::keepHeadroom() {
   // Every list holds candidates of this update or the last: with the table's capacity they
   // never grow unless the table does.
   const std::size_t cap = cands_.capacity();
-  for (std::vector<Candidate>* v : {&cand_began_, &cand_ended_}) {
-    if (v->capacity() < cap) v->reserve(cap);
-  }
-  for (std::vector<BroadPair>* v : {&exact_, &began_, &ended_}) {
+  for (std::vector<BroadPair>* v : {&cand_began_, &cand_ended_, &exact_, &began_, &ended_}) {
     if (v->capacity() < cap) v->reserve(cap);
   }
 }
