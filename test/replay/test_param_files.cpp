@@ -3,7 +3,8 @@
 //   every slider is a live row (or a live label setting in the default_, person_ or robot_
 //   group) with the row's default, min and max, and every live row has its slider;
 // - config/*.yaml, loaded as the replay loads them: no unknown key, valid, and
-//   config/proximity_monitor.yaml lists every plain row (not a structure) at its default;
+//   config/proximity_monitor.yaml lists every plain row (not a structure) at its default,
+//   with the row's range where a comment gives one ("(0.1 .. 1000)");
 // - the docs' parameter tables (docs/node.md and docs/ssm.md, or README.md before the docs
 //   split): every row documented, no row documented that is not one, and each default and
 //   "(<min> to <max>)" range given there equal to the row's.
@@ -322,6 +323,29 @@ TEST(ParamFiles, TheConfigFilesUseKnownKeysAndTheDefaultFileEveryDefault) {
       case wp::ParamType::kStructure: break;
     }
     EXPECT_TRUE(same) << file << ": ~" << row.name << " is not its default";
+  }
+  // A range in a line's comment, "(<min> .. <max>)", is the row's.
+  std::istringstream text(readFile(file));
+  std::string ns;  // the namespace of indented keys ("ssm/")
+  for (std::string line; std::getline(text, line);) {
+    const std::size_t colon = line.find(':');
+    const std::size_t hash = line.find('#');
+    if (line.empty() || line[0] == '#' || colon == std::string::npos || hash < colon) continue;
+    const std::string key = trim(line.substr(0, colon));
+    if (line[0] != ' ') ns = trim(line.substr(colon + 1, hash - colon - 1)).empty() ? key + "/" : "";
+    const std::string name = line[0] == ' ' ? ns + key : key;
+    const std::size_t dots = hash == std::string::npos ? hash : line.find(" .. ", hash);
+    if (dots == std::string::npos) continue;
+    std::string range = line.substr(line.rfind('(', dots) + 1);
+    range = range.substr(0, range.find(')'));
+    double lo = 0.0, hi = 0.0;
+    const std::size_t sep = range.find(" .. ");
+    ASSERT_TRUE(parseNumber(range.substr(0, sep), &lo) && parseNumber(range.substr(sep + 4), &hi))
+        << file << ": " << line;
+    const wp::ParamRow* row = wp::findParam(name);
+    ASSERT_NE(row, nullptr) << file << ": " << line;
+    EXPECT_EQ(lo, row->min) << file << ": " << line;
+    EXPECT_EQ(hi, row->max) << file << ": " << line;
   }
   // The default label as the struct has it.
   const wp::LabelSettings label;
