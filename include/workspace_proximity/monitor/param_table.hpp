@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -102,9 +103,11 @@ struct ParamMember {
     m.copy = c;
     return m;
   }
-  /// Any other member (robot_bodies, labels, robot_thresholds): copied only.
+  /// Any other member (robot_bodies, labels, robot_thresholds): copied only, and read and
+  /// checked by their own code.
   template <typename T>
   constexpr static ParamMember of(T& (*)(MonitorParams&), Copy c) {
+    static_assert(!std::is_arithmetic<T>::value, "a number of the table is a double or an int");
     ParamMember m;
     m.copy = c;
     return m;
