@@ -50,21 +50,11 @@ void Monitor::ingest(int source, Stamp stamp, const Eigen::Isometry3d& fixed_fro
 }
 
 void Monitor::setParams(const MonitorParams& params) {
-  const MonitorParams structure = params_;
-  params_ = params;
-  params_.fixed_frame = structure.fixed_frame;
-  params_.input_topics = structure.input_topics;
-  params_.use_robot_description = structure.use_robot_description;
-  params_.robot_description_param = structure.robot_description_param;
-  params_.robot_bodies = structure.robot_bodies;
-  params_.cycle_trigger = structure.cycle_trigger;
-  params_.trigger_source = structure.trigger_source;
-  // The SSM outputs are wired at start-up: on or off, and where they go.
-  params_.ssm.enabled = structure.ssm.enabled;
-  params_.ssm.stop_trajectory_topics = structure.ssm.stop_trajectory_topics;
-  params_.ssm.stop_event_topics = structure.ssm.stop_event_topics;
-  params_.ssm.cmd_vel_in = structure.ssm.cmd_vel_in;
-  params_.ssm.cmd_vel_out = structure.ssm.cmd_vel_out;
+  // The rules change; the wiring (frames, topics, the robot's bodies, the SSM's outputs: the
+  // kWiring rows of param_table.hpp) stays as the monitor was built.
+  MonitorParams next = params;
+  keepWiring(params_, &next);
+  params_ = std::move(next);
   labels_ = LabelTable(params_);
   tracks_.refreshSettings(params_.max_tracks);
   robot_.setMargin(params_.robot_margin);

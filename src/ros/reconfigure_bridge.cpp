@@ -1,77 +1,100 @@
 #include "workspace_proximity/ros/reconfigure_bridge.hpp"
 
+#include <algorithm>
+#include <stdexcept>
+
+#include <boost/pointer_cast.hpp>
+
+#include "workspace_proximity/monitor/param_table.hpp"
+
 namespace workspace_proximity {
 namespace {
 
 using Config = ProximityMonitorConfig;
 
-// The config's scalars and the parameters they set, one table for both directions.
-struct ScalarField {
-  double Config::*config;
-  double MonitorParams::*param;
-};
-constexpr ScalarField kScalars[] = {
-    {&Config::rate, &MonitorParams::rate},
-    {&Config::horizon, &MonitorParams::horizon},
-    {&Config::track_timeout, &MonitorParams::track_timeout},
-    {&Config::stale_after, &MonitorParams::stale_after},
-    {&Config::source_timeout, &MonitorParams::source_timeout},
-    {&Config::robot_margin, &MonitorParams::robot_margin},
-    {&Config::marker_rate, &MonitorParams::marker_rate},
-    {&Config::marker_lifetime, &MonitorParams::marker_lifetime},
-};
-struct SsmField {
-  double Config::*config;
-  double SsmParams::*param;
-};
-constexpr SsmField kSsmScalars[] = {
-    {&Config::ssm_reaction_time, &SsmParams::reaction_time},
-    {&Config::ssm_stopping_time, &SsmParams::stopping_time},
-    {&Config::ssm_intrusion_distance, &SsmParams::intrusion_distance},
-    {&Config::ssm_sensor_uncertainty, &SsmParams::sensor_uncertainty},
-    {&Config::ssm_robot_uncertainty, &SsmParams::robot_uncertainty},
-    {&Config::ssm_robot_max_speed, &SsmParams::robot_max_speed},
-    {&Config::ssm_max_increase_rate, &SsmParams::max_increase_rate},
-    {&Config::ssm_hold_time, &SsmParams::hold_time},
-    {&Config::ssm_degraded_scale, &SsmParams::degraded_scale},
-};
-
-// A label group of the config: each slider and the label setting it tunes. The robot's group
-// has no margin (that is robot_margin), no approach speed and no growth (it is no track).
-struct LabelField {
-  double Config::*config;
-  double LabelSettings::*setting;
-};
-#define WP_LABEL_FIELD(group, name) {&Config::group##_##name, &LabelSettings::name}
-#define WP_TRACK_LABEL_FIELDS(group)                                                       \
-  WP_LABEL_FIELD(group, margin), WP_LABEL_FIELD(group, warning_time),                      \
-      WP_LABEL_FIELD(group, critical_time), WP_LABEL_FIELD(group, warning_distance),       \
-      WP_LABEL_FIELD(group, critical_distance), WP_LABEL_FIELD(group, ssm_min_speed),      \
-      WP_LABEL_FIELD(group, position_error), WP_LABEL_FIELD(group, velocity_error),        \
-      WP_LABEL_FIELD(group, max_accel), WP_LABEL_FIELD(group, max_speed)
-constexpr LabelField kDefaultLabel[] = {WP_TRACK_LABEL_FIELDS(default)};
-constexpr LabelField kPersonLabel[] = {WP_TRACK_LABEL_FIELDS(person)};
-constexpr LabelField kRobotThresholds[] = {
-    WP_LABEL_FIELD(robot, warning_time), WP_LABEL_FIELD(robot, critical_time),
-    WP_LABEL_FIELD(robot, warning_distance), WP_LABEL_FIELD(robot, critical_distance)};
-#undef WP_TRACK_LABEL_FIELDS
-#undef WP_LABEL_FIELD
-
-template <std::size_t N>
-void put(const LabelSettings& l, const LabelField (&fields)[N], Config* c) {
-  for (const LabelField& f : fields) c->*f.config = l.*f.setting;
+// The config's field for the slider `name` (cfg/ProximityMonitor.cfg), of type T.
+template <typename T>
+T Config::*sliderField(const std::string& name, const std::string& parameter) {
+  for (const Config::AbstractParamDescriptionConstPtr& d : Config::__getParamDescriptions__()) {
+    if (d->name != name) continue;
+    if (auto typed = boost::dynamic_pointer_cast<const Config::ParamDescription<T>>(d)) {
+      return typed->field;
+    }
+    break;
+  }
+  throw std::logic_error("cfg/ProximityMonitor.cfg has no slider '" + name + "' of the right type for ~" +
+                         parameter + " (a live row of param_table.cpp)");
 }
 
-template <std::size_t N>
-LabelSettings get(const Config& c, const LabelField (&fields)[N], LabelSettings l) {
-  for (const LabelField& f : fields) l.*f.setting = c.*f.config;
+// A live row of the table and its slider, named as the row with '/' as '_' (ssm_hold_time).
+struct Slider {
+  const ParamRow* row;
+  double Config::*number = nullptr;  // for a number
+  bool Config::*flag = nullptr;      // for a bool
+};
+// A live label setting and its slider in a label's group (person_margin).
+struct LabelSlider {
+  const LabelRow* row;
+  double Config::*field;
+};
+struct Sliders {
+  std::vector<Slider> params;
+  // The label groups of the config: the default label, the person label and the robot's
+  // thresholds (no margin, approach speed or growth: track_only settings are not its).
+  std::vector<LabelSlider> default_label;
+  std::vector<LabelSlider> person_label;
+  std::vector<LabelSlider> robot_thresholds;
+};
+
+// The sliders of the group `group` (default_margin, ...) for the settings under `prefix`.
+std::vector<LabelSlider> labelSliders(const std::string& group, const std::string& prefix,
+                                      bool track_label) {
+  std::vector<LabelSlider> out;
+  for (const LabelRow& row : labelTable()) {
+    if (row.tuning != Tuning::kLive || (row.track_only && !track_label)) continue;
+    out.push_back({&row, sliderField<double>(group + "_" + row.key, prefix + row.key)});
+  }
+  return out;
+}
+
+// Every live row bound to its slider, once (throws std::logic_error when the .cfg lacks one,
+// which test_param_files rules out).
+const Sliders& sliders() {
+  static const Sliders bound = [] {
+    Sliders s;
+    for (const ParamRow& row : paramTable()) {
+      if (row.tuning != Tuning::kLive || row.member.type == ParamType::kStructure) continue;
+      std::string name = row.name;
+      std::replace(name.begin(), name.end(), '/', '_');
+      Slider slider{&row};
+      if (row.member.type == ParamType::kBool) {
+        slider.flag = sliderField<bool>(name, row.name);
+      } else {
+        slider.number = sliderField<double>(name, row.name);
+      }
+      s.params.push_back(slider);
+    }
+    s.default_label = labelSliders("default", "labels/default/", true);
+    s.person_label = labelSliders("person", "labels/person/", true);
+    s.robot_thresholds = labelSliders("robot", "robot_thresholds/", false);
+    return s;
+  }();
+  return bound;
+}
+
+void put(const LabelSettings& l, const std::vector<LabelSlider>& sliders, Config* c) {
+  for (const LabelSlider& s : sliders) c->*s.field = l.*s.row->member;
+}
+
+LabelSettings get(const Config& c, const std::vector<LabelSlider>& sliders, LabelSettings l) {
+  for (const LabelSlider& s : sliders) l.*s.row->member = c.*s.field;
   return l;
 }
 
 // Equal in every setting the sliders tune.
 bool sameSettings(const LabelSettings& a, const LabelSettings& b) {
-  for (const LabelField& f : kDefaultLabel) {
-    if (a.*f.setting != b.*f.setting) return false;
+  for (const LabelSlider& s : sliders().default_label) {
+    if (a.*s.row->member != b.*s.row->member) return false;
   }
   return true;
 }
@@ -79,25 +102,36 @@ bool sameSettings(const LabelSettings& a, const LabelSettings& b) {
 }  // namespace
 
 ProximityMonitorConfig toConfig(const MonitorParams& p) {
+  const Sliders& all = sliders();
   Config c = Config::__getDefault__();
-  for (const ScalarField& f : kScalars) c.*f.config = p.*f.param;
-  for (const SsmField& f : kSsmScalars) c.*f.config = p.ssm.*f.param;
-  put(p.label("default"), kDefaultLabel, &c);
-  put(p.label("person"), kPersonLabel, &c);  // the default's when not listed
-  put(p.robot_thresholds, kRobotThresholds, &c);
-  c.publish_markers = p.publish_markers;
+  MonitorParams& q = const_cast<MonitorParams&>(p);  // the row accessors only read here
+  for (const Slider& s : all.params) {
+    if (s.flag != nullptr) {
+      c.*s.flag = s.row->member.flag(q);
+    } else {
+      c.*s.number = s.row->member.number(q);
+    }
+  }
+  put(p.label("default"), all.default_label, &c);
+  put(p.label("person"), all.person_label, &c);  // the default's when not listed
+  put(p.robot_thresholds, all.robot_thresholds, &c);
   return c;
 }
 
 MonitorParams applyConfig(MonitorParams p, const ProximityMonitorConfig& c) {
-  for (const ScalarField& f : kScalars) p.*f.param = c.*f.config;
-  for (const SsmField& f : kSsmScalars) p.ssm.*f.param = c.*f.config;
+  const Sliders& all = sliders();
+  for (const Slider& s : all.params) {
+    if (s.flag != nullptr) {
+      s.row->member.flag(p) = c.*s.flag;
+    } else {
+      s.row->member.number(p) = c.*s.number;
+    }
+  }
   LabelSettings& d = p.labels["default"];
-  d = get(c, kDefaultLabel, d);
-  const LabelSettings person = get(c, kPersonLabel, d);
+  d = get(c, all.default_label, d);
+  const LabelSettings person = get(c, all.person_label, d);
   if (p.labels.count("person") != 0 || !sameSettings(person, d)) p.labels["person"] = person;
-  p.robot_thresholds = get(c, kRobotThresholds, p.robot_thresholds);
-  p.publish_markers = c.publish_markers;
+  p.robot_thresholds = get(c, all.robot_thresholds, p.robot_thresholds);
   return p;
 }
 

@@ -6,6 +6,8 @@
 #include <XmlRpcValue.h>
 #include <workspace_proximity/ProximityMonitorConfig.h>
 
+#include "workspace_proximity/monitor/param_table.hpp"
+
 namespace workspace_proximity {
 namespace {
 
@@ -38,40 +40,22 @@ XmlRpcValue* member(const XmlRpcValue& root, const std::string& name) {
   return &root[name];  // XmlRpcValue's struct operator[] is const and returns a reference
 }
 
-// Each reader looks `name` up in `root`; errors name the parameter as `where` + `name` (where:
-// the namespace inside the node's, e.g. "ssm/").
-void readDouble(const XmlRpcValue& root, const std::string& name, double* out,
-                const std::string& where = "") {
-  if (const XmlRpcValue* v = member(root, name)) *out = toDouble(*v, where + name);
+// The value of `name` ("horizon", "ssm/hold_time") under `root`, or null when it is not set. A
+// namespace on the way that is not a dictionary is refused ("~ssm: must be a dictionary").
+const XmlRpcValue* lookup(const XmlRpcValue& root, const std::string& name) {
+  const XmlRpcValue* at = &root;
+  std::size_t from = 0;
+  for (std::size_t slash = name.find('/'); slash != std::string::npos;
+       from = slash + 1, slash = name.find('/', from)) {
+    at = member(*at, name.substr(from, slash - from));
+    if (at == nullptr) return nullptr;
+    if (at->getType() != XmlRpcValue::TypeStruct) fail(name.substr(0, slash), "must be a dictionary");
+  }
+  return member(*at, name.substr(from));
 }
 
-void readBool(const XmlRpcValue& root, const std::string& name, bool* out,
-              const std::string& where = "") {
-  XmlRpcValue* v = member(root, name);
-  if (v == nullptr) return;
-  if (v->getType() != XmlRpcValue::TypeBoolean) fail(where + name, "must be true or false");
-  *out = static_cast<bool>(*v);
-}
-
-void readString(const XmlRpcValue& root, const std::string& name, std::string* out,
-                const std::string& where = "") {
-  if (const XmlRpcValue* v = member(root, name)) *out = toString(*v, where + name);
-}
-
-void readStringList(const XmlRpcValue& root, const std::string& name,
-                    std::vector<std::string>* out, const std::string& where = "") {
-  const XmlRpcValue* v = member(root, name);
-  if (v == nullptr) return;
-  if (v->getType() != XmlRpcValue::TypeArray) fail(where + name, "must be a list of strings");
-  out->clear();
-  for (int i = 0; i < v->size(); ++i) out->push_back(toString((*v)[i], where + name));
-}
-
-void readPairs(const XmlRpcValue& root, const std::string& name,
+void readPairs(const XmlRpcValue& v, const std::string& name,
                std::vector<std::pair<std::string, std::string>>* out) {
-  const XmlRpcValue* p = member(root, name);
-  if (p == nullptr) return;
-  const XmlRpcValue& v = *p;
   if (v.getType() != XmlRpcValue::TypeArray) fail(name, "must be a list of [selector, selector]");
   for (int i = 0; i < v.size(); ++i) {
     if (v[i].getType() != XmlRpcValue::TypeArray || v[i].size() != 2) {
@@ -79,6 +63,18 @@ void readPairs(const XmlRpcValue& root, const std::string& name,
     }
     out->emplace_back(toString(v[i][0], name), toString(v[i][1], name));
   }
+}
+
+// "unknown setting (margin, warning_time, ...)": the settings a label (`track_label`) or the
+// robot's thresholds have, as labelTable() lists them.
+std::string unknownSetting(bool track_label) {
+  std::string keys;
+  for (const LabelRow& row : labelTable()) {
+    if (row.track_only && !track_label) continue;
+    keys += (keys.empty() ? "" : ", ") + std::string(row.key);
+  }
+  if (!track_label) keys += "; the robot's margin is ~robot_margin";
+  return "unknown setting (" + keys + ")";
 }
 
 // A label's settings (`track_label`), or the robot's thresholds: the robot has no margin
@@ -89,24 +85,11 @@ LabelSettings readLabel(const XmlRpcValue& v, const std::string& name, LabelSett
   for (auto it = v.begin(); it != v.end(); ++it) {
     const std::string key = it->first;
     const double value = toDouble(it->second, name + "/" + key);
-    if (key == "warning_time") l.warning_time = value;
-    else if (key == "critical_time") l.critical_time = value;
-    else if (key == "warning_distance") l.warning_distance = value;
-    else if (key == "critical_distance") l.critical_distance = value;
-    else if (track_label && key == "margin") l.margin = value;
-    else if (track_label && key == "position_error") l.position_error = value;
-    else if (track_label && key == "velocity_error") l.velocity_error = value;
-    else if (track_label && key == "max_accel") l.max_accel = value;
-    else if (track_label && key == "max_speed") l.max_speed = value;
-    else if (track_label && key == "ssm_min_speed") l.ssm_min_speed = value;
-    else if (track_label) {
-      fail(name + "/" + key, "unknown setting (margin, warning_time, critical_time, "
-                             "warning_distance, critical_distance, position_error, "
-                             "velocity_error, max_accel, max_speed, ssm_min_speed)");
-    } else {
-      fail(name + "/" + key, "unknown setting (warning_time, critical_time, warning_distance, "
-                             "critical_distance; the robot's margin is ~robot_margin)");
+    const LabelRow* row = findLabelSetting(key);
+    if (row == nullptr || (row->track_only && !track_label)) {
+      fail(name + "/" + key, unknownSetting(track_label));
     }
+    l.*row->member = value;
   }
   return l;
 }
@@ -137,45 +120,70 @@ RobotBodySpec readRobotBody(const XmlRpcValue& v, const std::string& name) {
   return b;
 }
 
-// ~ssm/: speed and separation monitoring.
-SsmParams readSsm(const XmlRpcValue& v) {
-  SsmParams s;
-  if (v.getType() != XmlRpcValue::TypeStruct) fail("ssm", "must be a dictionary");
-  readBool(v, "enabled", &s.enabled, "ssm/");
-  readStringList(v, "labels", &s.labels, "ssm/");
-  readDouble(v, "reaction_time", &s.reaction_time, "ssm/");
-  readDouble(v, "stopping_time", &s.stopping_time, "ssm/");
-  readDouble(v, "intrusion_distance", &s.intrusion_distance, "ssm/");
-  readDouble(v, "sensor_uncertainty", &s.sensor_uncertainty, "ssm/");
-  readDouble(v, "robot_uncertainty", &s.robot_uncertainty, "ssm/");
-  readDouble(v, "robot_max_speed", &s.robot_max_speed, "ssm/");
-  readDouble(v, "max_increase_rate", &s.max_increase_rate, "ssm/");
-  readDouble(v, "hold_time", &s.hold_time, "ssm/");
-  readDouble(v, "degraded_scale", &s.degraded_scale, "ssm/");
-  readStringList(v, "stop_trajectory_topics", &s.stop_trajectory_topics, "ssm/");
-  readStringList(v, "stop_event_topics", &s.stop_event_topics, "ssm/");
-  readString(v, "cmd_vel_in", &s.cmd_vel_in, "ssm/");
-  readString(v, "cmd_vel_out", &s.cmd_vel_out, "ssm/");
-  return s;
+// ~labels: "default" first, so that the other labels inherit from it.
+void readLabels(const XmlRpcValue& v, MonitorParams* p) {
+  if (v.getType() != XmlRpcValue::TypeStruct) fail("labels", "must be a dictionary of labels");
+  if (v.hasMember("default")) {
+    p->labels["default"] = readLabel(v["default"], "labels/default", LabelSettings());
+  }
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    if (it->first == "default") continue;
+    p->labels[it->first] = readLabel(it->second, "labels/" + it->first, p->labels["default"]);
+  }
 }
 
-// Every key the node reads at the top of its namespace.
-const char* const kNodeKeys[] = {
-    "fixed_frame", "rate", "horizon", "track_timeout", "input_topics", "stale_after",
-    "cycle_trigger", "trigger_source", "ssm",
-    "source_timeout", "max_future", "max_tracks", "use_robot_description",
-    "robot_description_param", "require_all_links", "robot_margin", "velocity_window", "tf_timeout",
-    "use_joint_states", "trajectory_topic", "trajectory_tolerance", "joint_path_tolerance", "ignore_pairs",
-    "check_pairs", "publish_markers", "marker_lifetime", "marker_rate", "robot_bodies", "labels",
-    "robot_thresholds",
-    // Read by libraries the node uses: diagnostic_updater's period.
-    "diagnostic_period"};
+void readRobotBodies(const XmlRpcValue& v, MonitorParams* p) {
+  if (v.getType() != XmlRpcValue::TypeArray) fail("robot_bodies", "must be a list");
+  for (int i = 0; i < v.size(); ++i) {
+    p->robot_bodies.push_back(readRobotBody(v[i], "robot_bodies[" + std::to_string(i) + "]"));
+  }
+}
+
+// One row's value `v` into `p`, by the row's type.
+void readRow(const ParamRow& row, const XmlRpcValue& v, MonitorParams* p) {
+  const std::string name = row.name;
+  switch (row.member.type) {
+    case ParamType::kNumber:
+      row.member.number(*p) = toDouble(v, name);
+      return;
+    case ParamType::kInteger:
+      if (v.getType() != XmlRpcValue::TypeInt) fail(name, "must be an integer");
+      row.member.integer(*p) = static_cast<int>(const_cast<XmlRpcValue&>(v));
+      return;
+    case ParamType::kBool:
+      if (v.getType() != XmlRpcValue::TypeBoolean) fail(name, "must be true or false");
+      row.member.flag(*p) = static_cast<bool>(const_cast<XmlRpcValue&>(v));
+      return;
+    case ParamType::kString:
+      row.member.text(*p) = toString(v, name);
+      return;
+    case ParamType::kStringList: {
+      if (v.getType() != XmlRpcValue::TypeArray) fail(name, "must be a list of strings");
+      std::vector<std::string>& out = row.member.names(*p);
+      out.clear();
+      for (int i = 0; i < v.size(); ++i) out.push_back(toString(v[i], name));
+      return;
+    }
+    case ParamType::kPairs:
+      readPairs(v, name, &row.member.pairs(*p));
+      return;
+    case ParamType::kStructure:
+      if (name == "labels") {
+        readLabels(v, p);
+      } else if (name == "robot_bodies") {
+        readRobotBodies(v, p);
+      } else if (name == "robot_thresholds") {
+        p->robot_thresholds = readLabel(v, name, p->robot_thresholds, false);
+      } else {
+        throw std::logic_error("~" + name + ": a structure without a reader");
+      }
+      return;
+  }
+}
+
+// Keys read by libraries the node uses (diagnostic_updater's period), beside the table's.
+const char* const kForeignKeys[] = {"diagnostic_period"};
 const char* const kRobotBodyKeys[] = {"name", "frame", "size", "offset"};
-const char* const kSsmKeys[] = {
-    "enabled", "labels", "reaction_time", "stopping_time", "intrusion_distance",
-    "sensor_uncertainty", "robot_uncertainty", "robot_max_speed", "max_increase_rate",
-    "hold_time", "degraded_scale", "stop_trajectory_topics", "stop_event_topics", "cmd_vel_in",
-    "cmd_vel_out"};
 const char* const kOffsetKeys[] = {"xyz", "rpy"};
 
 // Levenshtein distance, for "did you mean" (short strings, off the hot path).
@@ -219,13 +227,32 @@ void reportUnknown(const XmlRpcValue& dict, const std::string& where,
 
 std::vector<std::string> unknownParams(const XmlRpcValue& root) {
   std::vector<std::string> out;
-  std::vector<std::string> known(std::begin(kNodeKeys), std::end(kNodeKeys));
+  // The table's names: "horizon" at the top, "ssm/hold_time" as "ssm" at the top and
+  // "hold_time" in the namespace "ssm".
+  std::vector<std::string> known;
+  std::vector<std::pair<std::string, std::vector<std::string>>> namespaces;
+  for (const ParamRow& row : paramTable()) {
+    const std::string name = row.name;
+    const std::size_t slash = name.find('/');
+    const std::string top = name.substr(0, slash);
+    if (std::find(known.begin(), known.end(), top) == known.end()) known.push_back(top);
+    if (slash == std::string::npos) continue;
+    auto ns = std::find_if(namespaces.begin(), namespaces.end(),
+                           [&](const auto& n) { return n.first == top; });
+    if (ns == namespaces.end()) {
+      namespaces.emplace_back(top, std::vector<std::string>());
+      ns = namespaces.end() - 1;
+    }
+    ns->second.push_back(name.substr(slash + 1));
+  }
+  known.insert(known.end(), std::begin(kForeignKeys), std::end(kForeignKeys));
   // dynamic_reconfigure keeps its values beside the node's, under their own flat names.
   for (const auto& d : ProximityMonitorConfig::__getParamDescriptions__()) known.push_back(d->name);
   reportUnknown(root, "", known, &out);
-  if (const XmlRpcValue* ssm = member(root, "ssm")) {
-    reportUnknown(*ssm, "ssm/", std::vector<std::string>(std::begin(kSsmKeys), std::end(kSsmKeys)),
-                  &out);
+  for (const auto& ns : namespaces) {
+    if (const XmlRpcValue* dict = member(root, ns.first)) {
+      reportUnknown(*dict, ns.first + "/", ns.second, &out);
+    }
   }
   if (const XmlRpcValue* bodies = member(root, "robot_bodies")) {
     if (bodies->getType() == XmlRpcValue::TypeArray) {
@@ -254,56 +281,8 @@ MonitorParams readParams(const XmlRpcValue& root) {
   if (root.getType() != XmlRpcValue::TypeStruct && root.getType() != XmlRpcValue::TypeInvalid) {
     throw std::runtime_error("~: the node's parameters must be a dictionary");
   }
-  readString(root, "fixed_frame", &p.fixed_frame);
-  readDouble(root, "rate", &p.rate);
-  readDouble(root, "horizon", &p.horizon);
-  readDouble(root, "track_timeout", &p.track_timeout);
-  readStringList(root, "input_topics", &p.input_topics);
-  readDouble(root, "stale_after", &p.stale_after);
-  readDouble(root, "source_timeout", &p.source_timeout);
-  readDouble(root, "max_future", &p.max_future);
-  readString(root, "cycle_trigger", &p.cycle_trigger);
-  readString(root, "trigger_source", &p.trigger_source);
-  if (const XmlRpcValue* v = member(root, "ssm")) p.ssm = readSsm(*v);
-  if (const XmlRpcValue* max_tracks = member(root, "max_tracks")) {
-    if (max_tracks->getType() != XmlRpcValue::TypeInt) fail("max_tracks", "must be an integer");
-    p.max_tracks = static_cast<int>(const_cast<XmlRpcValue&>(*max_tracks));
-  }
-  readBool(root, "use_robot_description", &p.use_robot_description);
-  readString(root, "robot_description_param", &p.robot_description_param);
-  readBool(root, "require_all_links", &p.require_all_links);
-  readDouble(root, "robot_margin", &p.robot_margin);
-  readDouble(root, "velocity_window", &p.velocity_window);
-  readDouble(root, "tf_timeout", &p.tf_timeout);
-  readBool(root, "use_joint_states", &p.use_joint_states);
-  readString(root, "trajectory_topic", &p.trajectory_topic);
-  readDouble(root, "trajectory_tolerance", &p.trajectory_tolerance);
-  readDouble(root, "joint_path_tolerance", &p.joint_path_tolerance);
-  readPairs(root, "ignore_pairs", &p.ignore_pairs);
-  readPairs(root, "check_pairs", &p.check_pairs);
-  readBool(root, "publish_markers", &p.publish_markers);
-  readDouble(root, "marker_lifetime", &p.marker_lifetime);
-  readDouble(root, "marker_rate", &p.marker_rate);
-
-  if (const XmlRpcValue* v = member(root, "robot_bodies")) {
-    if (v->getType() != XmlRpcValue::TypeArray) fail("robot_bodies", "must be a list");
-    for (int i = 0; i < v->size(); ++i) {
-      p.robot_bodies.push_back(readRobotBody((*v)[i], "robot_bodies[" + std::to_string(i) + "]"));
-    }
-  }
-  if (const XmlRpcValue* v = member(root, "labels")) {
-    if (v->getType() != XmlRpcValue::TypeStruct) fail("labels", "must be a dictionary of labels");
-    // "default" first, so other labels inherit from it.
-    if (v->hasMember("default")) {
-      p.labels["default"] = readLabel((*v)["default"], "labels/default", LabelSettings());
-    }
-    for (auto it = v->begin(); it != v->end(); ++it) {
-      if (it->first == "default") continue;
-      p.labels[it->first] = readLabel(it->second, "labels/" + it->first, p.labels["default"]);
-    }
-  }
-  if (const XmlRpcValue* v = member(root, "robot_thresholds")) {
-    p.robot_thresholds = readLabel(*v, "robot_thresholds", p.robot_thresholds, false);
+  for (const ParamRow& row : paramTable()) {
+    if (const XmlRpcValue* v = lookup(root, row.name)) readRow(row, *v, &p);
   }
   return p;
 }

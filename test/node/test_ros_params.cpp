@@ -9,6 +9,7 @@
 #include <string>
 
 #include "params_expectations.hpp"  // test/shared
+#include "workspace_proximity/monitor/param_table.hpp"
 #include "workspace_proximity/ros/ros_params.hpp"
 
 namespace wp = workspace_proximity;
@@ -180,6 +181,50 @@ TEST(RosParams, SpeedSeparationAndTheCycleTrigger) {
   EXPECT_EQ(d.cycle_trigger, "timer");
   for (const SsmNumber& n : numbers) EXPECT_EQ(d.ssm.*n.field, n.fallback) << n.key;
   EXPECT_TRUE(wp::unknownParams(root).empty()) << ::testing::PrintToString(wp::unknownParams(root));
+}
+
+TEST(RosParams, EveryRowOfTheTableIsReadFromItsName) {
+  // Each plain row set alone at its name ("ssm/hold_time": hold_time in the dictionary ssm)
+  // to a value other than its default: the member the row names takes it, as its type reads.
+  for (const wp::ParamRow& row : wp::paramTable()) {
+    wp::MonitorParams defaults;
+    const wp::ParamMember& m = row.member;
+    XmlRpcValue value;
+    switch (m.type) {
+      case wp::ParamType::kNumber:
+        value = m.number(defaults) == row.min ? row.max : row.min;
+        break;
+      case wp::ParamType::kInteger:
+        value = static_cast<int>(m.integer(defaults) == row.min ? row.max : row.min);
+        break;
+      case wp::ParamType::kBool: value = !m.flag(defaults); break;
+      case wp::ParamType::kString: value = str("x"); break;
+      case wp::ParamType::kStringList: value = list({str("x")}); break;
+      case wp::ParamType::kPairs: value = list({list({str("*"), str("*")})}); break;
+      case wp::ParamType::kStructure: continue;
+    }
+    const std::string name = row.name;
+    const std::size_t slash = name.find('/');
+    XmlRpcValue root = dict();
+    if (slash == std::string::npos) {
+      root[name] = value;
+    } else {
+      root[name.substr(0, slash)] = with(name.substr(slash + 1).c_str(), value);
+    }
+    wp::MonitorParams p = wp::readParams(root);
+    bool changed = false;
+    switch (m.type) {
+      case wp::ParamType::kNumber: changed = m.number(p) == static_cast<double>(value); break;
+      case wp::ParamType::kInteger: changed = m.integer(p) == static_cast<int>(value); break;
+      case wp::ParamType::kBool: changed = m.flag(p) != m.flag(defaults); break;
+      case wp::ParamType::kString: changed = m.text(p) == "x"; break;
+      case wp::ParamType::kStringList: changed = m.names(p) == std::vector<std::string>{"x"}; break;
+      case wp::ParamType::kPairs: changed = m.pairs(p).size() == 1u; break;
+      case wp::ParamType::kStructure: break;
+    }
+    EXPECT_TRUE(changed) << name;
+    EXPECT_TRUE(wp::unknownParams(root).empty()) << name;
+  }
 }
 
 TEST(RosParams, LabelsInheritFromDefaultWhateverTheirOrder) {

@@ -1,7 +1,9 @@
 #pragma once
 /// Parameters of the proximity_monitor node, as a plain struct checked before anything is
 /// built. Reading them from the parameter server lives in ros_params.hpp; this file has no
-/// ROS dependency so the checks are unit-testable.
+/// ROS dependency so the checks are unit-testable. The members' initializers are the
+/// defaults; names on the parameter server, ranges, units and which can change while the node
+/// runs are the rows of param_table.hpp.
 
 #include <map>
 #include <string>
@@ -106,6 +108,11 @@ struct MonitorParams {
 /// Every problem found, one message per problem naming the parameter and the allowed range.
 /// Empty means the parameters are usable.
 std::vector<std::string> validate(const MonitorParams& params);
+
+/// `next` with the wiring of `built` (frames, topics, the robot's bodies, where the outputs
+/// go: the Tuning::kWiring rows of param_table.hpp), which a running monitor keeps while its
+/// rules change.
+void keepWiring(const MonitorParams& built, MonitorParams* next);
 
 /// Pair rules: the default (robot-robot skipped), then ignore_pairs (deny), then check_pairs
 /// (allow). Throws std::invalid_argument on a bad selector (validate() reports those too).

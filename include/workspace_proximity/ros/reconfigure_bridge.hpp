@@ -12,8 +12,10 @@
 
 namespace workspace_proximity {
 
-/// The tunable part of `params` as a config ("person" shows the default label's values when
-/// the person label is not configured).
+/// The tunable part of `params` (the Tuning::kLive rows of param_table.hpp, each a slider
+/// named as its row with '/' as '_', and the default and person labels' and the robot's
+/// settings) as a config ("person" shows the default label's values when the person label is
+/// not configured).
 ProximityMonitorConfig toConfig(const MonitorParams& params);
 
 /// `params` with the config's values. The person label is written only when it exists in
