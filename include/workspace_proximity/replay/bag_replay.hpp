@@ -1,6 +1,7 @@
 #pragma once
-/// The offline replay: a recorded bag through the node's own pipeline (MonitorPipeline), with
-/// simulated time taken from the bag. It drives the pipeline exactly as the node does:
+/// The offline replay: a recorded bag through the node's own pipeline (MonitorPipeline) and its
+/// cycle runner, with simulated time taken from the bag. It drives the pipeline exactly as the
+/// node does:
 ///   - each tracker array is handed to onArray at the time the recorder received it;
 ///   - each /tf and /tf_static message is inserted into a tf2::BufferCore at its receive time
 ///     (/tf_static as static transforms), as tf2_ros's listener inserts them;
@@ -25,6 +26,7 @@
 #include <tf2/buffer_core.h>
 #include <workspace_proximity/ContactEventArray.h>
 
+#include "workspace_proximity/monitor/cycle_runner.hpp"
 #include "workspace_proximity/monitor/monitor.hpp"
 #include "workspace_proximity/replay/bag_input.hpp"
 #include "workspace_proximity/ros/monitor_pipeline.hpp"
@@ -87,7 +89,7 @@ struct ReplayStats {
   double bagSeconds() const { return secondsBetween(begin, end); }
 };
 
-class BagReplay : private BagVisitor {
+class BagReplay : private BagVisitor, private CycleOutput {
  public:
   /// s without any message after which cycles are skipped (see above).
   static constexpr double kSkipGap = 60.0;
@@ -110,6 +112,8 @@ class BagReplay : private BagVisitor {
   void onInput(Stamp received);  // cycles due before it, the clock, the last input
   void cyclesBefore(Stamp t);  // every cycle due before t (skipping a long stretch without input)
   void runCycle(Stamp now);
+  // CycleOutput: the contacts as the node would publish them.
+  void contacts(const CycleReport& report, const ProximityWorld& world) override;
   void advanceClock(Stamp t);  // ROS time and pacing
   void checkFrames();
 
