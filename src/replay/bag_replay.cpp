@@ -17,6 +17,8 @@ BagReplay::BagReplay(const ReplaySetup& setup)
       tf_(MonitorPipeline::tfCacheTime(setup.params)),
       pipeline_(setup_.params, setup_.robot, setup_.topics, setup_.qualify, &tf_, &rejection_log_),
       period_(nanoseconds(1.0 / setup.params.rate)),
+      input_trigger_(setup.params.cycle_trigger == "input"),
+      trigger_(setup.params.rate),
       // Every timeout of the monitor has run out: tracks dropped (their pairs ended), sources
       // silent, robot links stale; a second more for good measure.
       settle_(nanoseconds(std::max({setup.params.track_timeout, setup.params.source_timeout,
@@ -26,6 +28,12 @@ BagReplay::BagReplay(const ReplaySetup& setup)
   for (const std::string& line : setup_.permanent_issues) pipeline_.addPermanentIssue(line);
   // As the node does (ProximityMonitor::enableJoints): links moved by joints from joint_states.
   joint_model_ = MonitorPipeline::jointModel(setup_.params, setup_.urdf_xml);
+  if (!setup_.params.trigger_source.empty()) {
+    const std::string wanted = resolveTopic(setup_.params.trigger_source);
+    for (std::size_t i = 0; i < setup_.topics.size(); ++i) {
+      if (setup_.topics[i] == wanted) trigger_source_ = static_cast<int>(i);
+    }
+  }
 }
 
 ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) {
@@ -81,6 +89,7 @@ ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) 
   bag->stream(this);
   // Cycles up to the last message, inclusive.
   while (next_cycle_ <= stats_.end) {
+    if (input_trigger_) trigger_.onFloor(next_cycle_);
     runCycle(next_cycle_);
     next_cycle_ += period_;
   }
@@ -134,6 +143,12 @@ void BagReplay::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp 
     array_frames_.push_back(frame);
   }
   pipeline_.onArray(source, msg, received);
+  // ~cycle_trigger: input: a cycle at the array's arrival when the bucket allows, and the
+  // floor one period after it.
+  if (input_trigger_ && source == trigger_source_ && trigger_.onArray(received)) {
+    runCycle(received);
+    next_cycle_ = trigger_.floorAfter(received);
+  }
 }
 
 void BagReplay::cyclesBefore(Stamp t) {
@@ -149,6 +164,7 @@ void BagReplay::cyclesBefore(Stamp t) {
         next_cycle_ = resume;
       }
     }
+    if (input_trigger_) trigger_.onFloor(next_cycle_);
     runCycle(next_cycle_);
     next_cycle_ += period_;
   }

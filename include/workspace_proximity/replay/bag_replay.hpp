@@ -8,6 +8,9 @@
 ///   - a cycle runs every 1 / ~rate seconds of bag time, from the bag's first message (the
 ///     first cycle one period after it); a message received exactly at a cycle's instant is
 ///     delivered before that cycle;
+///   - with ~cycle_trigger: input, a cycle runs instead at the receive time of an array of
+///     ~trigger_source when CycleTrigger's token bucket allows (at most ~rate a second), and a
+///     floor cycle one period after the last cycle when none did (the node's one-shot timer);
 ///   - each cycle's report is rendered with fillContacts, as the node publishes it;
 ///   - a stretch of more than kSkipGap seconds without any message (bags merged from two
 ///     sessions, or one message with a wrong time) is not cycled through: cycles run until
@@ -27,6 +30,7 @@
 #include <workspace_proximity/ContactEventArray.h>
 
 #include "workspace_proximity/monitor/cycle_runner.hpp"
+#include "workspace_proximity/monitor/cycle_trigger.hpp"
 #include "workspace_proximity/monitor/monitor.hpp"
 #include "workspace_proximity/replay/bag_input.hpp"
 #include "workspace_proximity/ros/monitor_pipeline.hpp"
@@ -126,7 +130,10 @@ class BagReplay : private BagVisitor, private CycleOutput {
   ReplaySink* sink_ = nullptr;
   ReplayStats stats_;
   Stamp period_ = 0;
-  Stamp next_cycle_ = 0;
+  Stamp next_cycle_ = 0;   // the next timer cycle (input trigger: the floor)
+  bool input_trigger_ = false;
+  int trigger_source_ = 0;  // index of the trigger topic
+  CycleTrigger trigger_;
   double rate_factor_ = 0.0;
   std::chrono::steady_clock::time_point wall_start_;
   Stamp last_input_ = 0;  // receive time of the last message
