@@ -82,7 +82,8 @@ JointPosingLog JointPosing::update(Stamp now, const BodyMotion* base, const std:
   if (base == nullptr) {
     // Everything the joints move rides on the root frame: nothing of it can be posed.
     for (int i : robot_index_) {
-      monitor_->markRobotUnknown(i, "root frame '" + predictor_.model().root() + "' not posed: " + root_why);
+      monitor_->markRobotUnknown(
+          i, "root frame '" + predictor_.model().root() + "' not posed: " + root_why);
     }
     return log;
   }

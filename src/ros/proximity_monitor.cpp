@@ -110,7 +110,8 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
       [this](ProximityMonitorConfig& config, std::uint32_t level) { reconfigure(config, level); });
   ROS_INFO("proximity_monitor: %d robot bodies, %zu input topics, fixed frame '%s', %.1f Hz "
            "(%s), horizon %.2f s, speed and separation monitoring %s",
-           pipeline_->monitor().robot().size(), topics.size(), params_.fixed_frame.c_str(), params_.rate,
+           pipeline_->monitor().robot().size(), topics.size(), params_.fixed_frame.c_str(),
+           params_.rate,
            input_trigger_ ? ("cycles on arrays of " + topics[trigger_source_]).c_str() : "timer",
            params_.horizon, params_.ssm.enabled ? "on" : "off");
 }
@@ -223,7 +224,8 @@ void ProximityMonitor::scheduleMarkers(const ros::Time& now) {
   if (!params_.publish_markers || markers_pub_.getNumSubscribers() == 0) return;
   if (!marker_schedule_.due(toStamp(now), params_.marker_rate, params_.rate)) return;
   marker_timer_.stop();
-  marker_timer_.setPeriod(ros::Duration(MarkerSchedule::delay(params_.rate)));  // re-arms the one-shot
+  // Re-arms the one-shot.
+  marker_timer_.setPeriod(ros::Duration(MarkerSchedule::delay(params_.rate)));
   marker_timer_.start();
 }
 

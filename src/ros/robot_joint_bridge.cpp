@@ -35,8 +35,9 @@ void RobotJointBridge::update(Stamp now) {
   const JointPredictor& predictor = posing_.predictor();
   BodyMotion base;
   std::string why, stale;
-  const bool root_ok = tf_bridge_->frameMotion(predictor.model().root(), Eigen::Isometry3d::Identity(),
-                                               now, &base, &why, &stale) &&
+  const bool root_ok = tf_bridge_->frameMotion(predictor.model().root(),
+                                               Eigen::Isometry3d::Identity(), now, &base, &why,
+                                               &stale) &&
                        base.valid();
   const JointPosingLog log = posing_.update(now, root_ok ? &base : nullptr, why, stale);
   // The first of each kind: the warnings are throttled per line, as one per body would be.

@@ -47,8 +47,10 @@ class Output : public wp::CycleOutput {
       throw std::runtime_error("publisher gone");
     }
   }
-  void rest(const wp::CycleReport& report, const wp::ProximityWorld&, const wp::CycleRun& run) override {
-    log_->push_back(std::string("rest") + (run.failed ? " failed" : "") + (run.reset ? " reset" : ""));
+  void rest(const wp::CycleReport& report, const wp::ProximityWorld&,
+            const wp::CycleRun& run) override {
+    log_->push_back(std::string("rest") + (run.failed ? " failed" : "") +
+                    (run.reset ? " reset" : ""));
     stamps.push_back(report.stamp);
   }
   bool throw_in_contacts = false;

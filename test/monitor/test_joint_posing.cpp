@@ -43,7 +43,8 @@ struct Fixture {
   // Robot bodies: 0 on the root (tf), 1 on the arm 1 m out (joints), 2 on a camera (tf).
   Fixture()
       : monitor(wp_test::marginFreeParams(2.0),
-                {onFrame("plate", "base", 0.0), onFrame("tip", "arm", 1.0), onFrame("cam", "camera", 0.0)},
+                {onFrame("plate", "base", 0.0), onFrame("tip", "arm", 1.0),
+                 onFrame("cam", "camera", 0.0)},
                 {"/boxes"}, false, nullptr),
         posing(&monitor, std::make_shared<Turntable>()) {}
   Eigen::Vector3d tip() const {

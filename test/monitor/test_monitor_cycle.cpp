@@ -172,7 +172,8 @@ TEST(MonitorCycle, ASourceWhoseArraysAreAllDroppedIsAsUnknownAsASilentOne) {
   }
   // An empty array is data (nothing there): OK again.
   f.monitor.noteReceipt(0, kT0 + 2 * kSecond);
-  ASSERT_TRUE(f.monitor.ingest(0, kT0 + 2 * kSecond, kT0 + 2 * kSecond, Eigen::Isometry3d::Identity(), {}));
+  ASSERT_TRUE(f.monitor.ingest(0, kT0 + 2 * kSecond, kT0 + 2 * kSecond,
+                               Eigen::Isometry3d::Identity(), {}));
   f.posePost();
   EXPECT_FALSE(f.cycle(kT0 + 2 * kSecond).degraded);
 }
@@ -195,7 +196,8 @@ TEST(MonitorCycle, ArrayStampsAreCheckedAndCounted) {
   struct Counting : wp::ArrayPlacement {
     int asked = 0;
     std::vector<wp::BoxObservation> none;
-    bool place(wp::Stamp, Eigen::Isometry3d* pose, const std::vector<wp::BoxObservation>** boxes) override {
+    bool place(wp::Stamp, Eigen::Isometry3d* pose,
+               const std::vector<wp::BoxObservation>** boxes) override {
       ++asked;
       *pose = Eigen::Isometry3d::Identity();
       *boxes = &none;

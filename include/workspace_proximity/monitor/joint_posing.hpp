@@ -40,7 +40,7 @@ struct PlannedTrajectory {
 
 /// What a cycle of JointPosing::update has to say (the bridge logs it, throttled).
 struct JointPosingLog {
-  bool plan_dropped = false;  ///< the plan was dropped (counters().last_trajectory_problem says why)
+  bool plan_dropped = false;  ///< the plan was dropped (counters() says why)
   int unknown = -1;           ///< first claimed body not posed (index into claimed()), or -1
   int refused = -1;           ///< first claimed body whose path the core refused, or -1
 };
