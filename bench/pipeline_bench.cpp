@@ -25,6 +25,7 @@
 
 #include "scenes.hpp"  // test/shared: the robot cell
 #include "workspace_proximity/monitor/box_observation.hpp"
+#include "workspace_proximity/monitor/cycle_runner.hpp"
 #include "workspace_proximity/monitor/cycle_timing.hpp"
 #include "workspace_proximity/monitor/joint_predictor.hpp"
 #include "workspace_proximity/monitor/monitor.hpp"
@@ -200,7 +201,8 @@ MonitorResult runMonitor(int count, bool shipped_person, bool ignore_people, int
     boxes[i].label = i % 10 == 0 ? "forklift" : "person";
     boxes[i].dimensions = i % 10 == 0 ? Eigen::Vector3d(2.4, 1.2, 2.0) : Eigen::Vector3d(0.5, 0.5, 1.8);
   }
-  wp::CycleTiming timing, arrival;
+  wp::CycleRunner warm(&monitor), runner(&monitor);
+  wp::CycleTiming scratch, arrival;
   const wp::Stamp period = 33333333;  // ns
   wp::Stamp now = 1000000000;
   double events = 0;
@@ -218,20 +220,18 @@ MonitorResult runMonitor(int count, bool shipped_person, bool ignore_people, int
     // Published at a random point of the period, used at the next tick.
     const wp::Stamp stamp = now + period * ((c * 7) % 8) / 8;
     {
-      wp::StageClock clock(c < warmup ? &timing : &arrival);
+      wp::StageClock clock(c < warmup ? &scratch : &arrival);
       monitor.noteReceipt(0, stamp);
-      if (monitor.acceptStamp(0, stamp, stamp)) {
-        monitor.ingest(0, stamp, Eigen::Isometry3d::Identity(), boxes);
-      }
+      monitor.ingest(0, stamp, stamp, Eigen::Isometry3d::Identity(), boxes);
       clock.lap(wp::CycleStage::kArrival);
     }
     now += period;
-    wp::CycleTiming scratch;
-    wp::StageClock clock(c < warmup ? &scratch : &timing);
-    const wp::CycleReport& report = monitor.cycle(now, &clock);
-    clock.lap(wp::CycleStage::kContacts);  // the report, status and SSM (no message here)
-    if (c >= warmup) events += static_cast<double>(report.events->size()) / cycles;
+    // The node's cycle runner (reset, failure, timing) without a feed or outputs: kContacts is
+    // the report, status and SSM (no message here). The warm-up cycles' times are not read.
+    (c < warmup ? warm : runner).run(now, nullptr, nullptr);
+    if (c >= warmup) events += static_cast<double>(monitor.report().events->size()) / cycles;
   }
+  const wp::CycleTiming& timing = runner.timing();
   return MonitorResult{arrival.percentile(wp::CycleStage::kArrival, 0.5),
                        timing.percentile(wp::CycleStage::kInput, 0.5),
                        timing.percentile(wp::CycleStage::kPredict, 0.5),
@@ -367,7 +367,7 @@ void monitorTable(std::ostringstream& md, int cycles, int monitor_count) {
   md << "\n## The node's monitor layer (no ROS), fed as scripts/bench-node feeds the node\n\n"
      << "load_generator's walkers (same seed, cell 3 sqrt(N) m) as one array per 30 Hz step, each "
         "cycle at the next step's instant (arrays up to one period old), through Monitor::ingest "
-        "and Monitor::cycle: the node's input and predict stages without ROS (predict = "
+        "and the cycle runner (Monitor::cycle): the node's input and predict stages without ROS (predict = "
         "ProximityWorld::predict; report = the event report, status and SSM verdict, the "
         "first part of the node's contacts stage). labels: \"defaults\" = no "
         "configuration loaded, as scripts/bench-node runs the node (every label the default's "

@@ -24,29 +24,56 @@ Monitor::Monitor(const MonitorParams& params, std::vector<RobotBodySpec> robot,
       robot_(&world_, std::move(robot), params_.robot_margin),
       ssm_(params_.ssm) {}
 
-bool Monitor::acceptStamp(int source, Stamp stamp, Stamp now) {
-  const Drop why =
-      sources_.checkStamp(source, stamp, now, params_.max_future, params_.track_timeout, &detail_);
-  if (why == Drop::kCount) return true;
-  drop(why, source, detail_);
-  return false;
+namespace {
+
+// Boxes already in a known frame (tests, benchmarks, a caller without tf).
+class PlacedArray final : public ArrayPlacement {
+ public:
+  PlacedArray(const Eigen::Isometry3d& fixed_from_frame, const std::vector<BoxObservation>& boxes)
+      : fixed_from_frame_(fixed_from_frame), boxes_(boxes) {}
+  bool place(Stamp, Eigen::Isometry3d* fixed_from_frame,
+             const std::vector<BoxObservation>** boxes) override {
+    *fixed_from_frame = fixed_from_frame_;
+    *boxes = &boxes_;
+    return true;
+  }
+
+ private:
+  const Eigen::Isometry3d& fixed_from_frame_;
+  const std::vector<BoxObservation>& boxes_;
+};
+
+}  // namespace
+
+bool Monitor::ingest(int source, Stamp stamp, Stamp now, const Eigen::Isometry3d& fixed_from_frame,
+                     const std::vector<BoxObservation>& boxes) {
+  PlacedArray array(fixed_from_frame, boxes);
+  return ingest(source, stamp, now, &array);
 }
 
-void Monitor::ingest(int source, Stamp stamp, const Eigen::Isometry3d& fixed_from_frame,
-                     const std::vector<BoxObservation>& boxes) {
+bool Monitor::ingest(int source, Stamp stamp, Stamp now, ArrayPlacement* placement) {
+  // The stamp first: a refused array costs no tf lookup.
+  const Drop why =
+      sources_.checkStamp(source, stamp, now, params_.max_future, params_.track_timeout, &detail_);
+  if (why != Drop::kCount) {
+    drop(why, source, detail_);
+    return false;
+  }
+  ArrayContext array;
+  const std::vector<BoxObservation>* boxes = nullptr;
+  if (!placement->place(stamp, &array.fixed_from_frame, &boxes)) return false;
   const Source& s = sources_.source(source);
   sources_.accept(source, stamp);
-  ArrayContext array;
   array.source = s.name;
   array.qualifier = s.qualifier;
   array.stamp = stamp;
-  array.fixed_from_frame = fixed_from_frame;
   array.robot_centre = robot_.centre();
   Drop last_drop = Drop::kCount;
-  const int used = tracks_.ingest(array, boxes, &last_drop);
+  const int used = tracks_.ingest(array, *boxes, &last_drop);
   if (last_drop != Drop::kCount) sources_.noteDrop(source, last_drop);
   // Data from this source: at least one box, or an empty scene (nothing there is news too).
-  if (used > 0 || boxes.empty()) sources_.markUsed(source, s.last_receipt);
+  if (used > 0 || boxes->empty()) sources_.markUsed(source, s.last_receipt);
+  return true;
 }
 
 void Monitor::setParams(const MonitorParams& params) {
@@ -130,9 +157,16 @@ void Monitor::cycleFailed(Stamp now, const std::string& what) {
   ssm_.failed(now, what, &report_.ssm);
 }
 
-void Monitor::noteCycleTime(double ms) {
-  last_cycle_ms_ = ms;
-  max_cycle_ms_ = std::max(max_cycle_ms_, ms);
+MonitorStatus Monitor::status() const {
+  MonitorStatus s;
+  s.cycles = cycles_;
+  s.resets = resets_;
+  s.last_cycle = last_cycle_;
+  s.tracks = tracks_.size();
+  s.robot_bodies = robot_.size();
+  s.robot_unposed = robot_.unknownCount();
+  s.ssm_reach = ssm_.reach();
+  return s;
 }
 
 }  // namespace workspace_proximity

@@ -8,33 +8,31 @@
 
 #include "workspace_proximity/ros/contact_publisher.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
-#include "workspace_proximity/ros/kdl_robot_model.hpp"
 #include "workspace_proximity/replay/replay_options.hpp"
 
 namespace workspace_proximity {
 
 BagReplay::BagReplay(const ReplaySetup& setup)
     : setup_(setup),
-      // The node's tf cache (ProximityMonitor): ten seconds, or four velocity windows.
-      tf_(ros::Duration(std::max(10.0, 4.0 * setup.params.velocity_window))),
+      tf_(MonitorPipeline::tfCacheTime(setup.params)),
       pipeline_(setup_.params, setup_.robot, setup_.topics, setup_.qualify, &tf_, &rejection_log_),
       period_(nanoseconds(1.0 / setup.params.rate)),
+      input_trigger_(setup.params.cycle_trigger == "input"),
+      trigger_(setup.params.rate),
       // Every timeout of the monitor has run out: tracks dropped (their pairs ended), sources
       // silent, robot links stale; a second more for good measure.
       settle_(nanoseconds(std::max({setup.params.track_timeout, setup.params.source_timeout,
                                     setup.params.tf_timeout, setup.params.stale_after,
                                     setup.params.velocity_window}) + 1.0)),
       robot_posed_(setup.robot.size(), 0) {
-  for (const std::string& line : setup_.permanent_issues) pipeline_.monitor().addPermanentIssue(line);
-  if (setup_.params.use_joint_states && setup_.params.use_robot_description && !setup_.urdf_xml.empty()) {
-    // As the node does (ProximityMonitor::enableJoints): links moved by joints from joint_states.
-    std::shared_ptr<KdlRobotModel> model;
-    try {
-      model = std::make_shared<KdlRobotModel>(setup_.urdf_xml);
-    } catch (const std::exception& e) {
-      ROS_ERROR("replay: no forward kinematics (%s); every robot link from tf", e.what());
+  for (const std::string& line : setup_.permanent_issues) pipeline_.addPermanentIssue(line);
+  // As the node does (ProximityMonitor::enableJoints): links moved by joints from joint_states.
+  joint_model_ = MonitorPipeline::jointModel(setup_.params, setup_.urdf_xml);
+  if (!setup_.params.trigger_source.empty()) {
+    const std::string wanted = resolveTopic(setup_.params.trigger_source);
+    for (std::size_t i = 0; i < setup_.topics.size(); ++i) {
+      if (setup_.topics[i] == wanted) trigger_source_ = static_cast<int>(i);
     }
-    if (model && !model->links().empty()) joint_model_ = model;
   }
 }
 
@@ -91,6 +89,7 @@ ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) 
   bag->stream(this);
   // Cycles up to the last message, inclusive.
   while (next_cycle_ <= stats_.end) {
+    if (input_trigger_) trigger_.onFloor(next_cycle_);
     runCycle(next_cycle_);
     next_cycle_ += period_;
   }
@@ -98,7 +97,7 @@ ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) 
   stats_.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
   stats_.drops = monitor().drops();
-  stats_.resets = monitor().resets();
+  stats_.resets = monitor().status().resets;
   stats_.distinct_tracks = track_keys_.size();
   checkFrames();
   return stats_;
@@ -144,6 +143,12 @@ void BagReplay::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp 
     array_frames_.push_back(frame);
   }
   pipeline_.onArray(source, msg, received);
+  // ~cycle_trigger: input: a cycle at the array's arrival when the bucket allows, and the
+  // floor one period after it.
+  if (input_trigger_ && source == trigger_source_ && trigger_.onArray(received)) {
+    runCycle(received);
+    next_cycle_ = trigger_.floorAfter(received);
+  }
 }
 
 void BagReplay::cyclesBefore(Stamp t) {
@@ -159,6 +164,7 @@ void BagReplay::cyclesBefore(Stamp t) {
         next_cycle_ = resume;
       }
     }
+    if (input_trigger_) trigger_.onFloor(next_cycle_);
     runCycle(next_cycle_);
     next_cycle_ += period_;
   }
@@ -173,25 +179,15 @@ void BagReplay::advanceClock(Stamp t) {
   std::this_thread::sleep_until(due);
 }
 
+void BagReplay::contacts(const CycleReport& report, const ProximityWorld& world) {
+  fillContacts(report, world, setup_.params.fixed_frame, &contacts_);
+}
+
 void BagReplay::runCycle(Stamp now) {
   advanceClock(now);
-  Monitor& monitor = pipeline_.monitor();
-  // As the node's cycle (ProximityMonitor::cycle and runCycle): nothing stops the cycle, a
-  // failed one still reports, saying the prediction is missing.
-  const auto start = std::chrono::steady_clock::now();
-  StageClock clock(&monitor.timing(), start);
-  try {
-    bool reset = false;
-    pipeline_.cycle(now, &clock, &reset);
-  } catch (const std::exception& e) {
-    ROS_ERROR_THROTTLE(1.0, "proximity_monitor: cycle failed: %s", e.what());
-    monitor.cycleFailed(now, e.what());
-  }
-  fillContacts(monitor.report(), monitor.world(), setup_.params.fixed_frame, &contacts_);
-  clock.lap(CycleStage::kContacts);
-  monitor.noteCycleTime(
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-
+  // The node's cycle: reset, failure and timing are the runner's; the contacts are contacts().
+  pipeline_.run(now, this);
+  const Monitor& monitor = pipeline_.monitor();
   const CycleReport& report = monitor.report();
   ++stats_.cycles;
   if (report.degraded) ++stats_.degraded_cycles;

@@ -6,13 +6,17 @@
 
 namespace workspace_proximity {
 
-void diagnose(const Monitor& monitor, const BridgeCounters& bridges, Stamp now,
+void diagnose(const MonitorPipeline& pipeline, Stamp now,
               diagnostic_updater::DiagnosticStatusWrapper* status) {
+  const Monitor& monitor = pipeline.monitor();
+  const CycleRunner& runner = pipeline.runner();
+  const BridgeCounters bridges = pipeline.counters();
+  const MonitorStatus counts = monitor.status();
   const CycleReport& report = monitor.report();
   const double period_ms = 1000.0 / monitor.params().rate;
-  if (monitor.lastCycleMs() > period_ms) {
+  if (runner.lastCycleMs() > period_ms) {
     status->summaryf(diagnostic_msgs::DiagnosticStatus::ERROR,
-                     "cycle takes %.1f ms, longer than the %.1f ms period", monitor.lastCycleMs(),
+                     "cycle takes %.1f ms, longer than the %.1f ms period", runner.lastCycleMs(),
                      period_ms);
   } else if (report.degraded) {
     status->summary(diagnostic_msgs::DiagnosticStatus::WARN,
@@ -20,18 +24,18 @@ void diagnose(const Monitor& monitor, const BridgeCounters& bridges, Stamp now,
   } else {
     status->summary(diagnostic_msgs::DiagnosticStatus::OK, "predicting");
   }
-  status->add("cycles", monitor.cycles());
-  status->add("cycle time (ms)", monitor.lastCycleMs());
-  status->add("max cycle time (ms)", monitor.maxCycleMs());
-  const CycleTiming& timing = monitor.timing();
+  status->add("cycles", counts.cycles);
+  status->add("cycle time (ms)", runner.lastCycleMs());
+  status->add("max cycle time (ms)", runner.maxCycleMs());
+  const CycleTiming& timing = runner.timing();
   for (int i = 0; i < CycleTiming::kStages; ++i) {
     const auto stage = static_cast<CycleStage>(i);
     status->addf(std::string("stage ") + CycleTiming::name(stage) + " (ms, last/p99)", "%.3f/%.3f",
                  timing.last(stage), timing.percentile(stage, 0.99));
   }
-  status->add("tracks", monitor.tracks().size());
-  status->add("robot bodies", monitor.robot().size());
-  status->add("robot bodies not posed", monitor.robot().unknownCount());
+  status->add("tracks", counts.tracks);
+  status->add("robot bodies", counts.robot_bodies);
+  status->add("robot bodies not posed", counts.robot_unposed);
   status->add("tf failures", bridges.tf_failures);
   if (bridges.joints) {
     status->add("joint states received", bridges.joint.joint_states);
@@ -44,7 +48,7 @@ void diagnose(const Monitor& monitor, const BridgeCounters& bridges, Stamp now,
   }
   status->add("broad-phase pairs", report.stats.broad_pairs);
   status->add("predicted contacts", report.stats.contacts);
-  status->add("history resets (clock jumps)", monitor.resets());
+  status->add("history resets (clock jumps)", counts.resets);
   const SsmVerdict& ssm = report.ssm;
   if (ssm.enabled) {
     status->addf("speed scale", "%.3f", ssm.speed_scale);
@@ -57,7 +61,7 @@ void diagnose(const Monitor& monitor, const BridgeCounters& bridges, Stamp now,
       status->add("speed scale limited by", "nothing within reach");
     }
     status->add("speed scale reason", ssm.reason);
-    status->addf("speed and separation reach (m)", "%.2f", monitor.ssm().reach());
+    status->addf("speed and separation reach (m)", "%.2f", counts.ssm_reach);
   }
   const SourceTable& sources = monitor.sources();
   for (int i = 0; i < sources.size(); ++i) {

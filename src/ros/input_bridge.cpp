@@ -1,6 +1,5 @@
 #include "workspace_proximity/ros/input_bridge.hpp"
 
-#include <chrono>
 #include <exception>
 
 #include <ros/console.h>
@@ -17,7 +16,7 @@ InputBridge::InputBridge(Monitor* monitor, tf2::BufferCore* tf, const std::strin
       fixed_frame_(fixed_frame),
       waiting_(static_cast<std::size_t>(monitor->sources().size())) {}
 
-void InputBridge::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp now) {
+bool InputBridge::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp now) {
   monitor_->noteReceipt(source, now);
   Waiting& w = waiting_[static_cast<std::size_t>(source)];
   if (w.msg) {
@@ -27,13 +26,10 @@ void InputBridge::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stam
   // Work ahead while the cycle waits: at most one array per source between cycles (a flood
   // supersedes the rest, and the cycle takes the newest), and never after the clock went back
   // (the cycle resets the history first).
-  if (w.taken_since_cycle || monitor_->clockWentBack(now)) return;
-  const auto start = std::chrono::steady_clock::now();
-  if (!take(source, now, false)) return;
+  if (w.taken_since_cycle || monitor_->clockWentBack(now)) return false;
+  if (!take(source, now, false)) return false;
   w.taken_since_cycle = true;
-  monitor_->timing().add(CycleStage::kArrival, std::chrono::duration<double, std::milli>(
-                                                   std::chrono::steady_clock::now() - start)
-                                                   .count());
+  return true;
 }
 
 void InputBridge::takePending(Stamp now) {
@@ -59,6 +55,30 @@ bool InputBridge::take(int source, Stamp now, bool at_cycle) {
   return true;
 }
 
+class InputBridge::Placement final : public ArrayPlacement {
+ public:
+  Placement(InputBridge* bridge, int source, const TrackedBoxArray& msg, bool at_cycle)
+      : bridge_(bridge), source_(source), msg_(msg), at_cycle_(at_cycle) {}
+  bool place(Stamp stamp, Eigen::Isometry3d* fixed_from_frame,
+             const std::vector<BoxObservation>** boxes) override {
+    if (!bridge_->lookup(source_, msg_.header.frame_id, stamp, at_cycle_, fixed_from_frame, &wait)) {
+      return false;
+    }
+    std::vector<BoxObservation>& out = bridge_->boxes_;
+    out.resize(msg_.boxes.size());
+    for (std::size_t i = 0; i < msg_.boxes.size(); ++i) observe(msg_.boxes[i], &out[i]);
+    *boxes = &out;
+    return true;
+  }
+  bool wait = false;  // tf has no transform at the stamp yet: the array waits for the cycle
+
+ private:
+  InputBridge* bridge_;
+  int source_;
+  const TrackedBoxArray& msg_;
+  bool at_cycle_;
+};
+
 bool InputBridge::use(int source, const TrackedBoxArray& msg, Stamp now, bool at_cycle) {
   const std::string& name = monitor_->sources().source(source).name;
   if (msg.header.frame_id.empty()) {
@@ -71,14 +91,11 @@ bool InputBridge::use(int source, const TrackedBoxArray& msg, Stamp now, bool at
                       name.c_str());
     stamp = monitor_->sources().source(source).last_receipt;
   }
-  if (!monitor_->acceptStamp(source, stamp, now)) return true;
-  Eigen::Isometry3d fixed_from_frame;
-  bool wait = false;
-  if (!lookup(source, msg.header.frame_id, stamp, at_cycle, &fixed_from_frame, &wait)) return !wait;
-  boxes_.resize(msg.boxes.size());
-  for (std::size_t i = 0; i < msg.boxes.size(); ++i) observe(msg.boxes[i], &boxes_[i]);
-  monitor_->ingest(source, stamp, fixed_from_frame, boxes_);
-  return true;
+  // The stamp is checked first, then the frame looked up (Placement); a bad stamp or frame is
+  // dropped and counted, and the array is done with unless it waits for tf.
+  Placement placement(this, source, msg, at_cycle);
+  monitor_->ingest(source, stamp, now, &placement);
+  return !placement.wait;
 }
 
 bool InputBridge::lookup(int source, const std::string& frame, Stamp stamp, bool at_cycle,

@@ -7,7 +7,6 @@
 
 #include "workspace_proximity/ros/conversions.hpp"
 #include "workspace_proximity/ros/diagnostics_bridge.hpp"
-#include "workspace_proximity/ros/kdl_robot_model.hpp"
 #include "workspace_proximity/ros/reconfigure_bridge.hpp"
 #include "workspace_proximity/ros/robot_description.hpp"
 
@@ -28,9 +27,10 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
                                    const MonitorParams& params)
     : nh_(nh),
       params_(params),
-      tf_buffer_(ros::Duration(std::max(10.0, 4.0 * params.velocity_window))),
+      tf_buffer_(MonitorPipeline::tfCacheTime(params)),
       tf_listener_(tf_buffer_),
       markers_(params.fixed_frame, params.marker_lifetime),
+      trigger_(params.rate),
       diagnostics_(nh_, private_nh) {
   const std::vector<std::string> topics = inputTopics(nh_, params_);
   RobotDescription robot = loadRobotBodies(nh_, params_);
@@ -44,12 +44,11 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   pipeline_ = std::make_unique<MonitorPipeline>(params_, std::move(robot.bodies), topics,
                                                 !params_.input_topics.empty(), &tf_buffer_,
                                                 &rejection_log_);
-  monitor_ = &pipeline_->monitor();
   // A link that cannot be modelled is never dropped silently: DEGRADED (and a diagnostics
   // WARN) with its reason for as long as the node runs.
   for (const std::string& line : robot.unmodelled) {
     ROS_WARN("proximity_monitor: %s; status DEGRADED while the node runs", line.c_str());
-    monitor_->addPermanentIssue(line);
+    pipeline_->addPermanentIssue(line);
   }
   enableJoints();
   contacts_ = std::make_unique<ContactPublisher>(nh_, params_.fixed_frame);
@@ -82,7 +81,7 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   }
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("proximity monitor", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
-    diagnose(*monitor_, pipeline_->counters(), toStamp(ros::Time::now()), &s);
+    diagnose(*pipeline_, toStamp(ros::Time::now()), &s);
   });
   // Timer trigger: a cycle every period. Input trigger: arrays run the cycles, and a one-shot
   // timer, re-armed after every cycle, runs one when a period passes without (the floor: silence
@@ -100,8 +99,8 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   // cost (and their megabyte on the wire) never delays the contacts of the next cycle or
   // coincides with this one's delivery. One-shot, re-armed by the cycle when markers are due.
   marker_timer_ = nh_.createTimer(
-      ros::Duration(0.5 / params_.rate), [this](const ros::TimerEvent&) { publishMarkers(); },
-      true, false);
+      ros::Duration(MarkerSchedule::delay(params_.rate)),
+      [this](const ros::TimerEvent&) { publishMarkers(); }, true, false);
   reconfigure_ = std::make_unique<dynamic_reconfigure::Server<ProximityMonitorConfig>>(
       reconfigure_mutex_, private_nh);
   // The server starts from the parameter server's flat names; start it from the values in
@@ -111,26 +110,19 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
       [this](ProximityMonitorConfig& config, std::uint32_t level) { reconfigure(config, level); });
   ROS_INFO("proximity_monitor: %d robot bodies, %zu input topics, fixed frame '%s', %.1f Hz "
            "(%s), horizon %.2f s, speed and separation monitoring %s",
-           monitor_->robot().size(), topics.size(), params_.fixed_frame.c_str(), params_.rate,
+           pipeline_->monitor().robot().size(), topics.size(), params_.fixed_frame.c_str(),
+           params_.rate,
            input_trigger_ ? ("cycles on arrays of " + topics[trigger_source_]).c_str() : "timer",
            params_.horizon, params_.ssm.enabled ? "on" : "off");
 }
 
 void ProximityMonitor::enableJoints() {
   std::string urdf;
-  if (!params_.use_joint_states || !params_.use_robot_description ||
-      !nh_.getParam(params_.robot_description_param, urdf)) {
-    return;
+  if (params_.use_joint_states && params_.use_robot_description) {
+    nh_.getParam(params_.robot_description_param, urdf);
   }
-  std::shared_ptr<KdlRobotModel> model;
-  try {
-    model = std::make_shared<KdlRobotModel>(urdf);
-  } catch (const std::exception& e) {
-    // The collision bodies parsed, so this is KDL refusing the tree: the links keep tf.
-    ROS_ERROR("proximity_monitor: no forward kinematics (%s); every robot link from tf", e.what());
-    return;
-  }
-  if (model->links().empty()) return;  // nothing moves: tf gives every link
+  const std::shared_ptr<const KinematicModel> model = MonitorPipeline::jointModel(params_, urdf);
+  if (!model) return;
   const int bodies = pipeline_->enableJoints(model);
   // Queue of a few: every reading counts for the finite differences when velocity is empty.
   subscribers_.push_back(nh_.subscribe<sensor_msgs::JointState>(
@@ -153,89 +145,55 @@ void ProximityMonitor::enableJoints() {
 }
 
 ProximityMonitor::~ProximityMonitor() {
-  if (monitor_ != nullptr && monitor_->cycles() > 0) {
+  const std::uint64_t cycles = pipeline_ ? pipeline_->monitor().status().cycles : 0;
+  if (cycles > 0) {
     std::printf("proximity_monitor: %llu cycles; stage times over the last %zu: %s\n",
-                static_cast<unsigned long long>(monitor_->cycles()),
-                std::min<std::size_t>(monitor_->cycles(), CycleTiming::kWindow),
-                monitor_->timing().summary().c_str());
+                static_cast<unsigned long long>(cycles),
+                std::min<std::size_t>(cycles, CycleTiming::kWindow),
+                pipeline_->runner().timing().summary().c_str());
     std::fflush(stdout);
   }
 }
 
 void ProximityMonitor::cycle(const ros::Time& now) {
-  try {
-    runCycle(now);
-  } catch (const std::exception& e) {
-    // Nothing may stop the cycle: report it loudly, and still publish, saying the prediction
-    // is missing (silence must not read as clear).
-    ROS_ERROR_THROTTLE(1.0, "proximity_monitor: cycle failed: %s", e.what());
-    monitor_->cycleFailed(toStamp(now), e.what());
-    contacts_->publish(monitor_->report(), monitor_->world());
-    publishSsm();
-  }
+  // Reset, failure and timing are the runner's; the outputs are contacts() and rest().
+  const CycleRun run = pipeline_->run(toStamp(now), this);
+  if (!run.failed) diagnostics_.update();
   if (input_trigger_) armFloor();
 }
 
-void ProximityMonitor::publishSsm() {
+void ProximityMonitor::contacts(const CycleReport& report, const ProximityWorld& world) {
+  contacts_->publish(report, world);
+}
+
+void ProximityMonitor::rest(const CycleReport& report, const ProximityWorld& world,
+                            const CycleRun& run) {
+  // diagnostic_updater publishes once its next time (set from the old clock) is reached:
+  // after a jump back publish now, which also restarts its period from the new clock.
+  if (run.reset && !run.failed) diagnostics_.force_update();
+  publishSsm(report, world);
+  if (!run.failed) scheduleMarkers(toTime(report.stamp));
+}
+
+void ProximityMonitor::publishSsm(const CycleReport& report, const ProximityWorld& world) {
   if (ssm_ == nullptr) return;
-  const CycleReport& report = monitor_->report();
-  ssm_->publish(report, monitor_->world());
+  ssm_->publish(report, world);
   if (twist_filter_ != nullptr) twist_filter_->update(report.ssm.speed_scale, toTime(report.stamp));
 }
 
-void ProximityMonitor::refillTokens(const ros::Time& now) {
-  constexpr double kTriggerBurst = 2.0;
-  if (trigger_refilled_.isZero() || now < trigger_refilled_) {
-    trigger_tokens_ = kTriggerBurst;  // the first cycle, or the clock went back
-  } else {
-    trigger_tokens_ = std::min(
-        kTriggerBurst, trigger_tokens_ + (now - trigger_refilled_).toSec() * params_.rate);
-  }
-  trigger_refilled_ = now;
-}
-
 void ProximityMonitor::onTriggerArray(const ros::Time& now) {
-  refillTokens(now);
-  // Out of tokens (a tracker faster than ~rate): the array waits for the floor timer, at most a
-  // period, and is used by that cycle (as with the timer trigger).
-  if (trigger_tokens_ < 1.0) {
-    trigger_refused_ = true;
-    return;
-  }
-  trigger_tokens_ -= 1.0;
-  trigger_refused_ = false;
-  cycle(now);
+  if (trigger_.onArray(toStamp(now))) cycle(now);
 }
 
 void ProximityMonitor::onFloorTimer(const ros::Time& now) {
-  refillTokens(now);
-  // Silence or a slow tracker: the floor costs nothing, the next array still runs at once.
-  if (trigger_refused_) trigger_tokens_ = std::max(0.0, trigger_tokens_ - 1.0);
-  trigger_refused_ = false;
+  trigger_.onFloor(toStamp(now));
   cycle(now);
 }
 
 void ProximityMonitor::armFloor() {
   timer_.stop();
-  timer_.setPeriod(ros::Duration(1.0 / params_.rate));
+  timer_.setPeriod(ros::Duration(trigger_.period()));
   timer_.start();
-}
-
-void ProximityMonitor::runCycle(const ros::Time& now) {
-  const auto start = std::chrono::steady_clock::now();
-  StageClock clock(&monitor_->timing(), start);
-  bool reset = false;
-  const CycleReport& report = pipeline_->cycle(toStamp(now), &clock, &reset);
-  // diagnostic_updater publishes once its next time (set from the old clock) is reached:
-  // after a jump back publish now, which also restarts its period from the new clock.
-  if (reset) diagnostics_.force_update();
-  contacts_->publish(report, monitor_->world());
-  clock.lap(CycleStage::kContacts);
-  publishSsm();
-  scheduleMarkers(now);
-  monitor_->noteCycleTime(
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-  diagnostics_.update();
 }
 
 void ProximityMonitor::reconfigure(ProximityMonitorConfig& config, std::uint32_t /*level*/) {
@@ -250,11 +208,12 @@ void ProximityMonitor::reconfigure(ProximityMonitorConfig& config, std::uint32_t
   }
   const bool rate_changed = next.rate != params_.rate;
   params_ = next;
-  monitor_->setParams(params_);
+  pipeline_->setParams(params_);
+  trigger_.setRate(params_.rate);
   markers_.setLifetime(params_.marker_lifetime);
   if (rate_changed) {
     if (!input_trigger_) timer_.setPeriod(ros::Duration(1.0 / params_.rate));  // else: next armFloor
-    marker_timer_.setPeriod(ros::Duration(0.5 / params_.rate));
+    marker_timer_.setPeriod(ros::Duration(MarkerSchedule::delay(params_.rate)));
     if (twist_filter_ != nullptr) twist_filter_->setRate(params_.rate);
   }
   config = toConfig(params_);
@@ -263,28 +222,26 @@ void ProximityMonitor::reconfigure(ProximityMonitorConfig& config, std::uint32_t
 void ProximityMonitor::scheduleMarkers(const ros::Time& now) {
   // Nobody watching (no RViz): building thousands of markers would be wasted work.
   if (!params_.publish_markers || markers_pub_.getNumSubscribers() == 0) return;
-  // At most ~marker_rate: due when a marker period has passed, less half a cycle so that
-  // 10 Hz on 30 Hz cycles is every third cycle; a clock that went back publishes at once.
-  if (!last_markers_.isZero() && now >= last_markers_ &&
-      (now - last_markers_).toSec() < 1.0 / params_.marker_rate - 0.5 / params_.rate) {
-    return;
-  }
-  last_markers_ = now;
+  if (!marker_schedule_.due(toStamp(now), params_.marker_rate, params_.rate)) return;
   marker_timer_.stop();
-  marker_timer_.setPeriod(ros::Duration(0.5 / params_.rate));  // re-arms the one-shot
+  // Re-arms the one-shot.
+  marker_timer_.setPeriod(ros::Duration(MarkerSchedule::delay(params_.rate)));
   marker_timer_.start();
 }
 
 void ProximityMonitor::publishMarkers() {
-  StageClock clock(&monitor_->timing());
+  const auto start = std::chrono::steady_clock::now();
+  const Monitor& monitor = pipeline_->monitor();
   try {
-    markers_.build(monitor_->report(), monitor_->world(), &markers_msg_);
+    markers_.build(monitor.report(), monitor.world(), &markers_msg_);
   } catch (const std::exception& e) {
     ROS_ERROR_THROTTLE(1.0, "proximity_monitor: markers failed: %s", e.what());
     return;
   }
   markers_pub_.publish(markers_msg_);
-  clock.lap(CycleStage::kMarkers);
+  pipeline_->noteTime(CycleStage::kMarkers, std::chrono::duration<double, std::milli>(
+                                                std::chrono::steady_clock::now() - start)
+                                                .count());
 }
 
 }  // namespace workspace_proximity

@@ -13,7 +13,7 @@ RobotTfBridge::RobotTfBridge(Monitor* monitor, tf2::BufferCore* tf)
     : monitor_(monitor), tf_(tf), params_(monitor->params()) {}
 
 void RobotTfBridge::update(Stamp now) {
-  RobotBodies& robot = monitor_->robot();
+  const RobotBodies& robot = monitor_->robot();
   for (int i = 0; i < robot.size(); ++i) {
     if (static_cast<std::size_t>(i) < claimed_.size() && claimed_[static_cast<std::size_t>(i)] != 0) continue;
     const RobotBodySpec& spec = robot.spec(i);
@@ -21,7 +21,7 @@ void RobotTfBridge::update(Stamp now) {
     std::string why, stale;
     if (!motionOf(i, now, &motion, &why, &stale) || !motion.valid()) {
       ++tf_failures_;
-      robot.markUnknown(i, why);
+      monitor_->markRobotUnknown(i, why);
       ROS_WARN_THROTTLE(5.0, "proximity_monitor: robot body '%s' (frame '%s') not posed: %s",
                         spec.name.c_str(), spec.frame.c_str(), robot.why(i).c_str());
       continue;
@@ -29,7 +29,7 @@ void RobotTfBridge::update(Stamp now) {
     // "Posed again" after an outage, not after the start-up wait for a velocity.
     const bool was_stale = robot.present(i) && robot.stale(i) &&
                            robot.why(i).rfind("velocity not known", 0) != 0;
-    if (!robot.pose(i, motion, stale)) {
+    if (!monitor_->poseRobot(i, motion, stale)) {
       ROS_WARN_THROTTLE(5.0, "proximity_monitor: robot body '%s': %s", spec.name.c_str(),
                         robot.why(i).c_str());
     } else if (was_stale && stale.empty()) {

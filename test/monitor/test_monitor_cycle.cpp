@@ -34,7 +34,7 @@ wp::MonitorParams params() {
 wp::RobotBodySpec post() { return wp_test::robotBox("post", {0.5, 0.5, 0.5}); }
 
 struct Fixture {
-  Fixture() : monitor(params(), {post()}, {"/boxes"}, false, nullptr), clock(&monitor.timing()) {}
+  Fixture() : monitor(params(), {post()}, {"/boxes"}, false, nullptr), clock(&timing) {}
   // A person (1 m cube) at x, walking at v (m/s along x), observed at `stamp`.
   void person(double x, double v, wp::Stamp stamp, wp::Stamp now) {
     wp::BoxObservation b;
@@ -44,13 +44,13 @@ struct Fixture {
     b.dimensions = {1, 1, 1};
     b.linear_velocity = {v, 0, 0};
     monitor.noteReceipt(0, now);
-    ASSERT_TRUE(monitor.acceptStamp(0, stamp, now));
-    monitor.ingest(0, stamp, Eigen::Isometry3d::Identity(), {b});
+    ASSERT_TRUE(monitor.ingest(0, stamp, now, Eigen::Isometry3d::Identity(), {b}));
   }
-  void posePost() { ASSERT_TRUE(monitor.robot().pose(0, wp::BodyMotion())); }
+  void posePost() { ASSERT_TRUE(monitor.poseRobot(0, wp::BodyMotion())); }
   const wp::CycleReport& cycle(wp::Stamp now) { return monitor.cycle(now, &clock); }
 
   wp::Monitor monitor;
+  wp::CycleTiming timing;
   wp::StageClock clock;
 };
 
@@ -78,7 +78,7 @@ TEST(MonitorCycle, AHeadOnApproachGivesTheAnalyticContactLatencyCompensated) {
   EXPECT_EQ(r.bodyLevel(e.body_b.index), static_cast<int>(wp::Level::kWarning));
   EXPECT_EQ(r.bodies.size(), 2u);
   EXPECT_FALSE(r.degraded) << (r.status_lines.empty() ? "" : r.status_lines[0]);
-  EXPECT_EQ(f.monitor.cycles(), 1u);
+  EXPECT_EQ(f.monitor.status().cycles, 1u);
 }
 
 TEST(MonitorCycle, AnOldTrackMakesItsPairsStale) {
@@ -109,7 +109,7 @@ TEST(MonitorCycle, StatusIsDegradedForEveryUnknownInputAndOkWhenAllIsFresh) {
   EXPECT_TRUE(mentions(r1.status_lines, "source /boxes: no data for 0.60 s"));
   // A robot body that cannot be posed: stale with its reason, its pairs stale.
   f.person(3.0, -1.0, kT0 + kSecond, kT0 + kSecond);
-  f.monitor.robot().markUnknown(0, "no transform");
+  f.monitor.markRobotUnknown(0, "no transform");
   const wp::CycleReport& r2 = f.cycle(kT0 + kSecond);
   EXPECT_TRUE(r2.degraded);
   EXPECT_TRUE(mentions(r2.status_lines, "robot body post stale: no transform"));
@@ -160,8 +160,7 @@ TEST(MonitorCycle, ASourceWhoseArraysAreAllDroppedIsAsUnknownAsASilentOne) {
   for (int k = 1; k <= 7; ++k) {
     const wp::Stamp now = kT0 + kSecond + k * kSecond / 10;
     f.monitor.noteReceipt(0, now);
-    ASSERT_TRUE(f.monitor.acceptStamp(0, now, now));
-    f.monitor.ingest(0, now, Eigen::Isometry3d::Identity(), {bad});
+    ASSERT_TRUE(f.monitor.ingest(0, now, now, Eigen::Isometry3d::Identity(), {bad}));
     f.posePost();
     const wp::CycleReport& r = f.cycle(now);
     const bool stale = k > 5;  // last used at 1.0 s; silent after 0.5 s
@@ -173,8 +172,8 @@ TEST(MonitorCycle, ASourceWhoseArraysAreAllDroppedIsAsUnknownAsASilentOne) {
   }
   // An empty array is data (nothing there): OK again.
   f.monitor.noteReceipt(0, kT0 + 2 * kSecond);
-  ASSERT_TRUE(f.monitor.acceptStamp(0, kT0 + 2 * kSecond, kT0 + 2 * kSecond));
-  f.monitor.ingest(0, kT0 + 2 * kSecond, Eigen::Isometry3d::Identity(), {});
+  ASSERT_TRUE(f.monitor.ingest(0, kT0 + 2 * kSecond, kT0 + 2 * kSecond,
+                               Eigen::Isometry3d::Identity(), {}));
   f.posePost();
   EXPECT_FALSE(f.cycle(kT0 + 2 * kSecond).degraded);
 }
@@ -192,15 +191,31 @@ TEST(MonitorCycle, APermanentIssueKeepsTheStatusDegraded) {
 TEST(MonitorCycle, ArrayStampsAreCheckedAndCounted) {
   Fixture f;
   const wp::MonitorParams p = params();  // max_future 0.5 s, track_timeout 0.5 s
-  EXPECT_FALSE(f.monitor.acceptStamp(0, kT0 + 6 * kSecond / 10, kT0));
+  const Eigen::Isometry3d here = Eigen::Isometry3d::Identity();
+  // An array placement that must not be asked for a refused stamp (no tf lookup for it).
+  struct Counting : wp::ArrayPlacement {
+    int asked = 0;
+    std::vector<wp::BoxObservation> none;
+    bool place(wp::Stamp, Eigen::Isometry3d* pose,
+               const std::vector<wp::BoxObservation>** boxes) override {
+      ++asked;
+      *pose = Eigen::Isometry3d::Identity();
+      *boxes = &none;
+      return true;
+    }
+  } placement;
+  EXPECT_FALSE(f.monitor.ingest(0, kT0 + 6 * kSecond / 10, kT0, &placement));
   EXPECT_EQ(f.monitor.drops().count(wp::Drop::kFuture), 1u);
-  EXPECT_TRUE(f.monitor.acceptStamp(0, kT0 + 4 * kSecond / 10, kT0));
-  EXPECT_FALSE(f.monitor.acceptStamp(0, kT0 - 6 * kSecond / 10, kT0));
+  EXPECT_FALSE(f.monitor.ingest(0, kT0 - 6 * kSecond / 10, kT0, &placement));
   EXPECT_EQ(f.monitor.drops().count(wp::Drop::kOld), 1u);
+  EXPECT_EQ(placement.asked, 0);
   f.person(5.0, 0.0, kT0, kT0);  // used: the source's newest stamp is kT0
-  EXPECT_FALSE(f.monitor.acceptStamp(0, kT0 - kSecond / 10, kT0));
+  EXPECT_FALSE(f.monitor.ingest(0, kT0 - kSecond / 10, kT0, &placement));
   EXPECT_EQ(f.monitor.drops().count(wp::Drop::kOutOfOrder), 1u);
-  EXPECT_TRUE(f.monitor.acceptStamp(0, kT0, kT0));  // equal stamps are in order
+  EXPECT_EQ(placement.asked, 0);
+  EXPECT_TRUE(f.monitor.ingest(0, kT0, kT0, &placement));  // equal stamps are in order
+  EXPECT_EQ(placement.asked, 1);
+  EXPECT_TRUE(f.monitor.ingest(0, kT0 + 4 * kSecond / 10, kT0, here, {}));  // within max_future
   EXPECT_EQ(f.monitor.drops().total(), 3u);
   (void)p;
 }
@@ -213,7 +228,7 @@ TEST(MonitorCycle, TheClockGoingBackResetsEveryStamp) {
   const wp::Stamp back = kT0 - 53 * kSecond;
   ASSERT_TRUE(f.monitor.clockWentBack(back));
   f.monitor.reset();
-  EXPECT_EQ(f.monitor.resets(), 1u);
+  EXPECT_EQ(f.monitor.status().resets, 1u);
   EXPECT_EQ(f.monitor.tracks().size(), 0);
   EXPECT_FALSE(f.monitor.robot().present(0));
   EXPECT_EQ(f.monitor.sources().source(0).last_stamp, 0);
@@ -221,7 +236,7 @@ TEST(MonitorCycle, TheClockGoingBackResetsEveryStamp) {
   const wp::CycleReport& r = f.cycle(back);
   ASSERT_EQ(r.eventCount(), 1u);
   EXPECT_EQ(r.event(0).state, wp::ContactState::kEnd);
-  EXPECT_TRUE(f.monitor.acceptStamp(0, back, back));
+  EXPECT_TRUE(f.monitor.ingest(0, back, back, Eigen::Isometry3d::Identity(), {}));
   EXPECT_FALSE(f.monitor.clockWentBack(back));
 }
 
@@ -245,7 +260,7 @@ TEST(MonitorCycle, TheRobotCentreSteersTheCap) {
   wp::Monitor monitor(p, {s}, {"/boxes"}, false, nullptr);
   wp::BodyMotion at;
   at.position = {10, 0, 0};
-  ASSERT_TRUE(monitor.robot().pose(0, at));
+  ASSERT_TRUE(monitor.poseRobot(0, at));
   EXPECT_TRUE(monitor.robot().centre().isApprox(Eigen::Vector3d(10, 0, 0)));
   wp::BoxObservation near, far;
   near.id = "near";
@@ -253,8 +268,7 @@ TEST(MonitorCycle, TheRobotCentreSteersTheCap) {
   far.id = "far";
   far.position = {0, 0, 0};
   monitor.noteReceipt(0, kT0);
-  ASSERT_TRUE(monitor.acceptStamp(0, kT0, kT0));
-  monitor.ingest(0, kT0, Eigen::Isometry3d::Identity(), {far, near});
+  ASSERT_TRUE(monitor.ingest(0, kT0, kT0, Eigen::Isometry3d::Identity(), {far, near}));
   ASSERT_EQ(monitor.tracks().size(), 1);
   EXPECT_EQ(monitor.tracks().track(0).key, "near");
 }

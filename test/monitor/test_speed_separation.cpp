@@ -48,14 +48,14 @@ class Cell {
  public:
   Cell(const wp::MonitorParams& p, std::vector<wp::RobotBodySpec> robot)
       : specs_(robot), monitor_(p, std::move(robot), {"/boxes"}, false, nullptr),
-        clock_(&monitor_.timing()) {}
+        clock_(&timing_) {}
 
   // Every robot body at its spec's offset, standing still; the people as observed at `now`.
   const wp::CycleReport& cycle(wp::Stamp now, const std::vector<Person>& people) {
     for (int i = 0; i < static_cast<int>(specs_.size()); ++i) {
       wp::BodyMotion m;
       m.position = specs_[static_cast<std::size_t>(i)].offset.translation();
-      EXPECT_TRUE(monitor_.robot().pose(i, m));
+      EXPECT_TRUE(monitor_.poseRobot(i, m));
     }
     std::vector<wp::BoxObservation> boxes;
     for (const Person& p : people) {
@@ -68,8 +68,7 @@ class Cell {
       boxes.push_back(b);
     }
     monitor_.noteReceipt(0, now);
-    EXPECT_TRUE(monitor_.acceptStamp(0, now, now));
-    monitor_.ingest(0, now, Eigen::Isometry3d::Identity(), boxes);
+    EXPECT_TRUE(monitor_.ingest(0, now, now, Eigen::Isometry3d::Identity(), boxes));
     return monitor_.cycle(now, &clock_);
   }
   wp::Monitor& monitor() { return monitor_; }
@@ -77,6 +76,7 @@ class Cell {
  private:
   std::vector<wp::RobotBodySpec> specs_;
   wp::Monitor monitor_;
+  wp::CycleTiming timing_;
   wp::StageClock clock_;
 };
 
@@ -199,8 +199,9 @@ TEST(SpeedSeparation, DegradedCapsTheScaleAndSaysWhy) {
   wp::Monitor& m = cell.monitor();
   wp::BodyMotion still;
   still.position = {0, 0, 0.5};
-  m.robot().pose(0, still);
-  wp::StageClock clock(&m.timing());
+  m.poseRobot(0, still);
+  wp::CycleTiming timing;
+  wp::StageClock clock(&timing);
   const wp::CycleReport& r = m.cycle(at(0.8), &clock);
   ASSERT_TRUE(r.degraded);
   EXPECT_EQ(r.ssm.raw_scale, 1.0);  // nothing within reach any more

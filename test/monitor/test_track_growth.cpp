@@ -47,9 +47,9 @@ wp::RobotBodySpec wall() { return wp_test::robotBox("wall", {0.5, 50.0, 0.5}); }
 
 struct Fixture {
   explicit Fixture(const wp::LabelSettings& p, const std::string& label = "person")
-      : monitor(params(p), {wall()}, {"/boxes"}, false, nullptr), clock(&monitor.timing()),
+      : monitor(params(p), {wall()}, {"/boxes"}, false, nullptr), clock(&timing),
         label(label) {
-    EXPECT_TRUE(monitor.robot().pose(0, wp::BodyMotion()));
+    EXPECT_TRUE(monitor.poseRobot(0, wp::BodyMotion()));
   }
   // A 1 m cube whose near face is `gap` m from the wall's face at x = 0.5, moving at
   // (vx, vy), observed at `stamp`.
@@ -61,8 +61,7 @@ struct Fixture {
     b.dimensions = {1, 1, 1};
     b.linear_velocity = {vx, vy, 0};
     monitor.noteReceipt(0, now);
-    ASSERT_TRUE(monitor.acceptStamp(0, stamp, now));
-    monitor.ingest(0, stamp, Eigen::Isometry3d::Identity(), {b});
+    ASSERT_TRUE(monitor.ingest(0, stamp, now, Eigen::Isometry3d::Identity(), {b}));
   }
   const wp::PairEvent& only(wp::Stamp now) {
     const wp::CycleReport& r = monitor.cycle(now, &clock);
@@ -72,6 +71,7 @@ struct Fixture {
   bool none(wp::Stamp now) { return monitor.cycle(now, &clock).eventCount() == 0; }
 
   wp::Monitor monitor;
+  wp::CycleTiming timing;
   wp::StageClock clock;
   std::string label;
 };

@@ -5,7 +5,8 @@
 // is used by that cycle), /tf_static inserted as static, arrays transformed at their stamp and
 // extrapolated to the cycle (latency compensation), the times to contact, distances, levels and
 // events against the closed form, the CSV files, pacing not changing a result, and frames the
-// bag has no tf for being named.
+// bag has no tf for being named, and ~cycle_trigger: input (cycles on the arrays, at most ~rate
+// a second, at least one a period).
 
 #include <gtest/gtest.h>
 
@@ -401,6 +402,89 @@ TEST_F(BagReplayTest, ALongStretchWithoutInputIsSkippedAndReported) {
     }
   }
   EXPECT_EQ(begins, 2);
+}
+
+TEST_F(BagReplayTest, InputTriggeredCyclesRunOnArraysAtMostRateASecondAndAtLeastEveryPeriod) {
+  // ~cycle_trigger: input at 10 Hz. /tf every 50 ms for 5 s; arrays (stamped kLatency before
+  // their receipt) at 40 Hz from 112.5 ms to 1987.5 ms (a flood), none until 3 s (silence),
+  // then at 4 Hz until 4.75 s (a slow tracker).
+  const std::string path = dir_ + "/trigger.bag";
+  const std::int64_t ms = kSecond / 1000;
+  std::vector<std::int64_t> receipts;
+  for (int k = 0; k <= 75; ++k) receipts.push_back(kT0 + 1125 * ms / 10 + 25 * ms * k);
+  for (int k = 0; k <= 7; ++k) receipts.push_back(kT0 + 3000 * ms + 250 * ms * k);
+  {
+    rosbag::Bag bag;
+    bag.open(path, rosbag::bagmode::Write);
+    tf2_msgs::TFMessage statics;
+    statics.transforms.push_back(transform("world", "post", 0.0, 0.5, kT0));
+    bag.write("/tf_static", wp::toTime(kT0), statics);
+    std::size_t next = 0;
+    for (std::int64_t t = kT0; t <= kT0 + 5 * kSecond; t += 50 * ms) {
+      for (; next < receipts.size() && receipts[next] < t; ++next) {
+        wp::TrackedBoxArray a;
+        const std::int64_t stamp = receipts[next] - static_cast<std::int64_t>(kLatency * kSecond);
+        a.header.stamp = wp::toTime(stamp);
+        a.header.frame_id = "sensor";
+        a.boxes.push_back(box("walker", walkerX(stamp), stamp));
+        bag.write("/tracked_objects", wp::toTime(receipts[next]), a);
+      }
+      tf2_msgs::TFMessage tf;
+      tf.transforms.push_back(transform("world", "sensor", kSensorX, 0.0, t));
+      bag.write("/tf", wp::toTime(t), tf);
+    }
+    bag.close();
+  }
+  struct Cycles : wp::ReplaySink {
+    std::vector<std::int64_t> stamps, used;  // each cycle's instant and its newest array's stamp
+    void onCycle(const wp::CycleReport& r, const wp::ContactEventArray&, const wp::Monitor& m) override {
+      stamps.push_back(r.stamp);
+      used.push_back(m.sources().source(0).last_stamp);
+    }
+  } rec;
+  wp::ReplaySetup s = setup();
+  s.params.cycle_trigger = "input";
+  wp::BagInput bag(path, s.topics);
+  const wp::ReplayStats stats = wp::BagReplay(s).run(&bag, &rec, 0.0);
+  ASSERT_EQ(stats.arrays, receipts.size());
+  ASSERT_FALSE(rec.stamps.empty());
+  const std::int64_t period = kSecond / 10;
+  const std::int64_t latency = static_cast<std::int64_t>(kLatency * kSecond);
+  // The floor a period after the bag's first message (nothing heard yet); then the first
+  // array runs a cycle at its receipt, using it (a full bucket).
+  ASSERT_GE(rec.stamps.size(), 2u);
+  EXPECT_EQ(rec.stamps[0], kT0 + period);
+  EXPECT_EQ(rec.stamps[1], receipts[0]);
+  EXPECT_EQ(rec.used[1], receipts[0] - latency);
+  int at_arrays = 0;
+  for (std::size_t i = 0; i < rec.stamps.size(); ++i) {
+    const std::int64_t t = rec.stamps[i];
+    const bool at_array = std::find(receipts.begin(), receipts.end(), t) != receipts.end();
+    if (i > 0) {
+      // At least one cycle a period: silence is still published (the floor).
+      EXPECT_LE(t - rec.stamps[i - 1], period) << i;
+      // A cycle is either at an array's receipt or the floor, a period after the last cycle.
+      EXPECT_TRUE(at_array || t - rec.stamps[i - 1] == period) << i;
+    }
+    if (at_array) {
+      ++at_arrays;
+      EXPECT_EQ(rec.used[i], t - latency) << "a triggered cycle uses its array, " << i;
+    }
+    // At most ~rate cycles a second plus the burst of 2, in every second from a cycle on.
+    const auto in_second = std::count_if(rec.stamps.begin(), rec.stamps.end(), [&](std::int64_t u) {
+      return u >= t && u < t + kSecond;
+    });
+    EXPECT_LE(in_second, 12) << i;
+  }
+  EXPECT_GE(kT0 + 5 * kSecond - rec.stamps.back(), 0);
+  EXPECT_LE(kT0 + 5 * kSecond - rec.stamps.back(), period);
+  // The flood ran the burst (112.5 and 137.5 ms), then one cycle per 0.1 s on its arrays
+  // (212.5 to 1912.5 ms: 18); the slow tracker one cycle on each of its 8 arrays.
+  EXPECT_EQ(at_arrays, 2 + 18 + 8);
+  for (std::size_t k = 76; k < receipts.size(); ++k) {
+    EXPECT_NE(std::find(rec.stamps.begin(), rec.stamps.end(), receipts[k]), rec.stamps.end()) << k;
+  }
+  EXPECT_EQ(stats.cycles, rec.stamps.size());
 }
 
 TEST_F(BagReplayTest, PermanentIssuesDegradeEveryCycle) {

@@ -4,6 +4,7 @@
 ///   input (arrays -> TrackTable, robot poses -> RobotBodies) -> world.predict -> CycleReport,
 /// the report including the speed and separation verdict (SpeedSeparation).
 /// The ROS bridges feed it and render its report; the offline replay feeds it from a bag.
+/// CycleRunner (cycle_runner.hpp) runs its cycle with reset, failure and timing.
 
 #include <cstdint>
 #include <string>
@@ -24,6 +25,29 @@
 
 namespace workspace_proximity {
 
+/// Places an array's boxes in the fixed frame for Monitor::ingest, which asks only once the
+/// array's stamp has passed its checks (no tf lookup is spent on an array refused anyway).
+class ArrayPlacement {
+ public:
+  virtual ~ArrayPlacement() = default;
+  /// The pose of the array's frame in the fixed frame at `stamp`, and its boxes in that frame
+  /// (valid until ingest returns). False when the array is not used: a drop the placement
+  /// counted itself (Monitor::drop), or the array waits.
+  virtual bool place(Stamp stamp, Eigen::Isometry3d* fixed_from_frame,
+                     const std::vector<BoxObservation>** boxes) = 0;
+};
+
+/// The monitor's counts at a glance, for diagnostics and summaries.
+struct MonitorStatus {
+  std::uint64_t cycles = 0;  ///< cycles run (failed ones not counted)
+  std::uint64_t resets = 0;  ///< history resets: the clock went back
+  Stamp last_cycle = 0;      ///< instant of the last cycle, ns (0: none yet)
+  int tracks = 0;            ///< tracks now
+  int robot_bodies = 0;
+  int robot_unposed = 0;     ///< robot bodies not posed this cycle (stale or never seen)
+  double ssm_reach = 0.0;    ///< m: how far from the robot the speed and separation check looks
+};
+
 class Monitor {
  public:
   /// `params` must have passed validate(). `robot`: every robot body (URDF and ~robot_bodies).
@@ -37,16 +61,27 @@ class Monitor {
   // ---- input ----
   /// An array of source `i` arrived at `now`.
   void noteReceipt(int source, Stamp now) { sources_.noteReceipt(source, now); }
-  /// Checks an array's stamp (kFuture, kOld, kOutOfOrder); a bad one is counted and reported.
-  /// Returns true when the array may be used.
-  bool acceptStamp(int source, Stamp stamp, Stamp now);
-  /// One array's boxes, `fixed_from_frame` being the pose of its frame in the fixed frame at
-  /// `stamp`. Call acceptStamp first.
-  void ingest(int source, Stamp stamp, const Eigen::Isometry3d& fixed_from_frame,
+  /// One array of source `source`, stamped `stamp`, at `now`: its stamp is checked first (kFuture,
+  /// kOld, kOutOfOrder are counted and reported), then `array` places its boxes in the fixed
+  /// frame and they become tracks. Returns true when the array was used (its stamp passed and
+  /// `array` placed it).
+  bool ingest(int source, Stamp stamp, Stamp now, ArrayPlacement* array);
+  /// As above for boxes already placed: `fixed_from_frame` is the pose of their frame in the
+  /// fixed frame at `stamp`.
+  bool ingest(int source, Stamp stamp, Stamp now, const Eigen::Isometry3d& fixed_from_frame,
               const std::vector<BoxObservation>& boxes);
   /// Counts (and reports) a drop of source `source`'s data decided outside the monitor (frame,
   /// superseded, failures).
   void drop(Drop reason, int source, std::string detail);
+  /// Robot body i this cycle (RobotBodies::pose, posePath, markUnknown): the robot bridges.
+  bool poseRobot(int i, const BodyMotion& motion, const std::string& stale_reason = std::string()) {
+    return robot_.pose(i, motion, stale_reason);
+  }
+  bool poseRobotPath(int i, const MotionSegment* segments, int count,
+                     const std::string& stale_reason = std::string()) {
+    return robot_.posePath(i, segments, count, stale_reason);
+  }
+  void markRobotUnknown(int i, const std::string& why) { robot_.markUnknown(i, why); }
   /// A problem that lasts as long as the node runs (e.g. a robot link that cannot be
   /// modelled): every cycle's status is DEGRADED with this line.
   void addPermanentIssue(const std::string& line) { permanent_issues_.push_back(line); }
@@ -58,10 +93,7 @@ class Monitor {
   /// validate().
   void setParams(const MonitorParams& params);
 
-  RobotBodies& robot() { return robot_; }
-  const RobotBodies& robot() const { return robot_; }
-
-  // ---- the cycle ----
+  // ---- the cycle (CycleRunner runs it: reset, failure and timing) ----
   /// True when `now` is before the last cycle (bag loop, simulation reset): call reset().
   bool clockWentBack(Stamp now) const { return last_cycle_ != 0 && now < last_cycle_; }
   /// Forgets every stamp: tracks (their pairs END), robot poses, sources' receipts.
@@ -72,25 +104,18 @@ class Monitor {
   const CycleReport& cycle(Stamp now, StageClock* clock);
   /// A cycle failed (an exception): the next report says so; counted.
   void cycleFailed(Stamp now, const std::string& what);
-  /// Wall time of the whole cycle, outputs included (the node measures it), ms.
-  void noteCycleTime(double ms);
 
   // ---- what it knows ----
   const CycleReport& report() const { return report_; }
+  /// Counts at a glance (diagnostics, summaries).
+  MonitorStatus status() const;
   const ProximityWorld& world() const { return world_; }
   const TrackTable& tracks() const { return tracks_; }
+  const RobotBodies& robot() const { return robot_; }
   const SourceTable& sources() const { return sources_; }
   const DropCounters& drops() const { return drops_; }
   const LabelTable& labels() const { return labels_; }
   const MonitorParams& params() const { return params_; }
-  CycleTiming& timing() { return timing_; }
-  const CycleTiming& timing() const { return timing_; }
-  const SpeedSeparation& ssm() const { return ssm_; }
-  std::uint64_t cycles() const { return cycles_; }
-  std::uint64_t resets() const { return resets_; }
-  Stamp lastCycle() const { return last_cycle_; }
-  double lastCycleMs() const { return last_cycle_ms_; }
-  double maxCycleMs() const { return max_cycle_ms_; }
 
  private:
   void buildStatus(Stamp now);
@@ -106,14 +131,11 @@ class Monitor {
   SpeedSeparation ssm_;
   std::vector<std::string> permanent_issues_;
   CycleReport report_;
-  CycleTiming timing_;
   std::string detail_;  // scratch for rejections
 
   Stamp last_cycle_ = 0;
   std::uint64_t cycles_ = 0;
   std::uint64_t resets_ = 0;
-  double last_cycle_ms_ = 0.0;
-  double max_cycle_ms_ = 0.0;
 };
 
 }  // namespace workspace_proximity

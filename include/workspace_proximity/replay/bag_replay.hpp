@@ -1,12 +1,16 @@
 #pragma once
-/// The offline replay: a recorded bag through the node's own pipeline (MonitorPipeline), with
-/// simulated time taken from the bag. It drives the pipeline exactly as the node does:
+/// The offline replay: a recorded bag through the node's own pipeline (MonitorPipeline) and its
+/// cycle runner, with simulated time taken from the bag. It drives the pipeline exactly as the
+/// node does:
 ///   - each tracker array is handed to onArray at the time the recorder received it;
 ///   - each /tf and /tf_static message is inserted into a tf2::BufferCore at its receive time
 ///     (/tf_static as static transforms), as tf2_ros's listener inserts them;
 ///   - a cycle runs every 1 / ~rate seconds of bag time, from the bag's first message (the
 ///     first cycle one period after it); a message received exactly at a cycle's instant is
 ///     delivered before that cycle;
+///   - with ~cycle_trigger: input, a cycle runs instead at the receive time of an array of
+///     ~trigger_source when CycleTrigger's token bucket allows (at most ~rate a second), and a
+///     floor cycle one period after the last cycle when none did (the node's one-shot timer);
 ///   - each cycle's report is rendered with fillContacts, as the node publishes it;
 ///   - a stretch of more than kSkipGap seconds without any message (bags merged from two
 ///     sessions, or one message with a wrong time) is not cycled through: cycles run until
@@ -25,6 +29,8 @@
 #include <tf2/buffer_core.h>
 #include <workspace_proximity/ContactEventArray.h>
 
+#include "workspace_proximity/monitor/cycle_runner.hpp"
+#include "workspace_proximity/monitor/cycle_trigger.hpp"
 #include "workspace_proximity/monitor/monitor.hpp"
 #include "workspace_proximity/replay/bag_input.hpp"
 #include "workspace_proximity/ros/monitor_pipeline.hpp"
@@ -87,7 +93,7 @@ struct ReplayStats {
   double bagSeconds() const { return secondsBetween(begin, end); }
 };
 
-class BagReplay : private BagVisitor {
+class BagReplay : private BagVisitor, private CycleOutput {
  public:
   /// s without any message after which cycles are skipped (see above).
   static constexpr double kSkipGap = 60.0;
@@ -110,6 +116,8 @@ class BagReplay : private BagVisitor {
   void onInput(Stamp received);  // cycles due before it, the clock, the last input
   void cyclesBefore(Stamp t);  // every cycle due before t (skipping a long stretch without input)
   void runCycle(Stamp now);
+  // CycleOutput: the contacts as the node would publish them.
+  void contacts(const CycleReport& report, const ProximityWorld& world) override;
   void advanceClock(Stamp t);  // ROS time and pacing
   void checkFrames();
 
@@ -122,7 +130,10 @@ class BagReplay : private BagVisitor {
   ReplaySink* sink_ = nullptr;
   ReplayStats stats_;
   Stamp period_ = 0;
-  Stamp next_cycle_ = 0;
+  Stamp next_cycle_ = 0;   // the next timer cycle (input trigger: the floor)
+  bool input_trigger_ = false;
+  int trigger_source_ = 0;  // index of the trigger topic
+  CycleTrigger trigger_;
   double rate_factor_ = 0.0;
   std::chrono::steady_clock::time_point wall_start_;
   Stamp last_input_ = 0;  // receive time of the last message

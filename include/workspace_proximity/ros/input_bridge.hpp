@@ -25,8 +25,9 @@ class InputBridge {
   /// `monitor` and `tf` are borrowed. `fixed_frame`: the frame of the prediction.
   InputBridge(Monitor* monitor, tf2::BufferCore* tf, const std::string& fixed_frame);
 
-  /// An array of source `source` arrived at `now` (the subscription callback).
-  void onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp now);
+  /// An array of source `source` arrived at `now` (the subscription callback). True when it
+  /// was taken on arrival (used, or dropped with a reason), false when it waits for the cycle.
+  bool onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp now);
   /// At the cycle: every waiting array is used (the newest per source).
   void takePending(Stamp now);
   /// Forgets waiting arrays (after the clock went back).
@@ -44,6 +45,7 @@ class InputBridge {
   // at the stamp; otherwise the array keeps waiting. Returns false when it keeps waiting.
   bool take(int source, Stamp now, bool at_cycle);
   bool use(int source, const TrackedBoxArray& msg, Stamp now, bool at_cycle);
+  class Placement;  // the array's frame from tf and its boxes, for Monitor::ingest
   // Pose of `frame` in the fixed frame at `stamp`; false when it is not known (yet).
   bool lookup(int source, const std::string& frame, Stamp stamp, bool at_cycle,
               Eigen::Isometry3d* fixed_from_frame, bool* wait);

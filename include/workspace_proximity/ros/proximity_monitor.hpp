@@ -4,9 +4,11 @@
 /// array) runs the cycle, and the cycle's report goes to the contact publisher, the speed and
 /// separation outputs, the marker builder and the diagnostics:
 ///   arrays -> InputBridge -> Monitor (TrackTable) ; tf -> RobotTfBridge -> Monitor (RobotBodies)
-///   timer | array -> MonitorPipeline::cycle -> CycleReport
+///   timer | array (CycleTrigger) -> MonitorPipeline::run (CycleRunner) -> CycleReport
 ///     -> {contacts, speed_scale + safety_status + speed_override (+ stops, Twist filter),
-///         markers, /diagnostics}
+///         markers (MarkerSchedule), /diagnostics}
+/// The rules below the wiring are ROS-free: CycleRunner (reset, failure, timing), CycleTrigger
+/// (~cycle_trigger: input), MarkerSchedule (~marker_rate).
 
 #include <memory>
 #include <vector>
@@ -19,6 +21,9 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "workspace_proximity/monitor/cycle_runner.hpp"
+#include "workspace_proximity/monitor/cycle_trigger.hpp"
+#include "workspace_proximity/monitor/marker_schedule.hpp"
 #include "workspace_proximity/ros/contact_publisher.hpp"
 #include "workspace_proximity/ros/marker_builder.hpp"
 #include "workspace_proximity/ros/monitor_pipeline.hpp"
@@ -29,7 +34,7 @@
 
 namespace workspace_proximity {
 
-class ProximityMonitor {
+class ProximityMonitor : private CycleOutput {
  public:
   /// Builds the monitor, robot bodies, subscriptions, publishers and the cycle timer.
   /// `params` must have passed validate(). Throws std::runtime_error on a URDF that does
@@ -46,16 +51,16 @@ class ProximityMonitor {
  private:
   // Robot links moved by URDF joints from joint_states (~use_joint_states with a URDF).
   void enableJoints();
-  void runCycle(const ros::Time& now);
-  void publishSsm();
-  // ~cycle_trigger: input. An array of the trigger source arrived: a cycle now, unless arrays
-  // have already run ~rate cycles a second (then the floor timer takes it, within a period).
+  // CycleOutput: the contacts first; then the speed and separation outputs and, unless the
+  // cycle failed, the markers' schedule.
+  void contacts(const CycleReport& report, const ProximityWorld& world) override;
+  void rest(const CycleReport& report, const ProximityWorld& world, const CycleRun& run) override;
+  void publishSsm(const CycleReport& report, const ProximityWorld& world);
+  // ~cycle_trigger: input. An array of the trigger source arrived: a cycle now, unless
+  // CycleTrigger's bucket is empty (then the floor timer takes it, within a period).
   void onTriggerArray(const ros::Time& now);
-  // The floor timer (input trigger): a cycle a period after the last one, whatever the bucket
-  // holds. When it runs for an array the bucket refused (a flood), it spends that array's
-  // token, so that the next array of the flood does not run a second cycle right after it.
+  // The floor timer (input trigger): a cycle a period after the last one (CycleTrigger::onFloor).
   void onFloorTimer(const ros::Time& now);
-  void refillTokens(const ros::Time& now);  // the bucket counted up to `now`
   void armFloor();  // the one-shot floor timer: a cycle one period after the last
   void scheduleMarkers(const ros::Time& now);  // arms marker_timer_ when markers are due
   void publishMarkers();                        // marker_timer_: half a period after a cycle
@@ -69,7 +74,6 @@ class ProximityMonitor {
   tf2_ros::TransformListener tf_listener_;
   RejectionLog rejection_log_;
   std::unique_ptr<MonitorPipeline> pipeline_;
-  Monitor* monitor_ = nullptr;  // the pipeline's
   std::unique_ptr<ContactPublisher> contacts_;
   std::unique_ptr<SsmPublisher> ssm_;        // null with ~ssm/enabled: false
   std::unique_ptr<TwistFilter> twist_filter_;  // null without ~ssm/cmd_vel_in
@@ -80,14 +84,9 @@ class ProximityMonitor {
   ros::Timer timer_;       // timer trigger: every period; input trigger: one-shot floor
   bool input_trigger_ = false;
   int trigger_source_ = 0;  // index of the trigger topic
-  // Cycles under the input trigger are limited by a token bucket: ~rate tokens a second, at
-  // most kTriggerBurst saved up, so a tracker at the node's rate whose arrays jitter never
-  // waits, while a flooding one runs at most ~rate cycles a second (floor cycles included).
-  double trigger_tokens_ = 0.0;
-  ros::Time trigger_refilled_;  // when the tokens were last counted up (zero: never)
-  bool trigger_refused_ = false;  // an array was refused a cycle since the last one
+  CycleTrigger trigger_;    // the input trigger's token bucket and floor
   ros::Timer marker_timer_;
-  ros::Time last_markers_;  // stamp of the last MarkerArray
+  MarkerSchedule marker_schedule_;
   diagnostic_updater::Updater diagnostics_;
   boost::recursive_mutex reconfigure_mutex_;  // the server's (updateConfig is called on it)
   std::unique_ptr<dynamic_reconfigure::Server<ProximityMonitorConfig>> reconfigure_;

@@ -12,8 +12,9 @@ int main() {
   post.frame = "base";
   post.shape = wp::Shape::box({0.5, 0.5, 0.5});
   wp::Monitor monitor(params, {post}, {"/boxes"}, false, nullptr);
-  monitor.robot().pose(0, wp::BodyMotion());
-  wp::StageClock clock(&monitor.timing());
+  monitor.poseRobot(0, wp::BodyMotion());
+  wp::CycleTiming timing;
+  wp::StageClock clock(&timing);
   const wp::CycleReport& report = monitor.cycle(1000000000, &clock);
   // Nothing heard from /boxes yet: DEGRADED, never clear.
   std::printf("use_monitor: %s, %zu events\n", report.degraded ? "DEGRADED" : "OK", report.eventCount());
