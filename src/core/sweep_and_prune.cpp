@@ -36,7 +36,8 @@ void keepHeadroom(State& s) {
   }
 }
 
-void checkLive(const State& s, ProxyId id, const char* what) {
+// Inline: moveProxy runs once per body and cycle.
+inline void checkLive(const State& s, ProxyId id, const char* what) {
   if (id < 0 || static_cast<std::size_t>(id) >= s.info.size()) {
     throw std::out_of_range(std::string("SweepAndPrune::") + what + ": no such proxy");
   }
@@ -199,6 +200,20 @@ State::State(const SweepAndPruneConfig& c)
     keys[axis] = {kLowSentinel, kHighSentinel};
     owners[axis] = {kSentinelOwner, kSentinelOwner};
   }
+}
+
+void State::beginPair(std::int32_t a, std::int32_t b) {
+  bool inserted = false;
+  Candidate* pair = cands.insert(a, b, &inserted);
+  if (inserted) {
+    pair->epoch = epoch;
+    cand_began.push_back(*pair);
+  }
+}
+
+void State::endPair(std::int32_t a, std::int32_t b) {
+  Candidate removed;
+  if (cands.erase(a, b, &removed)) cand_ended.push_back(removed);
 }
 
 void State::reserveSlots(std::size_t slots) {

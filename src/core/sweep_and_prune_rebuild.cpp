@@ -94,7 +94,8 @@ void measureWidths(State& s, double* mean_width) {
 // Sweeps: every lower endpoint, in order along the sweep axis, is tested against the intervals
 // open at it. One kernel (testOpen) serves the plain and the slab sweep.
 
-inline void foundPair(State& s, std::int32_t a, std::int32_t b, bool rebuild) {
+// Out of line: the sweep's kernel (testOpen) stays small enough to inline into the sweeps.
+__attribute__((noinline)) void foundPair(State& s, std::int32_t a, std::int32_t b, bool rebuild) {
   if (!rebuild) {
     s.beginPair(a, b);
     return;
@@ -115,8 +116,9 @@ inline void testExactly(State& s, const ActiveSet& set, std::size_t j, std::int3
 }
 
 template <bool kSlabs>
-inline std::size_t testOpen(State& s, const ActiveSet& set, std::int32_t p, const EndKeys& k,
-                            bool p_first, bool rebuild) {
+__attribute__((always_inline)) inline std::size_t testOpen(State& s, const ActiveSet& set,
+                                                           std::int32_t p, const EndKeys& k,
+                                                           bool p_first, bool rebuild) {
   // Four open intervals at a time on 32-bit prefixes (a filter that never drops an overlap),
   // then the exact test on full keys for the few lanes it passes. In a slab sweep a pair is
   // reported only in the slab holding the larger of the two lower bounds: p's first slab, or

@@ -92,19 +92,10 @@ struct State {
     fat_count += static_cast<int>(is_fat) - static_cast<int>(p.fat);
     p.fat = is_fat;
   }
-  // A candidate begins (listed once) or ends.
-  void beginPair(std::int32_t a, std::int32_t b) {
-    bool inserted = false;
-    Candidate* pair = cands.insert(a, b, &inserted);
-    if (inserted) {
-      pair->epoch = epoch;
-      cand_began.push_back(*pair);
-    }
-  }
-  void endPair(std::int32_t a, std::int32_t b) {
-    Candidate removed;
-    if (cands.erase(a, b, &removed)) cand_ended.push_back(removed);
-  }
+  // A candidate begins (listed once) or ends. Out of line (sweep_and_prune.cpp): the loops
+  // that call them stay small.
+  void beginPair(std::int32_t a, std::int32_t b);
+  void endPair(std::int32_t a, std::int32_t b);
   bool anyStale() const { return stale[0] | stale[1] | stale[2]; }
 
   SweepAndPruneConfig config;
