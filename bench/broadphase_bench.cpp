@@ -75,7 +75,7 @@
 #include "workspace_proximity/swept_bounds.hpp"
 
 #ifdef WP_BENCH_BASELINE_SAP
-#include "baseline/baseline_sap.hpp"
+#include "experiments/baseline/baseline_sap.hpp"
 #endif
 
 // ---------------------------------------------------------------------------------------------
@@ -678,7 +678,7 @@ class OursPeer : public Peer {
 };
 
 #ifdef WP_BENCH_BASELINE_SAP
-// Another version's SweepAndPrune (-DWP_BENCH_BASELINE=<source tree>, bench/baseline/), driven
+// Another version's SweepAndPrune (-DWP_BENCH_BASELINE=<source tree>, bench/experiments/baseline/), driven
 // exactly as OursPeer drives ours.
 class BaselinePeer : public Peer {
  public:

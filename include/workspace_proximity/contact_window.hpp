@@ -118,4 +118,25 @@ ContactWindow refineWindow(const PairBody& a, const PairBody& b, TimeInterval wi
 /// Both steps: refineWindow(a, b, axisWindow(a, b, horizon)).
 ContactWindow contactWindow(const PairBody& a, const PairBody& b, double horizon);
 
+/// Exact contact interval of two upright boxes that only translate (constant velocities, m/s)
+/// and are grown by a ball whose radius `inflation` (m, > 0) is the sum of their margins:
+/// the instants within `window` (s) at which the boxes are at most `inflation` apart.
+///
+/// First the separating axes of two vertical prisms (the four footprint normals and z), each
+/// grown by `inflation`, as movingBoxInterval() does: that interval holds every contact and is
+/// exact where contact begins or ends on a face of a footprint. Where it begins or ends at two
+/// corners (the grown footprints' rounded corners, which the axes square off) the boxes are
+/// further apart than `inflation` there, and that end moves to where the two corners come
+/// within `inflation` (one quadratic), or the interval is empty when they never do.
+///
+/// Returns false, leaving *out alone, when the footprints do not decide it: the heights do
+/// not overlap throughout (contact could begin at a rounded rim), non-finite input, or
+/// rounding left the two ends inconsistent. The caller then refines another way. Both ends
+/// are widened outward by a nanometre of distance and a few ulps of time, so rounding never
+/// narrows the interval.
+bool roundedUprightInterval(const Eigen::Isometry3d& pose_a, const Eigen::Vector3d& half_a,
+                            const Eigen::Vector3d& velocity_a, const Eigen::Isometry3d& pose_b,
+                            const Eigen::Vector3d& half_b, const Eigen::Vector3d& velocity_b,
+                            double inflation, TimeInterval window, TimeInterval* out);
+
 }  // namespace workspace_proximity

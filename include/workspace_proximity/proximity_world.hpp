@@ -11,18 +11,18 @@
 /// (closed forms and FCL, conservative advancement inside the window) -> events.
 
 #include <cstdint>
+#include <memory>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "workspace_proximity/aabb.hpp"
 #include "workspace_proximity/body.hpp"
-#include "workspace_proximity/contact_window.hpp"
-#include "workspace_proximity/pair_event.hpp"
-#include "workspace_proximity/event_tracker.hpp"
 #include "workspace_proximity/motion_path.hpp"
-#include "workspace_proximity/narrow_phase.hpp"
+#include "workspace_proximity/narrow_phase.hpp"      // NarrowPhaseConfig
+#include "workspace_proximity/pair_event.hpp"
 #include "workspace_proximity/pair_rules.hpp"
-#include "workspace_proximity/pair_table.hpp"
-#include "workspace_proximity/sweep_and_prune.hpp"
+#include "workspace_proximity/sweep_and_prune.hpp"   // SweepAndPruneConfig, SweepAndPruneStats
 
 namespace workspace_proximity {
 
@@ -113,7 +113,7 @@ class ProximityWorld {
   const PathSegment* path(BodyHandle body) const;
   /// Swept bounds used by the last predict().
   Aabb sweptBounds(BodyHandle body) const;
-  int bodyCount() const { return live_count_; }
+  int bodyCount() const;
 
   /// How near (m, >= 0; default 0) another body must come to this one to be reported in
   /// nearPairs(), whatever the contact prediction says: an allowed pair is reported when its
@@ -131,56 +131,16 @@ class ProximityWorld {
   /// Predicts contacts within `horizon` seconds (> 0... or 0 for "touching now" only).
   /// The returned events are valid until the next call.
   const std::vector<PairEvent>& predict(double horizon);
-  const WorldStats& stats() const { return stats_; }
+  const WorldStats& stats() const;
   /// Every allowed pair within reach at the last predict() (see setReach), in no particular
   /// order; valid until the next call.
-  const std::vector<NearPair>& nearPairs() const { return near_pairs_; }
+  const std::vector<NearPair>& nearPairs() const;
 
  private:
-  struct BodyRecord;
-  // The world's own record of a broad-phase pair, kept from the pair's begin to its end.
-  struct PairRecord {
-    std::int32_t proxy_a = -1;  // the broad phase's pair (the cache's key)
-    std::int32_t proxy_b = -1;
-    std::int32_t body_a = -1;   // body slots of the two proxies
-    std::int32_t body_b = -1;
-    std::uint8_t verdict = 0;   // pair rules: unknown, allowed, denied
-    bool swapped = false;       // body_b's id sorts before body_a's (events name it first)
-  };
-  BodyRecord& record(BodyHandle body);
-  const BodyRecord& record(BodyHandle body) const;
-  BodyRecord& liveRecord(BodyHandle body, const char* what);
-
-  // predict() in steps.
-  void freeRemovedSlots();
-  void updateBounds(double horizon);
-  void syncPairCache();
-  void predictPairs(double horizon);
-  void predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b, double horizon);
-  PairBody pairBody(std::int32_t slot) const;
-  ContactWindow windowOf(PairBody* a, PairBody* b, double horizon);
-  bool allowed(PairRecord& pair);
-  void reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b);
-  void report(const PairRecord& pair, const ContactPrediction& prediction);
-
-  WorldConfig config_;
-  std::vector<BodyRecord> bodies_;
-  std::int32_t free_list_ = -1;
-  int live_count_ = 0;
-  std::uint32_t next_serial_ = 0;
-  std::vector<std::int32_t> removed_;       // removed this cycle, freed at the next predict
-  std::vector<std::int32_t> to_free_;
-  double last_horizon_ = -1.0;
-  bool rules_changed_ = true;
-  std::uint64_t cycle_ = 0;                 // predict() calls so far (never wraps)
-
-  SweepAndPrune broad_phase_;
-  std::vector<std::int32_t> body_of_proxy_;    // body slot per broad-phase proxy id
-  BasicPairTable<PairRecord> pair_cache_;       // the broad phase's pairs, as the world sees them
-  NarrowPhase narrow_phase_;
-  EventTracker tracker_;
-  std::vector<NearPair> near_pairs_;
-  WorldStats stats_;
+  // Bodies, the broad phase and its pair cache, the narrow phase and the event tracker
+  // (src/core/proximity_world.cpp).
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace workspace_proximity

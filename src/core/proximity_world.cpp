@@ -3,9 +3,13 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 
+#include "workspace_proximity/contact_window.hpp"
+#include "workspace_proximity/event_tracker.hpp"
+#include "workspace_proximity/pair_table.hpp"
 #include "workspace_proximity/swept_bounds.hpp"
 
 namespace workspace_proximity {
@@ -80,7 +84,77 @@ void checkMotion(const char* where, const std::string& id, const BodyMotion& mot
 
 }  // namespace
 
-struct ProximityWorld::BodyRecord {
+// Everything the world keeps, behind ProximityWorld's one pointer; the public methods forward
+// here (the end of this file).
+struct ProximityWorld::Impl {
+  explicit Impl(const WorldConfig& config);
+
+  // The public API (proximity_world.hpp says what each does).
+  BodyHandle addBody(const BodyDesc& desc, const BodyMotion& motion);
+  void removeBody(BodyHandle body);
+  void setMotion(BodyHandle body, const BodyMotion& motion);
+  void setPath(BodyHandle body, const MotionSegment* segments, int count);
+  void setGrowth(BodyHandle body, const MarginGrowth& growth);
+  void setShape(BodyHandle body, const Shape& shape, double margin);
+  bool contains(BodyHandle body) const;
+  const BodyDesc& desc(BodyHandle body) const;
+  const BodyMotion& motion(BodyHandle body) const;
+  const MarginGrowth& growth(BodyHandle body) const;
+  int pathSize(BodyHandle body) const;
+  const PathSegment* path(BodyHandle body) const;
+  Aabb sweptBounds(BodyHandle body) const;
+  void setReach(BodyHandle body, double reach);
+  double reach(BodyHandle body) const;
+  void setRules(const PairRules& rules);
+  const std::vector<PairEvent>& predict(double horizon);
+
+  struct BodyRecord;
+  // The world's own record of a broad-phase pair, kept from the pair's begin to its end.
+  struct PairRecord {
+    std::int32_t proxy_a = -1;  // the broad phase's pair (the cache's key)
+    std::int32_t proxy_b = -1;
+    std::int32_t body_a = -1;   // body slots of the two proxies
+    std::int32_t body_b = -1;
+    std::uint8_t verdict = 0;   // pair rules: unknown, allowed, denied
+    bool swapped = false;       // body_b's id sorts before body_a's (events name it first)
+  };
+  BodyRecord& record(BodyHandle body);
+  const BodyRecord& record(BodyHandle body) const;
+  BodyRecord& liveRecord(BodyHandle body, const char* what);
+
+  // predict() in steps.
+  void freeRemovedSlots();
+  void updateBounds(double horizon);
+  void syncPairCache();
+  void predictPairs(double horizon);
+  void predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b, double horizon);
+  PairBody pairBody(std::int32_t slot) const;
+  ContactWindow windowOf(PairBody* a, PairBody* b, double horizon);
+  bool allowed(PairRecord& pair);
+  void reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b);
+  void report(const PairRecord& pair, const ContactPrediction& prediction);
+
+  WorldConfig config_;
+  std::vector<BodyRecord> bodies_;
+  std::int32_t free_list_ = -1;
+  int live_count_ = 0;
+  std::uint32_t next_serial_ = 0;
+  std::vector<std::int32_t> removed_;       // removed this cycle, freed at the next predict
+  std::vector<std::int32_t> to_free_;
+  double last_horizon_ = -1.0;
+  bool rules_changed_ = true;
+  std::uint64_t cycle_ = 0;                 // predict() calls so far (never wraps)
+
+  SweepAndPrune broad_phase_;
+  std::vector<std::int32_t> body_of_proxy_;    // body slot per broad-phase proxy id
+  BasicPairTable<PairRecord> pair_cache_;       // the broad phase's pairs, as the world sees them
+  NarrowPhase narrow_phase_;
+  EventTracker tracker_;
+  std::vector<NearPair> near_pairs_;
+  WorldStats stats_;
+};
+
+struct ProximityWorld::Impl::BodyRecord {
   enum class State : std::uint8_t { kFree, kLive, kRemoved };
 
   // Hot first, in the order updateBounds and the pair stages read them, so that a body's
@@ -113,7 +187,7 @@ struct ProximityWorld::BodyRecord {
   std::vector<PathSegment> path;
 };
 
-ProximityWorld::ProximityWorld(const WorldConfig& config)
+ProximityWorld::Impl::Impl(const WorldConfig& config)
     : config_(config),
       broad_phase_(broadPhaseConfig(config)),
       pair_cache_(config.initial_pair_capacity),
@@ -126,19 +200,18 @@ ProximityWorld::ProximityWorld(const WorldConfig& config)
   near_pairs_.reserve(static_cast<std::size_t>(std::max(config.initial_pair_capacity, 1)));
 }
 
-ProximityWorld::~ProximityWorld() = default;
 
-ProximityWorld::BodyRecord& ProximityWorld::record(BodyHandle body) {
+ProximityWorld::Impl::BodyRecord& ProximityWorld::Impl::record(BodyHandle body) {
   if (!contains(body)) throw std::invalid_argument("ProximityWorld: stale or invalid body handle");
   return bodies_[body.index];
 }
 
-const ProximityWorld::BodyRecord& ProximityWorld::record(BodyHandle body) const {
+const ProximityWorld::Impl::BodyRecord& ProximityWorld::Impl::record(BodyHandle body) const {
   if (!contains(body)) throw std::invalid_argument("ProximityWorld: stale or invalid body handle");
   return bodies_[body.index];
 }
 
-ProximityWorld::BodyRecord& ProximityWorld::liveRecord(BodyHandle body, const char* what) {
+ProximityWorld::Impl::BodyRecord& ProximityWorld::Impl::liveRecord(BodyHandle body, const char* what) {
   BodyRecord& b = record(body);
   if (b.state != BodyRecord::State::kLive) {
     throw std::invalid_argument(std::string(what) + ": body '" + b.desc.id + "' was removed");
@@ -146,13 +219,13 @@ ProximityWorld::BodyRecord& ProximityWorld::liveRecord(BodyHandle body, const ch
   return b;
 }
 
-bool ProximityWorld::contains(BodyHandle body) const {
+bool ProximityWorld::Impl::contains(BodyHandle body) const {
   return body.index >= 0 && body.index < static_cast<std::int32_t>(bodies_.size()) &&
          bodies_[body.index].generation == body.generation &&
          bodies_[body.index].state != BodyRecord::State::kFree;
 }
 
-BodyHandle ProximityWorld::addBody(const BodyDesc& desc, const BodyMotion& motion) {
+BodyHandle ProximityWorld::Impl::addBody(const BodyDesc& desc, const BodyMotion& motion) {
   constexpr const char* kWhere = "ProximityWorld::addBody";
   if (desc.id.empty()) throw std::invalid_argument("ProximityWorld::addBody: empty id");
   checkShape(kWhere, desc.id, desc.shape, desc.margin);
@@ -190,7 +263,7 @@ BodyHandle ProximityWorld::addBody(const BodyDesc& desc, const BodyMotion& motio
   return BodyHandle{index, b.generation};
 }
 
-void ProximityWorld::removeBody(BodyHandle body) {
+void ProximityWorld::Impl::removeBody(BodyHandle body) {
   BodyRecord& b = record(body);
   if (b.state != BodyRecord::State::kLive) return;  // removing twice is harmless
   broad_phase_.destroyProxy(b.proxy);
@@ -200,7 +273,7 @@ void ProximityWorld::removeBody(BodyHandle body) {
   --live_count_;
 }
 
-void ProximityWorld::setMotion(BodyHandle body, const BodyMotion& motion) {
+void ProximityWorld::Impl::setMotion(BodyHandle body, const BodyMotion& motion) {
   BodyRecord& b = liveRecord(body, "ProximityWorld::setMotion");
   checkMotion("ProximityWorld::setMotion", b.desc.id, motion);
   b.motion = motion;
@@ -208,7 +281,7 @@ void ProximityWorld::setMotion(BodyHandle body, const BodyMotion& motion) {
   b.dirty = true;
 }
 
-void ProximityWorld::setPath(BodyHandle body, const MotionSegment* segments, int count) {
+void ProximityWorld::Impl::setPath(BodyHandle body, const MotionSegment* segments, int count) {
   BodyRecord& b = liveRecord(body, "ProximityWorld::setPath");
   if (!validPath(segments, count)) {
     throw std::invalid_argument("ProximityWorld::setPath: body '" + b.desc.id +
@@ -231,7 +304,7 @@ void ProximityWorld::setPath(BodyHandle body, const MotionSegment* segments, int
   b.has_path = true;
 }
 
-void ProximityWorld::setGrowth(BodyHandle body, const MarginGrowth& growth) {
+void ProximityWorld::Impl::setGrowth(BodyHandle body, const MarginGrowth& growth) {
   BodyRecord& b = liveRecord(body, "ProximityWorld::setGrowth");
   if (!growth.valid()) {
     throw std::invalid_argument("ProximityWorld::setGrowth: body '" + b.desc.id +
@@ -245,7 +318,7 @@ void ProximityWorld::setGrowth(BodyHandle body, const MarginGrowth& growth) {
   b.dirty = true;
 }
 
-void ProximityWorld::setShape(BodyHandle body, const Shape& shape, double margin) {
+void ProximityWorld::Impl::setShape(BodyHandle body, const Shape& shape, double margin) {
   BodyRecord& b = liveRecord(body, "ProximityWorld::setShape");
   checkShape("ProximityWorld::setShape", b.desc.id, shape, margin);
   narrow_phase_.setShape(body.index, shape);
@@ -254,7 +327,7 @@ void ProximityWorld::setShape(BodyHandle body, const Shape& shape, double margin
   b.dirty = true;
 }
 
-void ProximityWorld::setReach(BodyHandle body, double reach) {
+void ProximityWorld::Impl::setReach(BodyHandle body, double reach) {
   BodyRecord& b = liveRecord(body, "ProximityWorld::setReach");
   if (!std::isfinite(reach) || reach < 0.0 || reach > Limits::kMaxSize) {
     throw std::invalid_argument("ProximityWorld::setReach: body '" + b.desc.id +
@@ -265,24 +338,24 @@ void ProximityWorld::setReach(BodyHandle body, double reach) {
   b.dirty = true;
 }
 
-double ProximityWorld::reach(BodyHandle body) const { return record(body).reach; }
+double ProximityWorld::Impl::reach(BodyHandle body) const { return record(body).reach; }
 
-const BodyDesc& ProximityWorld::desc(BodyHandle body) const { return record(body).desc; }
-const BodyMotion& ProximityWorld::motion(BodyHandle body) const { return record(body).motion; }
-const MarginGrowth& ProximityWorld::growth(BodyHandle body) const { return record(body).growth; }
+const BodyDesc& ProximityWorld::Impl::desc(BodyHandle body) const { return record(body).desc; }
+const BodyMotion& ProximityWorld::Impl::motion(BodyHandle body) const { return record(body).motion; }
+const MarginGrowth& ProximityWorld::Impl::growth(BodyHandle body) const { return record(body).growth; }
 
-int ProximityWorld::pathSize(BodyHandle body) const {
+int ProximityWorld::Impl::pathSize(BodyHandle body) const {
   const BodyRecord& b = record(body);
   return (b.has_path || b.grows) ? static_cast<int>(b.path.size()) : 0;
 }
 
-const PathSegment* ProximityWorld::path(BodyHandle body) const {
+const PathSegment* ProximityWorld::Impl::path(BodyHandle body) const {
   const BodyRecord& b = record(body);
   return (b.has_path || b.grows) ? b.path.data() : nullptr;
 }
-Aabb ProximityWorld::sweptBounds(BodyHandle body) const { return record(body).swept; }
+Aabb ProximityWorld::Impl::sweptBounds(BodyHandle body) const { return record(body).swept; }
 
-void ProximityWorld::setRules(const PairRules& rules) {
+void ProximityWorld::Impl::setRules(const PairRules& rules) {
   config_.rules = rules;
   rules_changed_ = true;
 }
@@ -290,7 +363,7 @@ void ProximityWorld::setRules(const PairRules& rules) {
 // The per-pair helpers below are `inline`: in a shared library an exported function may be
 // interposed, so the compiler would not inline them into the pair loop otherwise.
 
-const std::vector<PairEvent>& ProximityWorld::predict(double horizon) {
+const std::vector<PairEvent>& ProximityWorld::Impl::predict(double horizon) {
   if (!std::isfinite(horizon) || horizon < 0.0 || horizon > Limits::kMaxHorizon) {
     throw std::invalid_argument("ProximityWorld::predict: horizon must be in [0, 1e4] s");
   }
@@ -320,7 +393,7 @@ const std::vector<PairEvent>& ProximityWorld::predict(double horizon) {
   return tracker_.events();
 }
 
-void ProximityWorld::freeRemovedSlots() {
+void ProximityWorld::Impl::freeRemovedSlots() {
   // Bodies removed before the previous predict() had their END events then; their slots
   // can be reused now. Bodies removed since stay nameable through this predict().
   for (std::int32_t index : to_free_) {
@@ -335,7 +408,7 @@ void ProximityWorld::freeRemovedSlots() {
   std::swap(to_free_, removed_);
 }
 
-void ProximityWorld::updateBounds(double horizon) {
+void ProximityWorld::Impl::updateBounds(double horizon) {
   // Swept bounds of every body that moved (all of them when the horizon changed).
   const bool horizon_changed = horizon != last_horizon_;
   last_horizon_ = horizon;
@@ -374,7 +447,7 @@ void ProximityWorld::updateBounds(double horizon) {
   }
 }
 
-void ProximityWorld::syncPairCache() {
+void ProximityWorld::Impl::syncPairCache() {
   // The broad phase's pairs now = before - ended + began (disjoint): the cache follows, and
   // a new pair's bodies and verdict are looked up once, when it begins.
   for (const BroadPair& p : broad_phase_.endedPairs()) pair_cache_.erase(p.proxy_a, p.proxy_b);
@@ -393,7 +466,7 @@ void ProximityWorld::syncPairCache() {
   }
 }
 
-void ProximityWorld::predictPairs(double horizon) {
+void ProximityWorld::Impl::predictPairs(double horizon) {
   // Per pair: rules, contact window, narrow phase inside the window, report.
   tracker_.beginCycle();
   near_pairs_.clear();
@@ -424,7 +497,7 @@ void ProximityWorld::predictPairs(double horizon) {
   stats_.near_pairs = static_cast<int>(near_pairs_.size());
 }
 
-void ProximityWorld::predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b,
+void ProximityWorld::Impl::predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b,
                                          double horizon) {
   // The merged breakpoints of both bodies, then the same steps as a constant-twist pair.
   const bool timed_pairs = config_.time_pair_stages;
@@ -441,7 +514,7 @@ void ProximityWorld::predictPiecewisePair(const PairRecord& pair, PairBody* a, P
   report(pair, prediction);
 }
 
-inline PairBody ProximityWorld::pairBody(std::int32_t slot) const {
+inline PairBody ProximityWorld::Impl::pairBody(std::int32_t slot) const {
   const BodyRecord& r = bodies_[slot];
   PairBody body;
   body.shape = &r.desc.shape;
@@ -458,11 +531,11 @@ inline PairBody ProximityWorld::pairBody(std::int32_t slot) const {
   return body;
 }
 
-inline ContactWindow ProximityWorld::windowOf(PairBody* a, PairBody* b, double horizon) {
+inline ContactWindow ProximityWorld::Impl::windowOf(PairBody* a, PairBody* b, double horizon) {
   return refineWindow(*a, *b, axisWindow(*a, *b, horizon));
 }
 
-inline bool ProximityWorld::allowed(PairRecord& pair) {
+inline bool ProximityWorld::Impl::allowed(PairRecord& pair) {
   // Rules are evaluated once per broad-phase pair (and again after setRules), not every cycle.
   if (pair.verdict == kVerdictUnknown || rules_changed_) {
     const bool allow = config_.rules.allowed(bodies_[pair.body_a].desc, bodies_[pair.body_b].desc);
@@ -471,7 +544,7 @@ inline bool ProximityWorld::allowed(PairRecord& pair) {
   return pair.verdict == kVerdictAllowed;
 }
 
-inline void ProximityWorld::reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b) {
+inline void ProximityWorld::Impl::reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b) {
   const double reach = bodies_[pair.body_a].reach + bodies_[pair.body_b].reach;
   if (!(reach > 0.0)) return;
   // The boxes around the centres (PairBody::half holds each shape now) a lower bound apart on
@@ -491,7 +564,7 @@ inline void ProximityWorld::reportIfNear(const PairRecord& pair, PairBody* a, Pa
   near_pairs_.push_back(near);
 }
 
-inline void ProximityWorld::report(const PairRecord& pair, const ContactPrediction& prediction) {
+inline void ProximityWorld::Impl::report(const PairRecord& pair, const ContactPrediction& prediction) {
   const BodyRecord& a = bodies_[pair.body_a];
   const BodyRecord& b = bodies_[pair.body_b];
   // Name the pair so that body_a's id sorts first, as the message contract asks.
@@ -511,5 +584,38 @@ inline void ProximityWorld::report(const PairRecord& pair, const ContactPredicti
   const std::uint32_t hi = std::max(a.serial, b.serial);
   tracker_.report((static_cast<std::uint64_t>(lo) << 32) | hi, event);
 }
+
+// ---------------------------------------------------------------------------------------------
+// The public class: one pointer to the state.
+
+ProximityWorld::ProximityWorld(const WorldConfig& config) : impl_(std::make_unique<Impl>(config)) {}
+ProximityWorld::~ProximityWorld() = default;
+
+BodyHandle ProximityWorld::addBody(const BodyDesc& desc, const BodyMotion& motion) {
+  return impl_->addBody(desc, motion);
+}
+void ProximityWorld::removeBody(BodyHandle body) { impl_->removeBody(body); }
+void ProximityWorld::setMotion(BodyHandle body, const BodyMotion& motion) { impl_->setMotion(body, motion); }
+void ProximityWorld::setPath(BodyHandle body, const MotionSegment* segments, int count) {
+  impl_->setPath(body, segments, count);
+}
+void ProximityWorld::setGrowth(BodyHandle body, const MarginGrowth& growth) { impl_->setGrowth(body, growth); }
+void ProximityWorld::setShape(BodyHandle body, const Shape& shape, double margin) {
+  impl_->setShape(body, shape, margin);
+}
+bool ProximityWorld::contains(BodyHandle body) const { return impl_->contains(body); }
+const BodyDesc& ProximityWorld::desc(BodyHandle body) const { return impl_->desc(body); }
+const BodyMotion& ProximityWorld::motion(BodyHandle body) const { return impl_->motion(body); }
+const MarginGrowth& ProximityWorld::growth(BodyHandle body) const { return impl_->growth(body); }
+int ProximityWorld::pathSize(BodyHandle body) const { return impl_->pathSize(body); }
+const PathSegment* ProximityWorld::path(BodyHandle body) const { return impl_->path(body); }
+Aabb ProximityWorld::sweptBounds(BodyHandle body) const { return impl_->sweptBounds(body); }
+int ProximityWorld::bodyCount() const { return impl_->live_count_; }
+void ProximityWorld::setReach(BodyHandle body, double reach) { impl_->setReach(body, reach); }
+double ProximityWorld::reach(BodyHandle body) const { return impl_->reach(body); }
+void ProximityWorld::setRules(const PairRules& rules) { impl_->setRules(rules); }
+const std::vector<PairEvent>& ProximityWorld::predict(double horizon) { return impl_->predict(horizon); }
+const WorldStats& ProximityWorld::stats() const { return impl_->stats_; }
+const std::vector<NearPair>& ProximityWorld::nearPairs() const { return impl_->near_pairs_; }
 
 }  // namespace workspace_proximity

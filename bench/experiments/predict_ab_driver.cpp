@@ -1,5 +1,5 @@
 // The node's predict load through ProximityWorld alone, for comparing versions of the core
-// (scripts/bench-predict-ab builds it against each): load_generator's walkers (same seed,
+// (bench/experiments/bench-predict-ab builds it against each): load_generator's walkers (same seed,
 // cell 3 sqrt(N) m, people 0.5 x 0.5 x 1.8 m and every tenth a 2.4 x 1.2 x 2.0 m forklift at
 // 0.3-1.5 m/s) with the node's default margin (0.1 m, no configuration loaded), horizon 2 s,
 // 30 Hz. Uses only the API every version has (addBody, setMotion, predict), so it builds

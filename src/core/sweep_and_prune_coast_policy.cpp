@@ -1,0 +1,38 @@
+#include "sweep_and_prune_coast_policy.hpp"
+
+namespace workspace_proximity {
+namespace sap {
+
+void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r) {
+  // This enlargement and its re-sort: the work the next run starts with.
+  const double endpoints = 2.0 * r.live;
+  double work = kEnlargeWork * r.live + kSwapWork * static_cast<double>(r.swaps);
+  work += r.rebuilt ? rebuildWork(3.0, r.live, r.sweep_tests, static_cast<double>(r.candidates))
+                    : kPassWork * 3.0 * endpoints;
+  if (judge_next_) {
+    // The run that ends here, from the last enlargement of everybody to this one, against what
+    // the same updates would have cost without coasting: one pass over every axis and the
+    // swaps of its motion (this jump's estimated swaps, spread over the run), or a rebuild of
+    // the given bounds (one axis sorted) if cheaper; both with the scan of the pairs. Coasting
+    // that costs more switches off for a while (longer after each failure in a row).
+    const double run = static_cast<double>(update - last_global_);
+    const double swaps = static_cast<double>(r.estimated_swaps >= 0 ? r.estimated_swaps : r.swaps);
+    const double pairs = static_cast<double>(r.pairs);
+    const double without = kScanWork * pairs +
+                           std::min(kPassWork * 3.0 * endpoints + kSwapWork * swaps / run,
+                                    rebuildWork(1.0, r.live, r.sweep_tests, pairs));
+    if (run_work_ / run > without) {
+      lead_ = 0.0;
+      retry_at_ = update + backoff_;
+      backoff_ = std::min<std::uint32_t>(2 * backoff_, kMaxBackoff);
+    } else {
+      backoff_ = kFirstBackoff;
+    }
+  }
+  judge_next_ = true;
+  run_work_ = work;
+  last_global_ = update;
+}
+
+}  // namespace sap
+}  // namespace workspace_proximity

@@ -1,0 +1,132 @@
+#pragma once
+/// Coasting's policy (private to the core): how much a proxy's bounds are enlarged ahead of
+/// its motion, what an update does with the proxies that left their enlarged bounds, and
+/// whether coasting pays. A value class fed counts, kept outside the arrays it steers (as
+/// Box2D keeps its fat-bounds margin outside its tree), so that its decisions are tested on
+/// their own (test/core/test_coast_policy.cpp).
+///
+/// The lead ahead of a side that moved outward is `coast_updates` updates of its own
+/// displacement per update, capped at a fraction of the box's largest extent; a side that moved
+/// inward gets one update's, a resting side none (room()). An update with no escaper does
+/// nothing; up to 1 + n / 32 escapers move alone; more, or a run of 4 coast_updates updates,
+/// enlarge everybody again (step()). Each enlargement of everybody ends a run, which is judged
+/// with a cost model in work units against what the same updates would have cost without
+/// coasting; a run that cost more switches coasting off for 64 updates, twice as long after
+/// each failure in a row (up to 4 096), then it is tried again.
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+
+namespace workspace_proximity {
+namespace sap {
+
+class CoastPolicy {
+ public:
+  // Work units of the cost model (about a nanosecond each on the benchmark machine: perf
+  // profiles of the uniform, walker and robot-cell scenes, bench/results/NOTES.md section 19).
+  static constexpr double kScanWork = 4.0;     ///< one candidate tested on the given bounds
+  static constexpr double kSwapWork = 10.0;    ///< one swap (insertion sort or a relocated endpoint)
+  static constexpr double kPassWork = 1.5;     ///< one endpoint read in a pass over an axis
+  static constexpr double kSearchWork = 100.0; ///< finding a proxy's six endpoints (binary searches)
+  static constexpr double kEnlargeWork = 20.0; ///< enlarging one proxy
+  static constexpr double kSortWork = 12.0;    ///< one endpoint radix-sorted in a rebuild, per axis
+  static constexpr double kTestWork = 1.5;     ///< one overlap test of a rebuild's sweep
+  static constexpr double kFoundWork = 25.0;   ///< one pair found (and stamped) by a rebuild
+  static constexpr std::uint32_t kFirstBackoff = 64;   ///< updates off after a first failure
+  static constexpr std::uint32_t kMaxBackoff = 4096;   ///< updates off at most
+
+  /// `coast_updates`: SweepAndPruneConfig::coast_updates (0: never coast).
+  explicit CoastPolicy(double coast_updates) : coast_updates_(coast_updates), lead_(coast_updates) {}
+
+  /// The lead (in updates of displacement) of enlargements now; 0 while coasting is off (the
+  /// arrays then hold the given bounds).
+  double lead() const { return lead_; }
+
+  /// Room (m) below and above a proxy on one axis, from the displacements per update of its
+  /// lower and upper side since its last enlargement (d_lo, d_hi, m: positive upward), the
+  /// lead and the cap (m). Without branches (directions are random): max(-lead d, d) is
+  /// lead |d| for a side moving outward, |d| for one moving inward, both capped. A room that is
+  /// not positive (or NaN) means none.
+  static void room(double d_lo, double d_hi, double lead, double cap, double* below, double* above) {
+    *below = std::min(cap, std::max(-lead * d_lo, d_lo));
+    *above = std::min(cap, std::max(lead * d_hi, -d_hi));
+  }
+
+  /// What an update does to the arrays.
+  enum class Step : std::uint8_t {
+    kNothing,     ///< nothing to re-sort
+    kResort,      ///< coasting off: re-sort the given bounds (insertion sort or rebuild)
+    kMoveFew,     ///< move the escapers' endpoints alone
+    kEnlargeAll,  ///< enlarge every proxy again, then re-sort (and report enlargedAll())
+  };
+  /// The step of update number `update` (1 for the first), from the number of live proxies
+  /// that left their enlarged bounds, the live count, whether an axis of the arrays is out of
+  /// order (escapers then cannot move alone), and, for coasting off, whether a live proxy
+  /// moved. Turns coasting on again when it is due (then kEnlargeAll, with no run to judge).
+  Step step(std::uint32_t update, std::size_t escapers, int live, bool any_stale, bool moved) {
+    if (lead_ <= 0.0) {
+      if (!moved) return Step::kNothing;
+      if (!(coast_updates_ > 0.0 && update >= retry_at_)) return Step::kResort;
+      lead_ = coast_updates_;
+      judge_next_ = false;  // the run starts here
+      return Step::kEnlargeAll;
+    }
+    // A run lasts at most 4 coast_updates updates: then everybody is enlarged again, with
+    // leads measured anew (stale ones only cost tests), and the run is judged.
+    const bool run_over = update - last_global_ >= 4.0 * coast_updates_;
+    if (escapers == 0 && !run_over) return Step::kNothing;
+    // A few: move their endpoints alone (a pass over the arrays costs more).
+    const std::size_t few = 1 + static_cast<std::size_t>(live) / 32;
+    if (escapers > 0 && escapers <= few && !any_stale && !run_over) return Step::kMoveFew;
+    return Step::kEnlargeAll;
+  }
+
+  /// Counts of the re-sort that followed an enlargement of everybody.
+  struct Resort {
+    int live = 0;                      ///< live proxies
+    std::int64_t swaps = 0;            ///< insertion-sort swaps it made
+    bool rebuilt = false;              ///< it rebuilt instead
+    std::size_t candidates = 0;        ///< candidate pairs after it
+    std::int64_t sweep_tests = 0;      ///< overlap tests of the last full sweep
+    std::int64_t estimated_swaps = -1; ///< swaps it estimated from the new keys (-1: none)
+    std::size_t pairs = 0;             ///< pairs of given bounds at the last report
+  };
+  /// Everybody was enlarged at `update` and re-sorted: ends the run under way (judging it,
+  /// unless it is the first since coasting started) and starts the next with that work.
+  void enlargedAll(std::uint32_t update, const Resort& r);
+
+  /// Work of the run under way: `candidates` scanned on their given bounds (while coasting);
+  /// `escapers` moved alone with `swaps` swaps.
+  void scanned(std::size_t candidates) {
+    if (lead_ > 0.0) run_work_ += kScanWork * static_cast<double>(candidates);
+  }
+  void movedFew(std::size_t escapers, std::size_t swaps) {
+    run_work_ += kSearchWork * static_cast<double>(escapers) + kSwapWork * static_cast<double>(swaps);
+  }
+
+  /// Work of a rebuild of `live` proxies that sorts `axes_sorted` axes, sweeps with
+  /// `sweep_tests` overlap tests and finds `pairs` pairs.
+  static double rebuildWork(double axes_sorted, int live, std::int64_t sweep_tests, double pairs) {
+    return kSortWork * axes_sorted * 2.0 * live + kTestWork * static_cast<double>(sweep_tests) +
+           kFoundWork * pairs;
+  }
+
+  /// For tests and diagnostics: work so far of the run under way; the update at which coasting
+  /// is tried again (while off); the updates it stays off after the next failure.
+  double runWork() const { return run_work_; }
+  std::uint32_t retryAt() const { return retry_at_; }
+  std::uint32_t backoff() const { return backoff_; }
+
+ private:
+  double coast_updates_;
+  double lead_;                              // coast_updates_ while coasting, else 0
+  std::uint32_t last_global_ = 0;            // update of the last enlargement of everybody
+  std::uint32_t retry_at_ = 0;               // coasting off: the update that tries it again
+  std::uint32_t backoff_ = kFirstBackoff;    // updates it stays off after failing
+  double run_work_ = 0.0;                    // work of the coasting run under way
+  bool judge_next_ = false;                  // a run is under way (judged when it ends)
+};
+
+}  // namespace sap
+}  // namespace workspace_proximity

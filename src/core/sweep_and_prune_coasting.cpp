@@ -1,0 +1,130 @@
+#include "sweep_and_prune_coasting.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace workspace_proximity {
+namespace sap {
+
+void enlarge(State& s, ProxyId id, double lead) {
+  // Lead ahead of each side that moved outward since the last enlargement: `lead` updates of
+  // its displacement per update; behind it (and on a side that moved inward) one update's, so
+  // that a body that turns or stops does not leave at once. A side that did not move gets no
+  // room: a resting body never leaves its bounds.
+  const std::size_t o = 2 * static_cast<std::size_t>(id);
+  std::uint64_t* t = s.tight.data() + 6 * static_cast<std::size_t>(id);
+  std::uint64_t* b = s.base.data() + 6 * static_cast<std::size_t>(id);
+  ProxyInfo& info = s.info[static_cast<std::size_t>(id)];
+  const std::uint32_t elapsed = s.updates - info.enlarged_at;
+  info.enlarged_at = s.updates;
+  if (!(lead > 0.0)) {
+    for (int axis = 0; axis < 3; ++axis) {
+      std::uint64_t* e = s.ends[axis].data() + o;
+      e[0] = b[2 * axis] = t[2 * axis];
+      e[1] = b[2 * axis + 1] = t[2 * axis + 1];
+      s.max_width[axis] = std::max(s.max_width[axis], unsortable64(e[1]) - unsortable64(e[0]));
+    }
+    s.setFat(info, false);
+    return;
+  }
+  double lo[3], hi[3], extent = 0.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    lo[axis] = unsortable64(t[2 * axis]);
+    hi[axis] = unsortable64(t[2 * axis + 1]);
+    extent = std::max(extent, hi[axis] - lo[axis]);
+  }
+  // (Enlarging everybody divides by the same count again and again.)
+  if (elapsed != s.recip_of) {
+    s.recip_of = elapsed;
+    s.recip = 1.0 / static_cast<double>(std::max<std::uint32_t>(1, elapsed));
+  }
+  const double per_update = s.recip;
+  const double cap = s.config.max_lead_fraction * extent;
+  bool fat = false;
+  for (int axis = 0; axis < 3; ++axis) {
+    // Displacements per update of the lower and the upper side (positive: upward).
+    const double d_lo = (lo[axis] - unsortable64(b[2 * axis])) * per_update;
+    const double d_hi = (hi[axis] - unsortable64(b[2 * axis + 1])) * per_update;
+    double below, above;
+    CoastPolicy::room(d_lo, d_hi, lead, cap, &below, &above);
+    // Not a number: no room on that side. Finite: keys of infinities read back as NaN.
+    constexpr double kMax = std::numeric_limits<double>::max();
+    const double lo_e = std::max(-kMax, lo[axis] - (below > 0.0 ? below : 0.0));
+    const double hi_e = std::min(kMax, hi[axis] + (above > 0.0 ? above : 0.0));
+    std::uint64_t* e = s.ends[axis].data() + o;
+    // Outward of the given keys whatever the rounding of the subtraction above.
+    e[0] = std::min(t[2 * axis], lower64(lo_e));
+    e[1] = std::max(t[2 * axis + 1], upper64(hi_e));
+    fat |= (e[0] != t[2 * axis]) | (e[1] != t[2 * axis + 1]);
+    // (Widths only bound the windows of insertions, which allow for rounding.)
+    s.max_width[axis] = std::max(s.max_width[axis], hi_e - lo_e);
+    b[2 * axis] = t[2 * axis];
+    b[2 * axis + 1] = t[2 * axis + 1];
+  }
+  s.setFat(info, fat);
+}
+
+void enlargeAll(State& s, double lead) {
+  for (std::size_t p = 0, slots = s.info.size(); p < slots; ++p) {
+    if (s.info[p].state == ProxyState::kLive) enlarge(s, static_cast<ProxyId>(p), lead);
+  }
+}
+
+void validateFlags(State& s) {
+  // Somebody is enlarged in this update: from here on candidates and pairs may differ, and each
+  // candidate's `touching` must say what it was. Not kept so far, the candidates were the pairs
+  // (those that ended in this update so far too).
+  if (s.flags_valid) return;
+  for (Candidate& c : s.cands.mutablePairs()) c.touching = 1;
+  for (Candidate& c : s.cand_ended) c.touching = 1;
+  s.flags_valid = true;
+}
+
+void reportTouching(State& s) {
+  std::vector<Candidate>& dense = s.cands.mutablePairs();
+  s.stats.candidates = static_cast<int>(dense.size());
+  // No enlarged bounds, now and at the last update: the candidates are the pairs, and their
+  // changes the changes. (The first update without them still scans: a candidate of enlarged
+  // bounds that did not touch may have begun to, without being a new candidate.)
+  const bool was_tight = s.tight_last;
+  s.tight_last = s.fat_count == 0;
+  if (s.fat_count == 0 && was_tight) {
+    s.pairs_out = &dense;
+    s.began_out = &s.cand_began;
+    s.ended_out = &s.cand_ended;
+    // Coasting on (a box that shrinks inside its bounds is enlarged, without an update that
+    // enlarges): keep `touching` up to date, for the new candidates only. Off: not needed until
+    // coasting starts again (validateFlags).
+    if (s.coast.lead() > 0.0 && s.flags_valid) {
+      for (const Candidate& c : s.cand_began) {
+        Candidate* pair = s.cands.find(c.proxy_a, c.proxy_b);
+        if (pair != nullptr) pair->touching = 1;
+      }
+    } else {
+      s.flags_valid = false;
+    }
+    return;
+  }
+  // pairs() = the candidates whose given bounds overlap; began and ended = the changes of that.
+  s.pairs_out = &s.exact;
+  s.began_out = &s.began;
+  s.ended_out = &s.ended;
+  s.began.clear();
+  s.ended.clear();
+  s.exact.clear();
+  for (const Candidate& c : s.cand_ended) {
+    if (c.touching != 0) s.ended.push_back(c);
+  }
+  for (Candidate& c : dense) {
+    const std::uint32_t now = s.touching(c.proxy_a, c.proxy_b) ? 1u : 0u;
+    if (now != c.touching) {
+      c.touching = now;
+      (now != 0 ? s.began : s.ended).push_back(c);
+    }
+    if (now != 0) s.exact.push_back(c);
+  }
+  s.coast.scanned(dense.size());
+}
+
+}  // namespace sap
+}  // namespace workspace_proximity

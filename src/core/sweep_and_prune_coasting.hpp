@@ -1,0 +1,50 @@
+#pragma once
+/// SweepAndPrune's coasting mechanics (private to the core): the arrays hold each proxy's
+/// bounds enlarged ahead of its motion (its given bounds are kept beside them, State::tight),
+/// so the pairs the arrays give are candidates, and pairs() are the candidates whose given
+/// bounds overlap. The decisions (how much room, when to enlarge, whether it pays) are
+/// CoastPolicy's (sweep_and_prune_coast_policy.hpp).
+
+#include <cstdint>
+
+#include "sweep_and_prune_state.hpp"
+#include "workspace_proximity/aabb.hpp"
+
+namespace workspace_proximity {
+namespace sap {
+
+/// Stores a proxy's given bounds as keys. Inline: moveProxy runs once per body and cycle.
+inline void writeTight(State& s, ProxyId id, const Aabb& bounds) {
+  std::uint64_t* t = s.tight.data() + 6 * static_cast<std::size_t>(id);
+  for (int axis = 0; axis < 3; ++axis) {
+    t[2 * axis] = lower64(bounds.lower[axis]);
+    t[2 * axis + 1] = upper64(bounds.upper[axis]);
+  }
+}
+
+/// True when the proxy's given bounds are within its enlarged ones; `equal`: the same.
+inline bool insideEnlarged(const State& s, ProxyId id, bool* equal) {
+  const std::size_t o = 2 * static_cast<std::size_t>(id);
+  const std::uint64_t* t = s.tight.data() + 6 * static_cast<std::size_t>(id);
+  bool inside = true, same = true;
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::uint64_t* e = s.ends[axis].data() + o;
+    inside &= (e[0] <= t[2 * axis]) & (t[2 * axis + 1] <= e[1]);
+    same &= (e[0] == t[2 * axis]) & (t[2 * axis + 1] == e[1]);
+  }
+  *equal = same;
+  return inside;
+}
+
+/// New enlarged bounds from the given ones, with `lead` (CoastPolicy::room; 0: the given
+/// bounds themselves).
+void enlarge(State& s, ProxyId id, double lead);
+/// The same for every live proxy.
+void enlargeAll(State& s, double lead);
+/// Makes every candidate's `touching` flag valid (before anybody is enlarged).
+void validateFlags(State& s);
+/// pairs(), beganPairs() and endedPairs() from the candidates and their changes.
+void reportTouching(State& s);
+
+}  // namespace sap
+}  // namespace workspace_proximity

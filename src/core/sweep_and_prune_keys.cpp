@@ -1,0 +1,142 @@
+#include "sweep_and_prune_keys.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace workspace_proximity {
+namespace sap {
+namespace {
+
+// LSD radix sort of 64-bit items by bits 32 .. 32 + 8 passes of each (stable), 8 bits per pass;
+// a pass in which every item has the same digit is skipped. Returns the sorted items: in
+// `items` or in `scratch` (no copy back).
+template <int kDigit>
+const std::uint64_t* radixSortHigh32(std::vector<std::uint64_t>* items,
+                                     std::vector<std::uint64_t>* scratch, int passes) {
+  constexpr std::uint64_t kMask = (std::uint64_t{1} << kDigit) - 1;
+  const std::size_t n = items->size();
+  scratch->resize(n);
+  std::uint32_t count[4][kMask + 1];
+  std::memset(count, 0, sizeof(count[0]) * passes);
+  const std::uint64_t* in = items->data();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint64_t x = in[i];
+    for (int pass = 0; pass < passes; ++pass) ++count[pass][(x >> (32 + kDigit * pass)) & kMask];
+  }
+  std::uint64_t* src = items->data();
+  std::uint64_t* dst = scratch->data();
+  for (int pass = 0; pass < passes; ++pass) {
+    const int shift = 32 + kDigit * pass;
+    std::uint32_t* c = count[pass];
+    if (c[(src[0] >> shift) & kMask] == n) continue;
+    std::uint32_t sum = 0;
+    for (std::uint64_t d = 0; d <= kMask; ++d) {
+      const std::uint32_t t = c[d];
+      c[d] = sum;
+      sum += t;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint64_t x = src[i];
+      dst[c[(x >> shift) & kMask]++] = x;
+    }
+    std::swap(src, dst);
+  }
+  return src;
+}
+
+void radixSortEndpoints(std::vector<std::uint64_t>& keys, std::vector<std::uint32_t>& owners,
+                        SortScratch& scratch) {
+  // Sorts by the 32 most significant bits that vary over the axis (radix sort); endpoints that
+  // share those bits are left for an insertion pass. Small axes go to insertion sort directly.
+  const std::size_t n = keys.size() - 2;
+  if (n <= 48) return;
+  std::uint64_t lo = keys[1], hi = keys[1];
+  for (std::size_t i = 2; i <= n; ++i) {
+    lo = std::min(lo, keys[i]);
+    hi = std::max(hi, keys[i]);
+  }
+  // Prefix bits: about 6-8 more than log2(n), so that few endpoints share a prefix. 8-bit
+  // digits below 4 096 endpoints (16 or 24 bits), 11-bit digits from there (22 or 32 bits: one
+  // pass fewer; the counts still fit in L1).
+  const bool wide = n >= 4096;
+  const int passes = n < 256 ? 2 : n < 4096 ? 3 : n < 65536 ? 2 : 3;
+  const int prefix_bits = std::min(32, (wide ? 11 : 8) * passes);
+  std::vector<std::uint64_t>& items = scratch.items;
+  items.resize(n);
+  // Prefix: the coordinate's place in [lo, hi] in 2^prefix_bits steps (monotone in the key).
+  // Keys themselves are spaced logarithmically: on an axis that crosses zero, or spans many
+  // octaves, their high bits would leave most coordinates in a few prefixes, and the
+  // insertion pass after the radix sort would do the sorting.
+  const double x_lo = unsortable64(lo), span = unsortable64(hi) - x_lo;
+  if (std::isfinite(span) && span > 0.0) {
+    const double top = std::ldexp(1.0, prefix_bits) - 1.0;
+    const double scale = top / span;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double v = (unsortable64(keys[i + 1]) - x_lo) * scale;
+      const std::uint64_t prefix = static_cast<std::uint64_t>(v < top ? (v > 0.0 ? v : 0.0) : top);
+      items[i] = (prefix << 32) | i;
+    }
+  } else {
+    // Infinite bounds: the keys' own high bits.
+    const std::uint64_t range = hi - lo;
+    const int width = range == 0 ? 0 : 64 - __builtin_clzll(range);
+    const int shift = std::max(0, width - prefix_bits);
+    for (std::size_t i = 0; i < n; ++i) items[i] = (((keys[i + 1] - lo) >> shift) << 32) | i;
+  }
+  const std::uint64_t* sorted = wide ? radixSortHigh32<11>(&items, &scratch.items2, passes)
+                                     : radixSortHigh32<8>(&items, &scratch.items2, passes);
+  std::vector<std::uint64_t>& tmp_keys = scratch.tmp_keys;
+  std::vector<std::uint32_t>& tmp_owners = scratch.tmp_owners;
+  tmp_keys.resize(n + 2);
+  tmp_owners.resize(n + 2);
+  tmp_keys[0] = kLowSentinel;
+  tmp_owners[0] = kSentinelOwner;
+  tmp_keys[n + 1] = kHighSentinel;
+  tmp_owners[n + 1] = kSentinelOwner;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t from = static_cast<std::uint32_t>(sorted[i]) + 1;
+    tmp_keys[i + 1] = keys[from];
+    tmp_owners[i + 1] = owners[from];
+  }
+  // The arrays trade buffers with the scratch (both reserved alike): no copy back.
+  keys.swap(tmp_keys);
+  owners.swap(tmp_owners);
+}
+
+void insertionSortEndpoints(std::vector<std::uint64_t>& keys, std::vector<std::uint32_t>& owners) {
+  // Plain insertion sort, no pair events.
+  std::uint64_t* key = keys.data();
+  std::uint32_t* owner = owners.data();
+  const std::size_t n = keys.size() - 2;
+  for (std::size_t i = 2; i <= n; ++i) {
+    const std::uint64_t k = key[i];
+    if (key[i - 1] <= k) continue;
+    const std::uint32_t o = owner[i];
+    std::size_t j = i;
+    do {
+      key[j] = key[j - 1];
+      owner[j] = owner[j - 1];
+      --j;
+    } while (key[j - 1] > k);
+    key[j] = k;
+    owner[j] = o;
+  }
+}
+
+}  // namespace
+
+void SortScratch::reserve(std::size_t slots) {
+  items.reserve(2 * slots);
+  items2.reserve(2 * slots);
+  tmp_keys.reserve(2 * slots + 2);
+  tmp_owners.reserve(2 * slots + 2);
+}
+
+void sortEndpoints(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
+                   SortScratch* scratch) {
+  radixSortEndpoints(*keys, *owners, *scratch);
+  insertionSortEndpoints(*keys, *owners);
+}
+
+}  // namespace sap
+}  // namespace workspace_proximity

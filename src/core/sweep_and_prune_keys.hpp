@@ -1,0 +1,66 @@
+#pragma once
+/// SweepAndPrune's keys and the full sort of an endpoint array (private to the core).
+///
+/// A bound (double, m) is stored as a 64-bit key in the same order; the low bit is 0 for lower
+/// and 1 for upper endpoints, so that touching boxes overlap. An endpoint array of one axis is
+/// two parallel arrays, keys and owners (owner = proxy << 1 | is_upper), with a sentinel at
+/// each end: key 0 first, all ones last.
+
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace workspace_proximity {
+namespace sap {
+
+constexpr std::uint32_t kSentinelOwner = 0xFFFFFFFFu;
+constexpr std::uint64_t kLowSentinel = 0u;
+constexpr std::uint64_t kHighSentinel = ~std::uint64_t{0};
+constexpr std::uint64_t kSign64 = 0x8000000000000000ull;
+
+/// Order-preserving map double -> uint64: flip all bits of negatives, set the sign of
+/// positives; without branches on the sign.
+inline std::uint64_t sortable64(double d) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &d, sizeof bits);
+  bits = bits == kSign64 ? 0u : bits;  // -0 and +0 must map to the same key
+  const std::uint64_t negative = static_cast<std::uint64_t>(static_cast<std::int64_t>(bits) >> 63);
+  return bits ^ (negative | kSign64);
+}
+
+/// Key of a lower (low bit 0) and of an upper (low bit 1) bound.
+inline std::uint64_t lower64(double d) { return sortable64(d) & ~std::uint64_t{1}; }
+inline std::uint64_t upper64(double d) { return sortable64(d) | 1u; }
+
+/// The double a key stands for (the tag bit read back as part of the mantissa).
+inline double unsortable64(std::uint64_t key) {
+  // Keys with the sign bit came from positives (clear it), the others from negatives (flip
+  // every bit); without branches.
+  const std::uint64_t flip = kSign64 | static_cast<std::uint64_t>(static_cast<std::int64_t>(~key) >> 63);
+  const std::uint64_t bits = key ^ flip;
+  double d;
+  std::memcpy(&d, &bits, sizeof d);
+  return d;
+}
+
+/// The 32 high bits of a key as a signed integer in the same order.
+inline std::int32_t prefix32(std::uint64_t key) {
+  return static_cast<std::int32_t>(static_cast<std::uint32_t>(key >> 32) ^ 0x80000000u);
+}
+
+/// Scratch of the sorts, kept between updates so that steady-state updates allocate nothing.
+struct SortScratch {
+  std::vector<std::uint64_t> items, items2;  // radix sort items (also the insertion's merge)
+  std::vector<std::uint64_t> tmp_keys;
+  std::vector<std::uint32_t> tmp_owners;
+  void reserve(std::size_t slots);
+};
+
+/// Sorts one axis' endpoint array (sentinels in place) from scratch: radix sort by the 32
+/// most significant bits that vary over the axis, then an insertion pass for the endpoints
+/// that share them. No pair events (a rebuild's sweep finds the pairs).
+void sortEndpoints(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
+                   SortScratch* scratch);
+
+}  // namespace sap
+}  // namespace workspace_proximity

@@ -1,0 +1,209 @@
+// Tests of SweepAndPrune's coasting policy (src/core/sweep_and_prune_coast_policy.hpp) on its
+// own: every expected value below is computed by hand from the documented rules (the room of
+// a side, the step of an update, the cost model's work units and the back-off), not read from
+// the code. The arrays it steers are tested against brute force in test_sweep_and_prune.cpp.
+
+#include <gtest/gtest.h>
+
+#include "sweep_and_prune_coast_policy.hpp"
+
+namespace {
+
+using workspace_proximity::sap::CoastPolicy;
+using Step = CoastPolicy::Step;
+
+// A re-sort after an enlargement of everybody, by insertion sort unless `rebuilt`.
+CoastPolicy::Resort resort(int live, std::int64_t swaps, std::int64_t estimate, std::size_t pairs,
+                           bool rebuilt = false, std::int64_t sweep_tests = 1000,
+                           std::size_t candidates = 80) {
+  CoastPolicy::Resort r;
+  r.live = live;
+  r.swaps = swaps;
+  r.rebuilt = rebuilt;
+  r.candidates = candidates;
+  r.sweep_tests = sweep_tests;
+  r.estimated_swaps = estimate;
+  r.pairs = pairs;
+  return r;
+}
+
+TEST(CoastPolicy, RoomLeadsAnOutwardSideAndFollowsAnInwardOne) {
+  double below = -1.0, above = -1.0;
+  // Moving up 1 cm per update with a lead of 8: 8 cm above, one update's 1 cm below.
+  CoastPolicy::room(0.01, 0.01, 8.0, 1.0, &below, &above);
+  EXPECT_DOUBLE_EQ(above, 0.08);
+  EXPECT_DOUBLE_EQ(below, 0.01);
+  // Moving down: the mirror image.
+  CoastPolicy::room(-0.01, -0.01, 8.0, 1.0, &below, &above);
+  EXPECT_DOUBLE_EQ(below, 0.08);
+  EXPECT_DOUBLE_EQ(above, 0.01);
+  // Growing on both sides: both lead.
+  CoastPolicy::room(-0.02, 0.03, 8.0, 1.0, &below, &above);
+  EXPECT_DOUBLE_EQ(below, 0.16);
+  EXPECT_DOUBLE_EQ(above, 0.24);
+  // Shrinking on both sides: one update's each.
+  CoastPolicy::room(0.02, -0.03, 8.0, 1.0, &below, &above);
+  EXPECT_DOUBLE_EQ(below, 0.02);
+  EXPECT_DOUBLE_EQ(above, 0.03);
+}
+
+TEST(CoastPolicy, RoomOfARestingSideIsNoneAndTheLeadIsCapped) {
+  double below = -1.0, above = -1.0;
+  CoastPolicy::room(0.0, 0.0, 8.0, 1.0, &below, &above);
+  EXPECT_FALSE(below > 0.0);
+  EXPECT_FALSE(above > 0.0);
+  // 0.5 m per update with a lead of 8 would be 4 m ahead: the cap (say half a 2 m box) wins,
+  // and also caps the side behind.
+  CoastPolicy::room(0.5, 0.5, 8.0, 1.0, &below, &above);
+  EXPECT_DOUBLE_EQ(above, 1.0);
+  EXPECT_DOUBLE_EQ(below, 0.5);
+  CoastPolicy::room(3.0, 3.0, 8.0, 1.0, &below, &above);
+  EXPECT_DOUBLE_EQ(below, 1.0);
+  // A cap of 0 (max_lead_fraction 0) leaves no room at all.
+  CoastPolicy::room(-0.5, 0.5, 8.0, 0.0, &below, &above);
+  EXPECT_FALSE(below > 0.0);
+  EXPECT_FALSE(above > 0.0);
+}
+
+TEST(CoastPolicy, EscapersMoveAloneUpToOnePlusAThirtySecondOfTheLiveProxies) {
+  CoastPolicy p(8.0);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  // 100 live proxies: a few is 1 + 100 / 32 = 4.
+  EXPECT_EQ(p.step(1, 0, 100, false, false), Step::kNothing);
+  EXPECT_EQ(p.step(1, 1, 100, false, false), Step::kMoveFew);
+  EXPECT_EQ(p.step(1, 4, 100, false, false), Step::kMoveFew);
+  EXPECT_EQ(p.step(1, 5, 100, false, false), Step::kEnlargeAll);
+  // An axis out of order: escapers cannot move alone.
+  EXPECT_EQ(p.step(1, 1, 100, true, false), Step::kEnlargeAll);
+  // 31 live proxies: a few is 1; 32: 2.
+  EXPECT_EQ(p.step(1, 1, 31, false, false), Step::kMoveFew);
+  EXPECT_EQ(p.step(1, 2, 31, false, false), Step::kEnlargeAll);
+  EXPECT_EQ(p.step(1, 2, 32, false, false), Step::kMoveFew);
+  // Coasting on, "moved" means nothing (moveProxy sorts out escapers itself).
+  EXPECT_EQ(p.step(1, 0, 100, false, true), Step::kNothing);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+}
+
+TEST(CoastPolicy, ARunEndsAfterFourCoastUpdatesUpdates) {
+  CoastPolicy p(8.0);
+  p.enlargedAll(10, resort(100, 0, 0, 0));  // the run starts at update 10
+  // 4 * 8 = 32 updates later everybody is enlarged again, escapers or not.
+  EXPECT_EQ(p.step(41, 0, 100, false, false), Step::kNothing);
+  EXPECT_EQ(p.step(41, 1, 100, false, false), Step::kMoveFew);
+  EXPECT_EQ(p.step(42, 0, 100, false, false), Step::kEnlargeAll);
+  EXPECT_EQ(p.step(42, 1, 100, false, false), Step::kEnlargeAll);
+  // coast_updates 2.5: 10 updates.
+  CoastPolicy q(2.5);
+  EXPECT_EQ(q.step(9, 0, 100, false, false), Step::kNothing);
+  EXPECT_EQ(q.step(10, 0, 100, false, false), Step::kEnlargeAll);
+}
+
+TEST(CoastPolicy, WorkOfARunIsCountedInUnits) {
+  CoastPolicy p(8.0);
+  // Enlarging 100 (20 each), 200 swaps (10 each), one pass over 3 axes of 200 endpoints (1.5
+  // each): 2000 + 2000 + 900.
+  p.enlargedAll(1, resort(100, 200, 300, 50));
+  EXPECT_DOUBLE_EQ(p.runWork(), 4900.0);
+  p.scanned(100);  // 4 each
+  EXPECT_DOUBLE_EQ(p.runWork(), 5300.0);
+  p.movedFew(2, 30);  // 100 per escaper, 10 per swap
+  EXPECT_DOUBLE_EQ(p.runWork(), 5800.0);
+  // A rebuild instead of the pass: 12 per endpoint and axis sorted (3 axes of 200), 1.5 per
+  // overlap test (1000), 25 per candidate (80): 7200 + 1500 + 2000; with enlarging, 12700.
+  CoastPolicy q(8.0);
+  q.enlargedAll(1, resort(100, 0, 0, 50, true, 1000, 80));
+  EXPECT_DOUBLE_EQ(q.runWork(), 12700.0);
+  EXPECT_DOUBLE_EQ(CoastPolicy::rebuildWork(1.0, 100, 1000, 50.0), 2400.0 + 1500.0 + 1250.0);
+}
+
+TEST(CoastPolicy, ARunCheaperThanNotCoastingKeepsCoasting) {
+  CoastPolicy p(8.0);
+  p.enlargedAll(1, resort(100, 200, 300, 50));  // 4900, not judged (the first run)
+  p.scanned(100);
+  p.movedFew(2, 30);                            // 5800 in all
+  // Judged at update 33 (a run of 32): 5800 / 32 = 181.25 per update, against, without
+  // coasting, 4 per pair (50) plus the cheaper of a pass over 3 axes of 200 endpoints with
+  // 640 / 32 swaps per update (900 + 200) and a rebuild of one axis (5150): 1300.
+  p.enlargedAll(33, resort(100, 0, 640, 50));
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  EXPECT_EQ(p.backoff(), 64u);
+  EXPECT_DOUBLE_EQ(p.runWork(), 2900.0);  // the next run: 2000 + 0 + 900
+}
+
+TEST(CoastPolicy, ACostlyRunSwitchesCoastingOffThenRetries) {
+  CoastPolicy p(8.0);
+  p.enlargedAll(33, resort(100, 0, 640, 50));  // 2900, not judged
+  p.scanned(20000);                            // + 80000 = 82900
+  // 82900 / 32 = 2590.6 per update > 1300: off until update 65 + 64 = 129, 128 next time.
+  p.enlargedAll(65, resort(100, 0, 640, 50));
+  EXPECT_DOUBLE_EQ(p.lead(), 0.0);
+  EXPECT_EQ(p.retryAt(), 129u);
+  EXPECT_EQ(p.backoff(), 128u);
+  // Off: scans are not counted; without motion nothing is sorted, with it the given bounds.
+  const double work = p.runWork();
+  p.scanned(1000);
+  EXPECT_DOUBLE_EQ(p.runWork(), work);
+  EXPECT_EQ(p.step(70, 5, 100, false, false), Step::kNothing);
+  EXPECT_EQ(p.step(70, 0, 100, false, true), Step::kResort);
+  EXPECT_EQ(p.step(128, 0, 100, false, true), Step::kResort);
+  EXPECT_DOUBLE_EQ(p.lead(), 0.0);
+  // Due, and a proxy moved: coasting starts again with everybody enlarged, and that first
+  // enlargement ends no run (nothing is judged, however costly).
+  EXPECT_EQ(p.step(129, 0, 100, false, true), Step::kEnlargeAll);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  p.scanned(1000000);
+  p.enlargedAll(129, resort(100, 0, 640, 50));
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  EXPECT_EQ(p.backoff(), 128u);
+  // A cheap run after it resets the back-off to 64.
+  p.enlargedAll(161, resort(100, 0, 640, 50));  // 2900 / 32 < 1300
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  EXPECT_EQ(p.backoff(), 64u);
+}
+
+TEST(CoastPolicy, BackOffDoublesAfterEachFailureInARowUpTo4096) {
+  CoastPolicy p(8.0);
+  std::uint32_t update = 1;
+  p.enlargedAll(update, resort(100, 0, 640, 50));
+  const std::uint32_t expected_off[] = {64, 128, 256, 512, 1024, 2048, 4096, 4096, 4096};
+  for (std::uint32_t off : expected_off) {
+    p.scanned(1000000);  // far more than 1300 per update over any run below
+    update += 32;
+    p.enlargedAll(update, resort(100, 0, 640, 50));
+    ASSERT_DOUBLE_EQ(p.lead(), 0.0);
+    EXPECT_EQ(p.retryAt(), update + off);
+    update = p.retryAt();
+    ASSERT_EQ(p.step(update, 0, 100, false, true), Step::kEnlargeAll);
+    p.enlargedAll(update, resort(100, 0, 640, 50));  // starts the next run, unjudged
+  }
+}
+
+TEST(CoastPolicy, WithoutAnEstimateTheSwapsOfTheReSortStandIn) {
+  // Judged with swaps 3200 (no estimate): a pass with 3200 / 32 = 100 swaps per update costs
+  // 900 + 1000; with the 50 pairs' scan, 2100. A run of 2100 * 32 = 67200 is not more: kept;
+  // one unit more per update is: off.
+  CoastPolicy kept(8.0), off(8.0);
+  for (CoastPolicy* p : {&kept, &off}) p->enlargedAll(1, resort(100, 0, 0, 50));  // 2900 each
+  kept.scanned((67200 - 2900) / 4);
+  off.scanned((67200 + 32 - 2900) / 4);
+  kept.enlargedAll(33, resort(100, 3200, -1, 50));
+  off.enlargedAll(33, resort(100, 3200, -1, 50));
+  EXPECT_DOUBLE_EQ(kept.lead(), 8.0);
+  EXPECT_DOUBLE_EQ(off.lead(), 0.0);
+}
+
+TEST(CoastPolicy, NoCoastUpdatesNeverCoasts) {
+  CoastPolicy p(0.0);
+  EXPECT_DOUBLE_EQ(p.lead(), 0.0);
+  EXPECT_EQ(p.step(1, 0, 100, false, false), Step::kNothing);
+  EXPECT_EQ(p.step(1, 0, 100, false, true), Step::kResort);
+  EXPECT_EQ(p.step(100000, 0, 100, false, true), Step::kResort);
+  EXPECT_DOUBLE_EQ(p.lead(), 0.0);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
