@@ -24,12 +24,12 @@
 #include <vector>
 
 #include "scenes.hpp"  // test/shared: the robot cell
-#include "workspace_proximity/monitor/box_observation.hpp"
-#include "workspace_proximity/monitor/cycle_runner.hpp"
-#include "workspace_proximity/monitor/cycle_timing.hpp"
-#include "workspace_proximity/monitor/joint_predictor.hpp"
-#include "workspace_proximity/monitor/monitor.hpp"
-#include "workspace_proximity/monitor/track_growth.hpp"
+#include "workspace_proximity/rules/box_observation.hpp"
+#include "workspace_proximity/rules/cycle_runner.hpp"
+#include "workspace_proximity/rules/cycle_timing.hpp"
+#include "workspace_proximity/rules/joint_predictor.hpp"
+#include "workspace_proximity/rules/monitor.hpp"
+#include "workspace_proximity/rules/track_growth.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace wp = workspace_proximity;
@@ -167,7 +167,7 @@ Result runWalkers(int count, bool growth, double horizon, int cycles, bool stage
   return r;
 }
 
-// The node's monitor layer without ROS, fed as scripts/bench-node feeds the node:
+// The node's rules layer without ROS, fed as scripts/bench-node feeds the node:
 // load_generator's walkers (same seed, cell 3 sqrt(N) m, boxes centred at z = 0, frame
 // "world") as one array per 30 Hz step, each cycle at the next step's instant (the timer
 // trigger: arrays are up to one period old), default parameters (what the node runs when no
@@ -364,7 +364,7 @@ ArmResult runArm(int links, int objects, double horizon, int cycles) {
 
 // The monitor-layer table (appended to `md`).
 void monitorTable(std::ostringstream& md, int cycles, int monitor_count) {
-  md << "\n## The node's monitor layer (no ROS), fed as scripts/bench-node feeds the node\n\n"
+  md << "\n## The node's rules layer (no ROS), fed as scripts/bench-node feeds the node\n\n"
      << "load_generator's walkers (same seed, cell 3 sqrt(N) m) as one array per 30 Hz step, each "
         "cycle at the next step's instant (arrays up to one period old), through Monitor::ingest "
         "and the cycle runner (Monitor::cycle): the node's input and predict stages without ROS (predict = "
@@ -404,7 +404,7 @@ int main(int argc, char** argv) {
   bool joints_only = false;  // only the joint-space rows (issue 10)
   bool walkers_only = false;  // only the node's load (issue 14)
   bool growth_only = false;   // only its rows with the shipped person growth (profiling)
-  bool monitor_only = false;  // only the monitor layer's rows (profiling)
+  bool monitor_only = false;  // only the rules layer's rows (profiling)
   int monitor_count = 0;      // --count N: only N objects there
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];

@@ -14,7 +14,7 @@ namespace workspace_proximity {
 
 BagReplay::BagReplay(const ReplaySetup& setup)
     : setup_(setup),
-      tf_(MonitorPipeline::tfCacheTime(setup.params)),
+      tf_(MonitorBridges::tfCacheTime(setup.params)),
       pipeline_(setup_.params, setup_.robot, setup_.topics, setup_.qualify, &tf_, &rejection_log_),
       period_(nanoseconds(1.0 / setup.params.rate)),
       input_trigger_(setup.params.cycle_trigger == "input"),
@@ -27,7 +27,7 @@ BagReplay::BagReplay(const ReplaySetup& setup)
       robot_posed_(setup.robot.size(), 0) {
   for (const std::string& line : setup_.permanent_issues) pipeline_.addPermanentIssue(line);
   // As the node does (ProximityMonitor::enableJoints): links moved by joints from joint_states.
-  joint_model_ = MonitorPipeline::jointModel(setup_.params, setup_.urdf_xml);
+  joint_model_ = MonitorBridges::jointModel(setup_.params, setup_.urdf_xml);
   if (!setup_.params.trigger_source.empty()) {
     const std::string wanted = resolveTopic(setup_.params.trigger_source);
     for (std::size_t i = 0; i < setup_.topics.size(); ++i) {

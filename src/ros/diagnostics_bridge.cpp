@@ -6,7 +6,7 @@
 
 namespace workspace_proximity {
 
-void diagnose(const MonitorPipeline& pipeline, Stamp now,
+void diagnose(const MonitorBridges& pipeline, Stamp now,
               diagnostic_updater::DiagnosticStatusWrapper* status) {
   const Monitor& monitor = pipeline.monitor();
   const CycleRunner& runner = pipeline.runner();

@@ -27,7 +27,7 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
                                    const MonitorParams& params)
     : nh_(nh),
       params_(params),
-      tf_buffer_(MonitorPipeline::tfCacheTime(params)),
+      tf_buffer_(MonitorBridges::tfCacheTime(params)),
       tf_listener_(tf_buffer_),
       markers_(params.fixed_frame, params.marker_lifetime),
       trigger_(params.rate),
@@ -41,7 +41,7 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
                              " URDF collision elements cannot be modelled and ~require_all_links "
                              "is true: " + robot.unmodelled.front());
   }
-  pipeline_ = std::make_unique<MonitorPipeline>(params_, std::move(robot.bodies), topics,
+  pipeline_ = std::make_unique<MonitorBridges>(params_, std::move(robot.bodies), topics,
                                                 !params_.input_topics.empty(), &tf_buffer_,
                                                 &rejection_log_);
   // A link that cannot be modelled is never dropped silently: DEGRADED (and a diagnostics
@@ -121,7 +121,7 @@ void ProximityMonitor::enableJoints() {
   if (params_.use_joint_states && params_.use_robot_description) {
     nh_.getParam(params_.robot_description_param, urdf);
   }
-  const std::shared_ptr<const KinematicModel> model = MonitorPipeline::jointModel(params_, urdf);
+  const std::shared_ptr<const KinematicModel> model = MonitorBridges::jointModel(params_, urdf);
   if (!model) return;
   const int bodies = pipeline_->enableJoints(model);
   // Queue of a few: every reading counts for the finite differences when velocity is empty.

@@ -5,7 +5,7 @@
 
 #include <boost/pointer_cast.hpp>
 
-#include "workspace_proximity/monitor/param_table.hpp"
+#include "workspace_proximity/rules/param_table.hpp"
 
 namespace workspace_proximity {
 namespace {

@@ -4,7 +4,7 @@
 #include <tf2/exceptions.h>
 #include <tf2_eigen/tf2_eigen.h>
 
-#include "workspace_proximity/monitor/format.hpp"
+#include "workspace_proximity/rules/format.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
 
 namespace workspace_proximity {

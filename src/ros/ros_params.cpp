@@ -6,7 +6,7 @@
 #include <XmlRpcValue.h>
 #include <workspace_proximity/ProximityMonitorConfig.h>
 
-#include "workspace_proximity/monitor/param_table.hpp"
+#include "workspace_proximity/rules/param_table.hpp"
 
 namespace workspace_proximity {
 namespace {

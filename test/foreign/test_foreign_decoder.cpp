@@ -16,8 +16,8 @@
 
 #include "allocation_counter.hpp"
 #include "wire_writer.hpp"
-#include "workspace_proximity/monitor/foreign_tracks.hpp"
-#include "workspace_proximity/monitor/foreign_types.hpp"
+#include "workspace_proximity/rules/foreign_tracks.hpp"
+#include "workspace_proximity/rules/foreign_types.hpp"
 
 namespace wp = workspace_proximity;
 using wp::ForeignRefusal;

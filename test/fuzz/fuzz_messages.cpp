@@ -25,7 +25,7 @@
 #include "fuzz_input.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
-#include "workspace_proximity/monitor/monitor_params.hpp"
+#include "workspace_proximity/rules/monitor_params.hpp"
 
 namespace wp = workspace_proximity;
 using wp_fuzz::fail;

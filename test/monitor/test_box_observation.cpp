@@ -7,8 +7,8 @@
 #include <set>
 #include <string>
 
-#include "workspace_proximity/monitor/box_observation.hpp"
-#include "workspace_proximity/monitor/level_policy.hpp"
+#include "workspace_proximity/rules/box_observation.hpp"
+#include "workspace_proximity/rules/level_policy.hpp"
 
 namespace wp = workspace_proximity;
 

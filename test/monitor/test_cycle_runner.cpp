@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "monitor_scenes.hpp"  // test/shared
-#include "workspace_proximity/monitor/cycle_runner.hpp"
+#include "workspace_proximity/rules/cycle_runner.hpp"
 
 namespace wp = workspace_proximity;
 

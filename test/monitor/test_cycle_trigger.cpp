@@ -7,7 +7,7 @@
 
 #include <vector>
 
-#include "workspace_proximity/monitor/cycle_trigger.hpp"
+#include "workspace_proximity/rules/cycle_trigger.hpp"
 
 namespace wp = workspace_proximity;
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "monitor_scenes.hpp"  // test/shared
-#include "workspace_proximity/monitor/joint_posing.hpp"
+#include "workspace_proximity/rules/joint_posing.hpp"
 
 namespace wp = workspace_proximity;
 

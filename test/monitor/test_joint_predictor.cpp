@@ -14,7 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "allocation_counter.hpp"  // test/shared
-#include "workspace_proximity/monitor/joint_predictor.hpp"
+#include "workspace_proximity/rules/joint_predictor.hpp"
 
 namespace wp = workspace_proximity;
 

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "workspace_proximity/monitor/marker_schedule.hpp"
+#include "workspace_proximity/rules/marker_schedule.hpp"
 
 namespace wp = workspace_proximity;
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "monitor_scenes.hpp"  // test/shared
-#include "workspace_proximity/monitor/monitor.hpp"
+#include "workspace_proximity/rules/monitor.hpp"
 
 namespace wp = workspace_proximity;
 

@@ -11,7 +11,7 @@
 #include <set>
 #include <string>
 
-#include "workspace_proximity/monitor/param_table.hpp"
+#include "workspace_proximity/rules/param_table.hpp"
 
 namespace wp = workspace_proximity;
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "monitor_scenes.hpp"  // test/shared
-#include "workspace_proximity/monitor/monitor.hpp"
+#include "workspace_proximity/rules/monitor.hpp"
 
 namespace wp = workspace_proximity;
 
@@ -85,7 +85,7 @@ std::vector<wp::RobotBodySpec> post() { return {box("post", {0, 0, 0.5}, {0.5, 0
 
 }  // namespace
 
-TEST(SpeedSeparation, APersonWalkingAtTheRobotGetsTheFormulaUntilTheStop) {
+TEST(SsmCycle, APersonWalkingAtTheRobotGetsTheFormulaUntilTheStop) {
   const wp::MonitorParams p = params();
   Cell cell(p, post());
   // The person (0.5 m square) walks along -x at 1 m/s from a gap of 4 m: d(t) = 4 - t.
@@ -121,7 +121,7 @@ TEST(SpeedSeparation, APersonWalkingAtTheRobotGetsTheFormulaUntilTheStop) {
   EXPECT_GT(full, 40);
 }
 
-TEST(SpeedSeparation, WalkingAwayTheScaleComesFromTheDistanceAloneOrTheLabelsMinimum) {
+TEST(SsmCycle, WalkingAwayTheScaleComesFromTheDistanceAloneOrTheLabelsMinimum) {
   wp::MonitorParams p = params();
   p.labels["visitor"] = p.labels["person"];
   p.labels["visitor"].ssm_min_speed = 1.6;  // the standard's walking speed
@@ -152,7 +152,7 @@ TEST(SpeedSeparation, WalkingAwayTheScaleComesFromTheDistanceAloneOrTheLabelsMin
   EXPECT_NEAR(r.ssm.required_separation, 1.11, 1e-12);
 }
 
-TEST(SpeedSeparation, StandingStillInsideTheProtectiveSeparationStopsWithoutAnyContact) {
+TEST(SsmCycle, StandingStillInsideTheProtectiveSeparationStopsWithoutAnyContact) {
   Cell cell(params(), post());
   // d = 0.2 m < C + Z_d + Z_r = 0.22 m, nobody moves: no contact within any horizon.
   Person person{"p1", "person", {0.5 + 0.2 + 0.25, 0.0, 0.9}};
@@ -166,7 +166,7 @@ TEST(SpeedSeparation, StandingStillInsideTheProtectiveSeparationStopsWithoutAnyC
   }
 }
 
-TEST(SpeedSeparation, OnlyMonitoredLabelsCountAndOffMeansFullSpeed) {
+TEST(SsmCycle, OnlyMonitoredLabelsCountAndOffMeansFullSpeed) {
   wp::MonitorParams p = params();
   p.ssm.labels = {"person"};
   Cell cell(p, post());
@@ -186,7 +186,7 @@ TEST(SpeedSeparation, OnlyMonitoredLabelsCountAndOffMeansFullSpeed) {
   EXPECT_EQ(off.monitor().world().reach(off.monitor().robot().handle(0)), 0.0);
 }
 
-TEST(SpeedSeparation, DegradedCapsTheScaleAndSaysWhy) {
+TEST(SsmCycle, DegradedCapsTheScaleAndSaysWhy) {
   wp::MonitorParams p = params();
   p.ssm.degraded_scale = 0.3;
   p.ssm.hold_time = 0.0;
@@ -220,7 +220,7 @@ TEST(SpeedSeparation, DegradedCapsTheScaleAndSaysWhy) {
   EXPECT_EQ(after.ssm.speed_scale, 0.0);
 }
 
-TEST(SpeedSeparation, AfterThePersonLeavesTheScaleRisesOnlyAfterTheHoldAndAtTheRate) {
+TEST(SsmCycle, AfterThePersonLeavesTheScaleRisesOnlyAfterTheHoldAndAtTheRate) {
   wp::MonitorParams p = params();  // hold 0.5 s, rate 0.5 / s
   Cell cell(p, post());
   Person person{"p1", "person", {0.95, 0.0, 0.9}};  // standing 0.2 m away: stop
@@ -250,7 +250,7 @@ TEST(SpeedSeparation, AfterThePersonLeavesTheScaleRisesOnlyAfterTheHoldAndAtTheR
 // speeds, all axis-aligned so that the vector between nearest points is known exactly (for
 // convex sets it is unique: per axis, the gap between the intervals). The monitor's raw scale
 // must equal the minimum of the formula over every robot-object pair, wherever they are.
-TEST(SpeedSeparation, TheScaleIsTheMinimumOverEveryPairAgainstBruteForce) {
+TEST(SsmCycle, TheScaleIsTheMinimumOverEveryPairAgainstBruteForce) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * u(rng); };

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "workspace_proximity/monitor/ssm.hpp"
+#include "workspace_proximity/rules/ssm_rule.hpp"
 
 namespace wp = workspace_proximity;
 

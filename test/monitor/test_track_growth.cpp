@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "monitor_scenes.hpp"  // test/shared
-#include "workspace_proximity/monitor/monitor.hpp"
-#include "workspace_proximity/monitor/track_growth.hpp"
+#include "workspace_proximity/rules/monitor.hpp"
+#include "workspace_proximity/rules/track_growth.hpp"
 
 namespace wp = workspace_proximity;
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "workspace_proximity/monitor/track_table.hpp"
+#include "workspace_proximity/rules/track_table.hpp"
 
 namespace wp = workspace_proximity;
 

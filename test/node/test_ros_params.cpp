@@ -9,7 +9,7 @@
 #include <string>
 
 #include "params_expectations.hpp"  // test/shared
-#include "workspace_proximity/monitor/param_table.hpp"
+#include "workspace_proximity/rules/param_table.hpp"
 #include "workspace_proximity/ros/ros_params.hpp"
 
 namespace wp = workspace_proximity;
@@ -127,7 +127,7 @@ TEST(RosParams, ListsAndPairs) {
   EXPECT_EQ(p.check_pairs[1].second, "group:robot");
 }
 
-TEST(RosParams, SpeedSeparationAndTheCycleTrigger) {
+TEST(RosParams, SsmCycleAndTheCycleTrigger) {
   XmlRpcValue root = dict();
   root["cycle_trigger"] = str("input");
   root["trigger_source"] = str("/lidar/boxes");

@@ -26,7 +26,7 @@
 #include <boost/any.hpp>
 #include <workspace_proximity/ProximityMonitorConfig.h>
 
-#include "workspace_proximity/monitor/param_table.hpp"
+#include "workspace_proximity/rules/param_table.hpp"
 #include "workspace_proximity/replay/yaml_params.hpp"
 #include "workspace_proximity/ros/ros_params.hpp"
 

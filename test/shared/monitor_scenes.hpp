@@ -1,12 +1,12 @@
 #pragma once
-/// Building blocks of the monitor layer's tests: parameters without margins (so contact times
+/// Building blocks of the rules layer's tests: parameters without margins (so contact times
 /// and distances have exact analytic values) and robot bodies as boxes on the "base" frame.
 
 #include <string>
 
 #include <Eigen/Core>
 
-#include "workspace_proximity/monitor/monitor_params.hpp"
+#include "workspace_proximity/rules/monitor_params.hpp"
 
 namespace wp_test {
 

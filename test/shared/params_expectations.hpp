@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "workspace_proximity/monitor/monitor_params.hpp"
+#include "workspace_proximity/rules/monitor_params.hpp"
 
 namespace wp_test {
 

@@ -20,7 +20,7 @@
 #include <tf2_msgs/TFMessage.h>
 #include <workspace_proximity/TrackedBoxArray.h>
 
-#include "workspace_proximity/monitor/stamp.hpp"
+#include "workspace_proximity/rules/stamp.hpp"
 
 namespace workspace_proximity {
 

@@ -1,5 +1,5 @@
 #pragma once
-/// The offline replay: a recorded bag through the node's own pipeline (MonitorPipeline) and its
+/// The offline replay: a recorded bag through the node's own pipeline (MonitorBridges) and its
 /// cycle runner, with simulated time taken from the bag. It drives the pipeline exactly as the
 /// node does:
 ///   - each tracker array is handed to onArray at the time the recorder received it;
@@ -29,11 +29,11 @@
 #include <tf2/buffer_core.h>
 #include <workspace_proximity/ContactEventArray.h>
 
-#include "workspace_proximity/monitor/cycle_runner.hpp"
-#include "workspace_proximity/monitor/cycle_trigger.hpp"
-#include "workspace_proximity/monitor/monitor.hpp"
+#include "workspace_proximity/rules/cycle_runner.hpp"
+#include "workspace_proximity/rules/cycle_trigger.hpp"
+#include "workspace_proximity/rules/monitor.hpp"
 #include "workspace_proximity/replay/bag_input.hpp"
-#include "workspace_proximity/ros/monitor_pipeline.hpp"
+#include "workspace_proximity/ros/monitor_bridges.hpp"
 #include "workspace_proximity/ros/rejection_log.hpp"
 
 namespace workspace_proximity {
@@ -124,7 +124,7 @@ class BagReplay : private BagVisitor, private CycleOutput {
   ReplaySetup setup_;
   tf2::BufferCore tf_;
   RejectionLog rejection_log_;
-  MonitorPipeline pipeline_;
+  MonitorBridges pipeline_;
   std::shared_ptr<const KinematicModel> joint_model_;  // set when links are posed from joints
   ContactEventArray contacts_;  // reused every cycle
   ReplaySink* sink_ = nullptr;

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "workspace_proximity/monitor/monitor_params.hpp"
+#include "workspace_proximity/rules/monitor_params.hpp"
 #include "workspace_proximity/ros/robot_description.hpp"
 
 namespace workspace_proximity {

@@ -7,7 +7,7 @@
 #include <ros/publisher.h>
 #include <workspace_proximity/ContactEventArray.h>
 
-#include "workspace_proximity/monitor/cycle_report.hpp"
+#include "workspace_proximity/rules/cycle_report.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace workspace_proximity {

@@ -10,9 +10,9 @@
 #include <workspace_proximity/TrackedBox.h>
 
 #include "workspace_proximity/body.hpp"
-#include "workspace_proximity/monitor/box_observation.hpp"
-#include "workspace_proximity/monitor/level_policy.hpp"
-#include "workspace_proximity/monitor/stamp.hpp"
+#include "workspace_proximity/rules/box_observation.hpp"
+#include "workspace_proximity/rules/level_policy.hpp"
+#include "workspace_proximity/rules/stamp.hpp"
 #include "workspace_proximity/pair_event.hpp"
 
 namespace workspace_proximity {

@@ -5,13 +5,13 @@
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
 
-#include "workspace_proximity/ros/monitor_pipeline.hpp"
+#include "workspace_proximity/ros/monitor_bridges.hpp"
 
 namespace workspace_proximity {
 
 /// Fills `status` from the pipeline's last report, its counts (MonitorStatus, the bridges'
 /// counters) and its cycle times, at `now`.
-void diagnose(const MonitorPipeline& pipeline, Stamp now,
+void diagnose(const MonitorBridges& pipeline, Stamp now,
               diagnostic_updater::DiagnosticStatusWrapper* status);
 
 }  // namespace workspace_proximity

@@ -16,7 +16,7 @@
 #include <tf2/buffer_core.h>
 #include <workspace_proximity/TrackedBoxArray.h>
 
-#include "workspace_proximity/monitor/monitor.hpp"
+#include "workspace_proximity/rules/monitor.hpp"
 
 namespace workspace_proximity {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "workspace_proximity/monitor/kinematic_model.hpp"
+#include "workspace_proximity/rules/kinematic_model.hpp"
 
 namespace KDL {
 class Segment;

@@ -9,7 +9,7 @@
 #include <ros/time.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include "workspace_proximity/monitor/cycle_report.hpp"
+#include "workspace_proximity/rules/cycle_report.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace workspace_proximity {

@@ -4,7 +4,7 @@
 /// array) runs the cycle, and the cycle's report goes to the contact publisher, the speed and
 /// separation outputs, the marker builder and the diagnostics:
 ///   arrays -> InputBridge -> Monitor (TrackTable) ; tf -> RobotTfBridge -> Monitor (RobotBodies)
-///   timer | array (CycleTrigger) -> MonitorPipeline::run (CycleRunner) -> CycleReport
+///   timer | array (CycleTrigger) -> MonitorBridges::run (CycleRunner) -> CycleReport
 ///     -> {contacts, speed_scale + safety_status + speed_override (+ stops, Twist filter),
 ///         markers (MarkerSchedule), /diagnostics}
 /// The rules below the wiring are ROS-free: CycleRunner (reset, failure, timing), CycleTrigger
@@ -21,12 +21,12 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include "workspace_proximity/monitor/cycle_runner.hpp"
-#include "workspace_proximity/monitor/cycle_trigger.hpp"
-#include "workspace_proximity/monitor/marker_schedule.hpp"
+#include "workspace_proximity/rules/cycle_runner.hpp"
+#include "workspace_proximity/rules/cycle_trigger.hpp"
+#include "workspace_proximity/rules/marker_schedule.hpp"
 #include "workspace_proximity/ros/contact_publisher.hpp"
 #include "workspace_proximity/ros/marker_builder.hpp"
-#include "workspace_proximity/ros/monitor_pipeline.hpp"
+#include "workspace_proximity/ros/monitor_bridges.hpp"
 #include "workspace_proximity/ros/rejection_log.hpp"
 #include "workspace_proximity/ros/ssm_publisher.hpp"
 #include "workspace_proximity/ros/twist_filter.hpp"
@@ -73,7 +73,7 @@ class ProximityMonitor : private CycleOutput {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   RejectionLog rejection_log_;
-  std::unique_ptr<MonitorPipeline> pipeline_;
+  std::unique_ptr<MonitorBridges> pipeline_;
   std::unique_ptr<ContactPublisher> contacts_;
   std::unique_ptr<SsmPublisher> ssm_;        // null with ~ssm/enabled: false
   std::unique_ptr<TwistFilter> twist_filter_;  // null without ~ssm/cmd_vel_in

@@ -8,7 +8,7 @@
 
 #include <workspace_proximity/ProximityMonitorConfig.h>
 
-#include "workspace_proximity/monitor/monitor_params.hpp"
+#include "workspace_proximity/rules/monitor_params.hpp"
 
 namespace workspace_proximity {
 

@@ -8,7 +8,7 @@
 
 #include <ros/time.h>
 
-#include "workspace_proximity/monitor/drop.hpp"
+#include "workspace_proximity/rules/drop.hpp"
 
 namespace workspace_proximity {
 

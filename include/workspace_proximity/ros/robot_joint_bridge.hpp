@@ -3,7 +3,7 @@
 /// follows the joint predictor's keyframed path (forward kinematics of the joints' predicted
 /// motion, or of a planned trajectory), its root frame posed from tf. The other bodies keep
 /// the tf path (RobotTfBridge). sensor_msgs/JointState and trajectory_msgs/JointTrajectory
-/// in; needs no master. The rules are JointPosing's (monitor layer); this bridge converts the
+/// in; needs no master. The rules are JointPosing's (rules layer); this bridge converts the
 /// messages, poses the root frame from tf and logs.
 
 #include <memory>
@@ -11,8 +11,8 @@
 #include <sensor_msgs/JointState.h>
 #include <trajectory_msgs/JointTrajectory.h>
 
-#include "workspace_proximity/monitor/joint_posing.hpp"
-#include "workspace_proximity/monitor/monitor.hpp"
+#include "workspace_proximity/rules/joint_posing.hpp"
+#include "workspace_proximity/rules/monitor.hpp"
 #include "workspace_proximity/ros/robot_tf_bridge.hpp"
 
 namespace workspace_proximity {

@@ -11,7 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "workspace_proximity/monitor/monitor_params.hpp"
+#include "workspace_proximity/rules/monitor_params.hpp"
 #include "workspace_proximity/ros/oriented_box.hpp"
 
 namespace workspace_proximity {

@@ -8,7 +8,7 @@
 #include <XmlRpcValue.h>
 #include <ros/node_handle.h>
 
-#include "workspace_proximity/monitor/monitor_params.hpp"
+#include "workspace_proximity/rules/monitor_params.hpp"
 
 namespace workspace_proximity {
 

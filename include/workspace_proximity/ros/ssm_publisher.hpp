@@ -13,8 +13,8 @@
 #include <ros/publisher.h>
 #include <workspace_proximity/SafetyStatus.h>
 
-#include "workspace_proximity/monitor/cycle_report.hpp"
-#include "workspace_proximity/monitor/ssm.hpp"
+#include "workspace_proximity/rules/cycle_report.hpp"
+#include "workspace_proximity/rules/ssm_rule.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace workspace_proximity {

@@ -1,7 +1,7 @@
-// The ROS-free monitor layer from a user's package: parameters checked, one cycle, a report.
+// The ROS-free rules layer from a user's package: parameters checked, one cycle, a report.
 #include <cstdio>
 
-#include "workspace_proximity/monitor/monitor.hpp"
+#include "workspace_proximity/rules/monitor.hpp"
 namespace wp = workspace_proximity;
 
 int main() {

@@ -1,0 +1,64 @@
+#pragma once
+/// Speed and separation monitoring over one cycle: which robot-object pairs the rule sees, the
+/// scale of each (ssm_rule.hpp's formula), the limiting pair, and the output a controller acts on
+/// (capped while DEGRADED, with hysteresis). ROS-free; the monitor runs it every cycle.
+///
+/// Every pair within reach is considered, not only pairs with a predicted contact. A pair
+/// allows full speed once d >= S_p(v_max) with its own approach speed, and v_h is at most
+/// max(|v|, ssm_min_speed) of the object, so no pair farther than
+///   R = max over monitored tracks of S_p(v_max) with v_h = max(|v|, ssm_min_speed)
+/// can lower the scale. Before each predict, every robot body's reach in the world
+/// (ProximityWorld::setReach) is set to R: the broad phase then pairs every robot body with
+/// every object whose bare shape is within R of it now, and the world reports those pairs
+/// with their distance and nearest points (ProximityWorld::nearPairs). The robot's bodies are
+/// grown, not the objects': they are few, so the extra broad-phase pairs stay few too.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "workspace_proximity/rules/level_policy.hpp"
+#include "workspace_proximity/rules/ssm_rule.hpp"
+#include "workspace_proximity/rules/stamp.hpp"
+#include "workspace_proximity/proximity_world.hpp"
+
+namespace workspace_proximity {
+
+class TrackTable;
+class RobotBodies;
+
+class SsmCycle {
+ public:
+  explicit SsmCycle(const SsmParams& params);
+  /// New constants (live tuning) from the next cycle; the filter keeps its output.
+  void setParams(const SsmParams& params);
+  const SsmParams& params() const { return params_; }
+
+  /// Before predict: which tracks are monitored (~ssm/labels), and every present robot body's
+  /// reach set to R (0 while disabled). Allocation-free once the slots have been seen.
+  void prepare(const TrackTable& tracks, const LabelTable& labels, const RobotBodies& robot,
+               ProximityWorld* world);
+  /// After predict: the rule over the world's near pairs, the DEGRADED cap (with the first of
+  /// `status_lines` as the reason) and the filter at `now`, into `out`.
+  void evaluate(Stamp now, const ProximityWorld& world, const TrackTable& tracks,
+                const LabelTable& labels, const RobotBodies& robot, bool degraded,
+                const std::vector<std::string>& status_lines, SsmVerdict* out);
+  /// A cycle failed: nothing is known, the scale goes to at most degraded_scale.
+  void failed(Stamp now, const std::string& why, SsmVerdict* out);
+  /// Forgets the filter's history (clock went back): the output drops to 0.
+  void reset() { filter_.reset(); }
+
+  /// The largest reach set by the last prepare(), m.
+  double reach() const { return reach_; }
+
+ private:
+  void output(Stamp now, bool degraded, SsmVerdict* out);
+
+  SsmParams params_;
+  SpeedScaleFilter filter_;
+  std::vector<std::uint8_t> monitored_;  // per world body slot: a monitored track
+  double reach_ = 0.0;
+  char buffer_[256];  // reason text, formatted without allocating
+};
+
+}  // namespace workspace_proximity

@@ -1,0 +1,42 @@
+#include "workspace_proximity/rules/cycle_runner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <exception>
+
+namespace workspace_proximity {
+
+CycleRun CycleRunner::run(Stamp now, CycleFeed* feed, CycleOutput* out) {
+  CycleRun run;
+  const StageClock::Clock::time_point start = StageClock::Clock::now();
+  StageClock clock(&timing_, start);
+  try {
+    run.reset = monitor_->clockWentBack(now);
+    if (run.reset) {
+      // Every stamp held is from before the jump: tracks (their pairs END), robot poses,
+      // sources, and what the feed holds (waiting arrays, tf history, joint readings).
+      if (feed != nullptr) feed->reset(now);
+      monitor_->reset();
+    }
+    if (feed != nullptr) feed->update(now);
+    const CycleReport& report = monitor_->cycle(now, &clock);
+    if (out != nullptr) out->contacts(report, monitor_->world());
+    clock.lap(CycleStage::kContacts);
+    if (out != nullptr) out->rest(report, monitor_->world(), run);
+    last_cycle_ms_ =
+        std::chrono::duration<double, std::milli>(StageClock::Clock::now() - start).count();
+    max_cycle_ms_ = std::max(max_cycle_ms_, last_cycle_ms_);
+  } catch (const std::exception& e) {
+    // Nothing may stop the cycle: say so, and still report, saying the prediction is missing.
+    run.failed = true;
+    if (feed != nullptr) feed->failed(e.what());
+    monitor_->cycleFailed(now, e.what());
+    if (out != nullptr) {
+      out->contacts(monitor_->report(), monitor_->world());
+      out->rest(monitor_->report(), monitor_->world(), run);
+    }
+  }
+  return run;
+}
+
+}  // namespace workspace_proximity

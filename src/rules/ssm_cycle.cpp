@@ -1,0 +1,162 @@
+#include "workspace_proximity/rules/ssm_cycle.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string_view>
+
+#include "workspace_proximity/rules/robot_bodies.hpp"
+#include "workspace_proximity/rules/track_table.hpp"
+
+namespace workspace_proximity {
+namespace {
+
+bool listed(const std::vector<std::string>& labels, const std::string& label) {
+  return labels.empty() || std::find(labels.begin(), labels.end(), label) != labels.end();
+}
+
+// The fastest the object can approach anything: its tracked speed, or its label's minimum.
+double fastestApproach(const BodyMotion& motion, const LabelSettings& label) {
+  return std::max(motion.linear_velocity.norm(), label.ssm_min_speed);
+}
+
+}  // namespace
+
+SsmCycle::SsmCycle(const SsmParams& params) : params_(params), filter_(params) {}
+
+void SsmCycle::setParams(const SsmParams& params) {
+  params_ = params;
+  filter_.setParams(params);
+}
+
+void SsmCycle::prepare(const TrackTable& tracks, const LabelTable& labels,
+                              const RobotBodies& robot, ProximityWorld* world) {
+  std::fill(monitored_.begin(), monitored_.end(), 0);
+  reach_ = 0.0;
+  if (params_.enabled) {
+    for (int i = 0; i < tracks.size(); ++i) {
+      const Track& t = tracks.track(i);
+      if (!listed(params_.labels, t.label)) continue;
+      const auto slot = static_cast<std::size_t>(t.handle.index);
+      if (slot >= monitored_.size()) monitored_.resize(slot + 1, 0);  // grows with the slots only
+      monitored_[slot] = 1;
+      const double v_h = fastestApproach(world->motion(t.handle), labels.settings(t.settings));
+      reach_ = std::max(reach_, protectiveSeparation(params_, v_h, params_.robot_max_speed));
+    }
+  }
+  // The core refuses reaches beyond its size limit; such a reach would cover the whole cell.
+  reach_ = std::min(reach_, Limits::kMaxSize);
+  for (int i = 0; i < robot.size(); ++i) {
+    if (robot.present(i)) world->setReach(robot.handle(i), reach_);
+  }
+}
+
+void SsmCycle::evaluate(Stamp now, const ProximityWorld& world, const TrackTable& tracks,
+                               const LabelTable& labels, const RobotBodies& robot, bool degraded,
+                               const std::vector<std::string>& status_lines, SsmVerdict* out) {
+  out->enabled = params_.enabled;
+  out->raw_scale = 1.0;
+  out->pairs = 0;
+  out->limited = false;
+  out->separation = std::numeric_limits<double>::infinity();
+  out->required_separation = 0.0;
+  out->approach_speed = 0.0;
+  if (!params_.enabled) {
+    out->speed_scale = 1.0;
+    out->degraded = degraded;
+    out->reason.assign("speed and separation monitoring is off (~ssm/enabled)");
+    return;
+  }
+  double best_slack = std::numeric_limits<double>::infinity();
+  for (const NearPair& near : world.nearPairs()) {
+    // A robot body and a monitored track, in either order.
+    const bool robot_first = robot.robotOfSlot(near.body_a.index) >= 0;
+    const BodyHandle r = robot_first ? near.body_a : near.body_b;
+    const BodyHandle o = robot_first ? near.body_b : near.body_a;
+    if (robot.robotOfSlot(r.index) < 0) continue;
+    const int track = tracks.trackOfSlot(o.index);
+    const auto slot = static_cast<std::size_t>(o.index);
+    if (track < 0 || slot >= monitored_.size() || !monitored_[slot]) continue;
+    ++out->pairs;
+    const Eigen::Vector3d& p_robot = robot_first ? near.point_a : near.point_b;
+    const Eigen::Vector3d& p_object = robot_first ? near.point_b : near.point_a;
+    // The direction from the object's nearest point to the robot's; for touching or
+    // overlapping shapes the contact normal, turned to point from the object to the robot.
+    Eigen::Vector3d towards = p_robot - p_object;
+    const double length = towards.norm();
+    if (near.distance > 0.0 && length > 1e-9) {
+      towards /= length;
+    } else {
+      towards = robot_first ? Eigen::Vector3d(-near.normal) : near.normal;
+    }
+    const LabelSettings& label = labels.settings(tracks.track(track).settings);
+    const double along = world.motion(o).linear_velocity.dot(towards);
+    const double v_h = std::max({0.0, along, label.ssm_min_speed});
+    const double required = protectiveSeparation(params_, v_h, params_.robot_max_speed);
+    const double slack = near.distance - required;
+    out->raw_scale = std::min(out->raw_scale, pairScale(params_, near.distance, v_h));
+    if (slack < best_slack) {
+      best_slack = slack;
+      out->limited = true;
+      out->robot = r;
+      out->object = o;
+      out->separation = near.distance;
+      out->required_separation = required;
+      out->approach_speed = v_h;
+      out->point_robot = p_robot;
+      out->point_object = p_object;
+    }
+  }
+
+  out->degraded = degraded;
+  if (degraded) {
+    std::snprintf(buffer_, sizeof buffer_, "DEGRADED, scale at most %.2f: ", params_.degraded_scale);
+    out->reason.assign(buffer_);
+    out->reason.append(status_lines.empty() ? std::string_view("?") : std::string_view(status_lines.front()));
+  } else if (out->limited) {
+    // "person_1 at 0.83 m from link_2, full speed needs 1.11 m (approach 1.00 m/s)"
+    out->reason.assign(out->raw_scale < 1.0 ? "" : "clear: ").append(world.desc(out->object).id);
+    std::snprintf(buffer_, sizeof buffer_, " at %.2f m from ", out->separation);
+    out->reason.append(buffer_).append(world.desc(out->robot).id);
+    std::snprintf(buffer_, sizeof buffer_, ", full speed needs %.2f m (approach %.2f m/s)",
+                  out->required_separation, out->approach_speed);
+    out->reason.append(buffer_);
+  } else {
+    out->reason.assign("clear: no monitored object within reach");
+  }
+  output(now, degraded, out);
+}
+
+void SsmCycle::failed(Stamp now, const std::string& why, SsmVerdict* out) {
+  out->enabled = params_.enabled;
+  out->raw_scale = params_.degraded_scale;  // nothing is known: what DEGRADED allows
+  out->pairs = 0;
+  out->limited = false;
+  out->separation = std::numeric_limits<double>::infinity();
+  out->required_separation = 0.0;
+  out->approach_speed = 0.0;
+  out->degraded = true;
+  if (!params_.enabled) {
+    out->speed_scale = 1.0;
+    out->reason.assign("speed and separation monitoring is off (~ssm/enabled)");
+    return;
+  }
+  std::snprintf(buffer_, sizeof buffer_, "DEGRADED, scale at most %.2f: cycle failed: ",
+                params_.degraded_scale);
+  out->reason.assign(buffer_).append(why);
+  output(now, true, out);
+}
+
+void SsmCycle::output(Stamp now, bool degraded, SsmVerdict* out) {
+  // While DEGRADED the prediction rests on data that may be missing or old: never more than
+  // degraded_scale. The filter drops at once and rises slowly, also after a DEGRADED spell.
+  const double target = degraded ? std::min(out->raw_scale, params_.degraded_scale) : out->raw_scale;
+  out->speed_scale = filter_.update(now, target);
+  if (out->speed_scale < target) {
+    std::snprintf(buffer_, sizeof buffer_, "; rising to %.2f (after %.1f s, at most %.2f/s)",
+                  target, params_.hold_time, params_.max_increase_rate);
+    out->reason.append(buffer_);
+  }
+}
+
+}  // namespace workspace_proximity

@@ -1,0 +1,228 @@
+#include "workspace_proximity/rules/track_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+
+#include "workspace_proximity/rules/track_growth.hpp"
+
+namespace workspace_proximity {
+namespace {
+
+// Grow at once (never smaller than the truth); shrink only when clearly smaller, so a
+// tracker's jittering dimensions do not rebuild the geometry every message.
+bool needsResize(const Eigen::Vector3d& current, const Eigen::Vector3d& wanted) {
+  constexpr double kShrinkSlack = 0.05;  // m
+  return (wanted.array() > current.array()).any() ||
+         (wanted.array() < current.array() - kShrinkSlack).any();
+}
+
+}  // namespace
+
+TrackTable::TrackTable(ProximityWorld* world, const LabelTable* labels, int max_tracks,
+                       const BoxLimits& limits, DropCounters* drops, RejectionSink* sink)
+    : world_(world), labels_(labels), max_tracks_(max_tracks), limits_(limits), drops_(drops),
+      sink_(sink) {}
+
+void TrackTable::reject(const ArrayContext& array, std::string_view id, Drop reason,
+                        std::string detail) {
+  drops_->add(reason);
+  last_reject_ = reason;
+  if (sink_ != nullptr) sink_->onRejection(Rejection{reason, array.source, id, std::move(detail)});
+}
+
+int TrackTable::find(const std::string& key) const {
+  const auto it = index_.find(key);
+  return it == index_.end() ? -1 : it->second;
+}
+
+void TrackTable::selectNearest(const ArrayContext& array, const std::vector<BoxObservation>& boxes) {
+  nearest_.clear();
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const double d =
+        (array.fixed_from_frame * boxes[i].position - array.robot_centre).squaredNorm();
+    nearest_.emplace_back(std::isfinite(d) ? d : HUGE_VAL, i);
+  }
+  // Too many boxes: keep the ones nearest the robot (they matter first) and say so.
+  const auto room = static_cast<std::size_t>(max_tracks_);
+  if (nearest_.size() <= room) return;
+  std::nth_element(nearest_.begin(), nearest_.begin() + static_cast<long>(room), nearest_.end());
+  const std::size_t ignored = nearest_.size() - room;
+  drops_->add(Drop::kCap, ignored);
+  if (sink_ != nullptr) {
+    sink_->onRejection(Rejection{
+        Drop::kCap, array.source, std::string_view(),
+        std::to_string(nearest_.size()) + " boxes exceed ~max_tracks = " +
+            std::to_string(max_tracks_) + "; the " + std::to_string(ignored) +
+            " farthest from the robot are ignored"});
+  }
+  nearest_.resize(room);
+}
+
+int TrackTable::ingest(const ArrayContext& array, const std::vector<BoxObservation>& boxes,
+                       Drop* last_drop) {
+  last_reject_ = Drop::kCount;
+  int used = 0;
+  selectNearest(array, boxes);
+  // Every track updated from this array is marked with its serial: a second box with the
+  // same id finds the mark (duplicate) without a per-array set of ids.
+  ++array_serial_;
+  for (const auto& entry : nearest_) {
+    const BoxObservation& box = boxes[entry.second];
+    const Drop why = checkBox(box, limits_, &detail_);
+    if (why != Drop::kCount) {
+      reject(array, box.id, why, detail_);
+      continue;
+    }
+    if (array.qualifier.empty()) {
+      key_.assign(box.id);
+    } else {
+      key_.assign(array.qualifier).append("/").append(box.id);
+    }
+    const int index = find(key_);
+    if (index >= 0 && tracks_[static_cast<std::size_t>(index)].array_serial == array_serial_) {
+      reject(array, box.id, Drop::kDuplicateId, "duplicate id in one array; the first is used");
+      continue;
+    }
+    if (index < 0 && size() >= max_tracks_ && !evictFarther(array, entry.first)) {
+      reject(array, box.id, Drop::kCap,
+             "~max_tracks reached and every kept track is nearer the robot");
+      continue;
+    }
+    try {
+      update(array, index, box);
+      ++used;
+    } catch (const std::exception& e) {
+      // The core's own limits (e.g. a pose that the frame's transform carries past them):
+      // drop the box, never the array or the node.
+      reject(array, box.id, Drop::kCoreLimits, std::string("rejected by the core: ") + e.what());
+    }
+  }
+  if (last_drop != nullptr) *last_drop = last_reject_;
+  return used;
+}
+
+bool TrackTable::evictFarther(const ArrayContext& array, double squared_distance) {
+  // At the cap, the track farthest from the robot (at its last observed position) gives way
+  // to a nearer newcomer, whichever source it came from.
+  int farthest = -1;
+  double worst = squared_distance;
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    const double d = (tracks_[i].motion.position - array.robot_centre).squaredNorm();
+    if (d > worst) {
+      worst = d;
+      farthest = static_cast<int>(i);
+    }
+  }
+  if (farthest < 0) return false;
+  const Track& t = tracks_[static_cast<std::size_t>(farthest)];
+  reject(array, t.key, Drop::kCap,
+         "~max_tracks = " + std::to_string(max_tracks_) +
+             " reached; this track, the farthest from the robot, gives way to a nearer one");
+  remove(farthest);
+  return true;
+}
+
+void TrackTable::update(const ArrayContext& array, int index, const BoxObservation& box) {
+  const BodyMotion motion = boxMotion(box, array.fixed_from_frame);
+  if (index >= 0 && tracks_[static_cast<std::size_t>(index)].label != box.label) {
+    // A new class means new settings (margin, thresholds): restart the track, so its pairs
+    // END and BEGIN again under the new label.
+    const Track& t = tracks_[static_cast<std::size_t>(index)];
+    reject(array, box.id, Drop::kRelabelled,
+           "changed label '" + t.label + "' -> '" + std::string(box.label) + "'; restarted");
+    remove(index);
+    index = -1;
+  }
+  if (index < 0) {
+    add(array, box, motion);
+    return;
+  }
+  Track& t = tracks_[static_cast<std::size_t>(index)];
+  t.array_serial = array_serial_;
+  if (array.stamp < t.stamp) return;  // older than what we have
+  t.stamp = array.stamp;
+  t.motion = motion;
+  const Shape shape = boxShape(box);
+  if (needsResize(t.half, shape.half_extents)) {
+    world_->setShape(t.handle, shape, trackMargin(labels_->settings(t.settings)));
+    t.half = shape.half_extents;
+  }
+}
+
+void TrackTable::add(const ArrayContext& array, const BoxObservation& box, const BodyMotion& motion) {
+  Track t;
+  t.key = key_;
+  t.label = std::string(box.label);
+  t.settings = labels_->indexOf(t.label);
+  t.stamp = array.stamp;
+  t.motion = motion;
+  const Shape shape = boxShape(box);
+  t.half = shape.half_extents;
+  t.array_serial = array_serial_;
+  t.handle = world_->addBody(BodyDesc{t.key, t.label, BodyGroup::kObject, shape,
+                                      trackMargin(labels_->settings(t.settings))},
+                             motion);
+  const int added = size();
+  setTrackOfSlot(t.handle.index, added);
+  index_.emplace(t.key, added);
+  tracks_.push_back(std::move(t));
+}
+
+void TrackTable::remove(int index) {
+  // Swap-and-pop keeps the tracks dense; the moved track's index entries follow it.
+  const auto i = static_cast<std::size_t>(index);
+  setTrackOfSlot(tracks_[i].handle.index, -1);
+  world_->removeBody(tracks_[i].handle);
+  index_.erase(tracks_[i].key);
+  if (i + 1 != tracks_.size()) {
+    tracks_[i] = std::move(tracks_.back());
+    index_[tracks_[i].key] = index;
+    setTrackOfSlot(tracks_[i].handle.index, index);
+  }
+  tracks_.pop_back();
+}
+
+void TrackTable::expire(Stamp now, double timeout) {
+  // Backwards: remove() moves the last track into the hole, which was visited already.
+  for (std::size_t i = tracks_.size(); i-- > 0;) {
+    if (secondsBetween(tracks_[i].stamp, now) > timeout) remove(static_cast<int>(i));
+  }
+}
+
+void TrackTable::advance(Stamp now) {
+  for (const Track& t : tracks_) {
+    const double age = secondsBetween(t.stamp, now);
+    world_->setMotion(t.handle, t.motion.advanced(age));
+    // The uncertainty has grown since the measurement, not since now: the margin at the
+    // prediction instant is already R(age) wider (the label's settings are looked up every
+    // cycle, so live tuning applies at once; no growth: today's prediction, bit for bit).
+    world_->setGrowth(t.handle, trackGrowth(labels_->settings(t.settings),
+                                            t.motion.linear_velocity.norm(), age));
+  }
+}
+
+void TrackTable::clear() {
+  for (const Track& t : tracks_) world_->removeBody(t.handle);
+  for (const Track& t : tracks_) setTrackOfSlot(t.handle.index, -1);
+  tracks_.clear();
+  index_.clear();
+}
+
+void TrackTable::refreshSettings(int max_tracks) {
+  max_tracks_ = max_tracks;
+  for (Track& t : tracks_) {
+    t.settings = labels_->indexOf(t.label);
+    const double margin = trackMargin(labels_->settings(t.settings));
+    const BodyDesc& desc = world_->desc(t.handle);
+    if (margin != desc.margin) world_->setShape(t.handle, desc.shape, margin);
+  }
+}
+
+void TrackTable::setTrackOfSlot(std::int32_t slot, int track) {
+  const auto s = static_cast<std::size_t>(slot);
+  if (s >= track_of_slot_.size()) track_of_slot_.resize(s + 1, -1);  // grows with the world
+  track_of_slot_[s] = track;
+}
+
+}  // namespace workspace_proximity
