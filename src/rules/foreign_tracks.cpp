@@ -82,6 +82,33 @@ bool fits(std::uint32_t count, ForeignTrackArray* out) {
   return false;
 }
 
+// The array of tracks every decoder reads: its length is checked against the bytes left (at
+// least `element_min` each) and the capacity before anything is read, then `read_element` reads
+// each element into a new track.
+template <typename ReadElement>
+ForeignRefusal readTracks(WireReader& r, ForeignTrackArray* out, std::size_t element_min,
+                          ReadElement read_element) {
+  const std::uint32_t n = r.arrayLength(element_min);
+  if (!fits(n, out)) return out->refusal;
+  for (std::uint32_t i = 0; i < n && r.ok(); ++i) read_element(newTrack(out));
+  return ForeignRefusal::kNone;
+}
+
+// geometry_msgs/Pose: a track's position and orientation.
+void readPose(WireReader& r, ForeignTrack* t) {
+  t->position = r.vector3();
+  t->quaternion = r.quaternion();
+  t->has_orientation = true;
+}
+
+// A box as vision_msgs/BoundingBox3D and jsk_recognition_msgs/BoundingBox hold it: its pose,
+// then its full extents.
+void readBox(WireReader& r, ForeignTrack* t) {
+  readPose(r, t);
+  t->dimensions = r.vector3();
+  t->dimension_axes = kAxesAll;
+}
+
 Eigen::Matrix3d block3(const double* cov, int stride) {
   Eigen::Matrix3d m;
   for (int i = 0; i < 3; ++i) {
@@ -149,10 +176,7 @@ void readShape(WireReader& r, bool with_covariance, ForeignTrack* t) {
 
 ForeignRefusal decodePeople(WireReader& r, ForeignTrackArray* out) {
   readHeader(r, &out->stamp, &out->frame_id);
-  const std::uint32_t n = r.arrayLength(kPersonMin);
-  if (!fits(n, out)) return out->refusal;
-  for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
-    ForeignTrack& t = newTrack(out);
+  return readTracks(r, out, kPersonMin, [&](ForeignTrack& t) {
     t.id_kind = ForeignIdKind::kText;
     t.id_text = r.string();
     t.label = kPerson;
@@ -162,29 +186,27 @@ ForeignRefusal decodePeople(WireReader& r, ForeignTrackArray* out) {
     r.f64();  // reliability
     r.skipStringArray();  // tagnames
     r.skipStringArray();  // tags
-  }
-  return ForeignRefusal::kNone;
+  });
 }
 
 ForeignRefusal decodePositionMeasurements(WireReader& r, ForeignTrackArray* out) {
   readHeader(r, &out->stamp, &out->frame_id);
-  const std::uint32_t n = r.arrayLength(kPositionMeasurementMin);
-  if (!fits(n, out)) return out->refusal;
-  for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
-    ForeignTrack& t = newTrack(out);
-    readElementHeader(r, &t);
-    r.string();  // name: the detector's
-    t.id_kind = ForeignIdKind::kText;
-    t.id_text = r.string();  // object_id
-    t.label = kPerson;
-    t.position = r.vector3();
-    r.f64();  // reliability
-    double cov[9];
-    r.f64s(cov, 9);
-    t.position_covariance = block3(cov, 3);
-    t.has_position_covariance = true;
-    r.u8();  // initialization
-  }
+  const ForeignRefusal refusal =
+      readTracks(r, out, kPositionMeasurementMin, [&](ForeignTrack& t) {
+        readElementHeader(r, &t);
+        r.string();  // name: the detector's
+        t.id_kind = ForeignIdKind::kText;
+        t.id_text = r.string();  // object_id
+        t.label = kPerson;
+        t.position = r.vector3();
+        r.f64();  // reliability
+        double cov[9];
+        r.f64s(cov, 9);
+        t.position_covariance = block3(cov, 3);
+        t.has_position_covariance = true;
+        r.u8();  // initialization
+      });
+  if (refusal != ForeignRefusal::kNone) return refusal;
   r.skipArray(4);  // cooccurrence
   return ForeignRefusal::kNone;
 }
@@ -193,10 +215,7 @@ ForeignRefusal decodeSpencer(WireReader& r, ForeignTrackArray* out, int version)
   readHeader(r, &out->stamp, &out->frame_id);
   const std::size_t min = 8 + 1 + (version >= 2 ? 1 : 0) + 8 + (version == 3 ? 4 : 0) + 8 +
                           ws::kPoseWithCovariance + ws::kTwistWithCovariance;
-  const std::uint32_t n = r.arrayLength(min);
-  if (!fits(n, out)) return out->refusal;
-  for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
-    ForeignTrack& t = newTrack(out);
+  return readTracks(r, out, min, [&](ForeignTrack& t) {
     t.id_kind = ForeignIdKind::kNumber;
     t.id_number = r.u64();
     t.label = kPerson;
@@ -213,9 +232,8 @@ ForeignRefusal decodeSpencer(WireReader& r, ForeignTrackArray* out, int version)
     r.vector3();  // angular velocity
     double twist_cov[36];
     r.f64s(twist_cov, 36);
-    applySpencerCovariances(pose_cov, twist_cov, &t);
-  }
-  return ForeignRefusal::kNone;
+    applySpencerCovariances(pose_cov, twist_cov, &t);  // and whether the orientation is set
+  });
 }
 
 // Parallel arrays must match the uuids' count.
@@ -229,21 +247,18 @@ bool sameLength(std::uint32_t n, std::uint32_t m, const char* what, ForeignTrack
 
 ForeignRefusal decodeBayes(WireReader& r, ForeignTrackArray* out, bool with_velocities) {
   readHeader(r, &out->stamp, &out->frame_id);
-  const std::uint32_t n = r.arrayLength(4);
-  if (!fits(n, out)) return out->refusal;
-  for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
-    ForeignTrack& t = newTrack(out);
+  const ForeignRefusal refusal = readTracks(r, out, 4, [&](ForeignTrack& t) {
     t.id_kind = ForeignIdKind::kText;
     t.id_text = r.string();
     t.label = kPerson;
-  }
+  });
+  if (refusal != ForeignRefusal::kNone) return refusal;
+  // One track per uuid read (all of them unless the reader failed, and then sameLength passes
+  // and the message is refused as truncated or of a bad length).
+  const auto n = static_cast<std::uint32_t>(out->tracks.size());
   const std::uint32_t poses = r.arrayLength(ws::kPose);
   if (!sameLength(n, poses, "poses", out, r)) return out->refusal;
-  for (std::uint32_t i = 0; i < poses && r.ok(); ++i) {
-    out->tracks[i].position = r.vector3();
-    out->tracks[i].quaternion = r.quaternion();
-    out->tracks[i].has_orientation = true;
-  }
+  for (std::uint32_t i = 0; i < poses && r.ok(); ++i) readPose(r, &out->tracks[i]);
   if (with_velocities) {
     const std::uint32_t velocities = r.arrayLength(ws::kPoint);
     if (!sameLength(n, velocities, "velocities", out, r)) return out->refusal;
@@ -265,26 +280,18 @@ ForeignRefusal decodeBayes(WireReader& r, ForeignTrackArray* out, bool with_velo
 
 ForeignRefusal decodeLegTracker(WireReader& r, ForeignTrackArray* out) {
   readHeader(r, &out->stamp, &out->frame_id);
-  const std::uint32_t n = r.arrayLength(kLegPersonMin);
-  if (!fits(n, out)) return out->refusal;
-  for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
-    ForeignTrack& t = newTrack(out);
+  return readTracks(r, out, kLegPersonMin, [&](ForeignTrack& t) {
     t.label = kPerson;
-    t.position = r.vector3();
-    t.quaternion = r.quaternion();
-    t.has_orientation = true;
+    readPose(r, &t);
     t.id_kind = ForeignIdKind::kNumber;
     t.id_number = r.u32();
-  }
-  return ForeignRefusal::kNone;
+  });
 }
 
 ForeignRefusal decodeDerivedObjects(WireReader& r, ForeignTrackArray* out, bool covariance) {
   readHeader(r, &out->stamp, &out->frame_id);
-  const std::uint32_t n = r.arrayLength(covariance ? kObjectWithCovarianceMin : kObjectMin);
-  if (!fits(n, out)) return out->refusal;
-  for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
-    ForeignTrack& t = newTrack(out);
+  const std::size_t min = covariance ? kObjectWithCovarianceMin : kObjectMin;
+  return readTracks(r, out, min, [&](ForeignTrack& t) {
     readElementHeader(r, &t);
     t.id_kind = ForeignIdKind::kNumber;
     t.id_number = r.u32();
@@ -292,9 +299,7 @@ ForeignRefusal decodeDerivedObjects(WireReader& r, ForeignTrackArray* out, bool 
     // properties": a merely detected one (or an unknown level) has no velocity.
     const bool tracked = r.u8() == kObjectTracked;
     const bool classified = r.boolean();
-    t.position = r.vector3();
-    t.quaternion = r.quaternion();
-    t.has_orientation = true;
+    readPose(r, &t);
     double pose_cov[36];
     if (covariance) r.f64s(pose_cov, 36);
     t.velocity = r.vector3();
@@ -323,8 +328,7 @@ ForeignRefusal decodeDerivedObjects(WireReader& r, ForeignTrackArray* out, bool 
     } else {
       t.velocity.setZero();
     }
-  }
-  return ForeignRefusal::kNone;
+  });
 }
 
 ForeignRefusal decodeObstacles(WireReader& r, ForeignTrackArray* out) {
@@ -332,10 +336,7 @@ ForeignRefusal decodeObstacles(WireReader& r, ForeignTrackArray* out) {
   const std::uint32_t segments = r.arrayLength(kSegmentBytes);
   r.skip(std::size_t{segments} * kSegmentBytes);  // static walls: not tracks
   out->ignored = segments;
-  const std::uint32_t n = r.arrayLength(kCircleBytes);
-  if (!fits(n, out)) return out->refusal;
-  for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
-    ForeignTrack& t = newTrack(out);
+  return readTracks(r, out, kCircleBytes, [&](ForeignTrack& t) {
     t.label = "obstacle";
     t.position = r.vector3();
     t.velocity = r.vector3();
@@ -344,8 +345,7 @@ ForeignRefusal decodeObstacles(WireReader& r, ForeignTrackArray* out) {
     const double true_radius = r.f64();
     t.dimensions = Eigen::Vector3d(2.0 * true_radius, 2.0 * true_radius, 0.0);
     t.dimension_axes = kAxesXY;
-  }
-  return ForeignRefusal::kNone;
+  });
 }
 
 void skipPointCloud2(WireReader& r) {
@@ -368,10 +368,7 @@ void skipPointCloud2(WireReader& r) {
 
 ForeignRefusal decodeDetections3D(WireReader& r, ForeignTrackArray* out) {
   readHeader(r, &out->stamp, &out->frame_id);
-  const std::uint32_t n = r.arrayLength(kDetection3DMin);
-  if (!fits(n, out)) return out->refusal;
-  for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
-    ForeignTrack& t = newTrack(out);
+  return readTracks(r, out, kDetection3DMin, [&](ForeignTrack& t) {
     readElementHeader(r, &t);
     // results[].id is a class id (and users overload it): a label number, never a track id.
     const std::uint32_t results = r.arrayLength(kHypothesisBytes);
@@ -386,35 +383,22 @@ ForeignRefusal decodeDetections3D(WireReader& r, ForeignTrackArray* out) {
         best = score;
       }
     }
-    t.position = r.vector3();
-    t.quaternion = r.quaternion();
-    t.has_orientation = true;
-    t.dimensions = r.vector3();
-    t.dimension_axes = kAxesAll;
+    readBox(r, &t);  // bbox
     skipPointCloud2(r);
-  }
-  return ForeignRefusal::kNone;
+  });
 }
 
 ForeignRefusal decodeJskBoxes(WireReader& r, ForeignTrackArray* out, bool with_label) {
   readHeader(r, &out->stamp, &out->frame_id);
-  const std::uint32_t n = r.arrayLength(with_label ? kJskBoxV2Min : kJskBoxV1Min);
-  if (!fits(n, out)) return out->refusal;
-  for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
-    ForeignTrack& t = newTrack(out);
+  return readTracks(r, out, with_label ? kJskBoxV2Min : kJskBoxV1Min, [&](ForeignTrack& t) {
     readElementHeader(r, &t);
-    t.position = r.vector3();
-    t.quaternion = r.quaternion();
-    t.has_orientation = true;
-    t.dimensions = r.vector3();
-    t.dimension_axes = kAxesAll;
+    readBox(r, &t);
     if (with_label) {
       r.f32();  // value
       t.has_label_number = true;
       t.label_number = r.u32();
     }
-  }
-  return ForeignRefusal::kNone;
+  });
 }
 
 ForeignRefusal decodeFormat(ForeignFormat format, WireReader& r, ForeignTrackArray* out) {
