@@ -181,43 +181,74 @@ uint32 label
 )";
 
 using F = ForeignFormat;
-constexpr ForeignFamily kTracks = ForeignFamily::kTracks;
-constexpr ForeignFamily kDetections = ForeignFamily::kDetections;
+
+// What a format carries and its layout: the format decides both, so that type names sharing a
+// layout (pedsim_msgs' copy of spencer's) share them too. A switch, so that a format added
+// without them is a compiler warning (-Wswitch), not a row with a wrong layout.
+struct FormatFacts {
+  ForeignFamily family;
+  std::string_view layout;
+};
+
+constexpr FormatFacts formatFacts(ForeignFormat format) {
+  constexpr ForeignFamily kTracks = ForeignFamily::kTracks;
+  constexpr ForeignFamily kDetections = ForeignFamily::kDetections;
+  switch (format) {
+    case F::kPeople: return {kTracks, kPeople};
+    case F::kPositionMeasurementArray: return {kTracks, kPositionMeasurementArray};
+    case F::kSpencerV1: return {kTracks, kSpencerV1};
+    case F::kSpencerV2: return {kTracks, kSpencerV2};
+    case F::kSpencerV3: return {kTracks, kSpencerV3};
+    case F::kBayesV1: return {kTracks, kBayesV1};
+    case F::kBayesV2: return {kTracks, kBayesV2};
+    case F::kLegTrackerPersonArray: return {kTracks, kLegTracker};
+    case F::kDerivedObjectArray: return {kTracks, kDerivedObjectArray};
+    case F::kDerivedObjectWithCovarianceArray: return {kTracks, kDerivedObjectWithCovarianceArray};
+    case F::kObstacles: return {kTracks, kObstacles};
+    case F::kDetection3DArray: return {kDetections, kDetection3DArray};
+    case F::kJskBoxArrayV1: return {kDetections, kJskV1};
+    case F::kJskBoxArrayV2: return {kDetections, kJskV2};
+  }
+  return {kTracks, {}};
+}
+
+// One row of the catalogue: a type name's version, its md5 and its format.
+constexpr ForeignVersion known(std::string_view type, std::string_view version,
+                               std::string_view md5, ForeignFormat format) {
+  const FormatFacts facts = formatFacts(format);
+  return {type, version, md5, format, facts.family, facts.layout};
+}
 
 // md5s as foreign_msgs/md5s.txt lists them (test_foreign_decoder checks the two agree).
 constexpr ForeignVersion kVersions[] = {
-    {"people_msgs/People", "v1", "18722f4b8db20cc2369740732357847b", F::kPeople, kTracks,
-     kPeople},
-    {"people_msgs/PositionMeasurementArray", "v1", "59c860d40aa739ec920eb3ad24ae019e",
-     F::kPositionMeasurementArray, kTracks, kPositionMeasurementArray},
-    {"spencer_tracking_msgs/TrackedPersons", "v1", "fff87da612a8c3a29a0c8975fb284991",
-     F::kSpencerV1, kTracks, kSpencerV1},
-    {"spencer_tracking_msgs/TrackedPersons", "v2", "21c0b1a57c4933e68f39aa3802861828",
-     F::kSpencerV2, kTracks, kSpencerV2},
-    {"spencer_tracking_msgs/TrackedPersons", "v3", "a8d3f58bab50e004b03178ad80cb76ac",
-     F::kSpencerV3, kTracks, kSpencerV3},
-    {"pedsim_msgs/TrackedPersons", "v1", "fff87da612a8c3a29a0c8975fb284991", F::kSpencerV1,
-     kTracks, kSpencerV1},
-    {"pedsim_msgs/TrackedPersons", "v2", "21c0b1a57c4933e68f39aa3802861828", F::kSpencerV2,
-     kTracks, kSpencerV2},
-    {"bayes_people_tracker/PeopleTracker", "v1", "748ea76bfa4fbc576a15a2b7a15777db", F::kBayesV1,
-     kTracks, kBayesV1},
-    {"bayes_people_tracker/PeopleTracker", "v2", "e8903e0f53d53a16b295eae14263c817", F::kBayesV2,
-     kTracks, kBayesV2},
-    {"leg_tracker/PersonArray", "v1", "7b54bf6148ab21083b85a27eec643002",
-     F::kLegTrackerPersonArray, kTracks, kLegTracker},
-    {"derived_object_msgs/ObjectArray", "v1", "492c83cd255b9a57845d0c197d7977be",
-     F::kDerivedObjectArray, kTracks, kDerivedObjectArray},
-    {"derived_object_msgs/ObjectWithCovarianceArray", "v1", "59dfdf4ed3407a2558ccbc7f5732bf46",
-     F::kDerivedObjectWithCovarianceArray, kTracks, kDerivedObjectWithCovarianceArray},
-    {"obstacle_detector/Obstacles", "v1", "043bbf49c7775f8111e850268dbcf2e3", F::kObstacles,
-     kTracks, kObstacles},
-    {"vision_msgs/Detection3DArray", "v1", "05c51d9aea1fb4cfdc8effb94f197b6f",
-     F::kDetection3DArray, kDetections, kDetection3DArray},
-    {"jsk_recognition_msgs/BoundingBoxArray", "v1", "19cc943fcedfafbf4787a46810f9356a",
-     F::kJskBoxArrayV1, kDetections, kJskV1},
-    {"jsk_recognition_msgs/BoundingBoxArray", "v2", "c8f4a8bb1acd18ce778d183912bb472d",
-     F::kJskBoxArrayV2, kDetections, kJskV2},
+    known("people_msgs/People", "v1", "18722f4b8db20cc2369740732357847b", F::kPeople),
+    known("people_msgs/PositionMeasurementArray", "v1", "59c860d40aa739ec920eb3ad24ae019e",
+          F::kPositionMeasurementArray),
+    known("spencer_tracking_msgs/TrackedPersons", "v1", "fff87da612a8c3a29a0c8975fb284991",
+          F::kSpencerV1),
+    known("spencer_tracking_msgs/TrackedPersons", "v2", "21c0b1a57c4933e68f39aa3802861828",
+          F::kSpencerV2),
+    known("spencer_tracking_msgs/TrackedPersons", "v3", "a8d3f58bab50e004b03178ad80cb76ac",
+          F::kSpencerV3),
+    known("pedsim_msgs/TrackedPersons", "v1", "fff87da612a8c3a29a0c8975fb284991", F::kSpencerV1),
+    known("pedsim_msgs/TrackedPersons", "v2", "21c0b1a57c4933e68f39aa3802861828", F::kSpencerV2),
+    known("bayes_people_tracker/PeopleTracker", "v1", "748ea76bfa4fbc576a15a2b7a15777db",
+          F::kBayesV1),
+    known("bayes_people_tracker/PeopleTracker", "v2", "e8903e0f53d53a16b295eae14263c817",
+          F::kBayesV2),
+    known("leg_tracker/PersonArray", "v1", "7b54bf6148ab21083b85a27eec643002",
+          F::kLegTrackerPersonArray),
+    known("derived_object_msgs/ObjectArray", "v1", "492c83cd255b9a57845d0c197d7977be",
+          F::kDerivedObjectArray),
+    known("derived_object_msgs/ObjectWithCovarianceArray", "v1", "59dfdf4ed3407a2558ccbc7f5732bf46",
+          F::kDerivedObjectWithCovarianceArray),
+    known("obstacle_detector/Obstacles", "v1", "043bbf49c7775f8111e850268dbcf2e3", F::kObstacles),
+    known("vision_msgs/Detection3DArray", "v1", "05c51d9aea1fb4cfdc8effb94f197b6f",
+          F::kDetection3DArray),
+    known("jsk_recognition_msgs/BoundingBoxArray", "v1", "19cc943fcedfafbf4787a46810f9356a",
+          F::kJskBoxArrayV1),
+    known("jsk_recognition_msgs/BoundingBoxArray", "v2", "c8f4a8bb1acd18ce778d183912bb472d",
+          F::kJskBoxArrayV2),
 };
 constexpr std::size_t kVersionCount = sizeof(kVersions) / sizeof(kVersions[0]);
 
