@@ -341,6 +341,30 @@ ForeignRefusal decode(const Sample& s, wp::ForeignTrackArray* out,
 ForeignRefusal decode(const Sample&& s, wp::ForeignTrackArray* out,
                       std::string_view definition = {}) = delete;
 
+// Whether `s` is read whole into `count` tracks (else the refusal and its detail).
+::testing::AssertionResult decodesTracks(const Sample& s, std::size_t count,
+                                         wp::ForeignTrackArray* out) {
+  const ForeignRefusal r = decode(s, out);
+  if (r != ForeignRefusal::kNone) {
+    return ::testing::AssertionFailure() << wp::foreignRefusalName(r) << ": " << out->detail;
+  }
+  if (out->tracks.size() != count) {
+    return ::testing::AssertionFailure() << out->tracks.size() << " tracks, not " << count;
+  }
+  return ::testing::AssertionSuccess();
+}
+::testing::AssertionResult decodesTracks(const Sample&& s, std::size_t count,
+                                         wp::ForeignTrackArray* out) = delete;
+
+// The first `cut` bytes of a message, decoded from a copy of exactly that size, so that a read
+// past them is a read past an allocation.
+ForeignRefusal decodePrefix(const std::string& type, const std::string& md5,
+                            const std::vector<std::uint8_t>& bytes, std::size_t cut,
+                            wp::ForeignTrackArray* out) {
+  const std::vector<std::uint8_t> prefix(bytes.begin(), bytes.begin() + cut);
+  return wp::decodeForeignTracks(type, md5, prefix.data(), prefix.size(), out);
+}
+
 void expectVec(const Eigen::Vector3d& v, double x, double y, double z) {
   EXPECT_DOUBLE_EQ(v.x(), x);
   EXPECT_DOUBLE_EQ(v.y(), y);
@@ -361,12 +385,11 @@ TEST(ForeignDecoder, SpencerAllVersionsHonourUnsetVariances) {
     SCOPED_TRACE(version);
     wp::ForeignTrackArray out;
     const Sample message = spencer(version);
-    ASSERT_EQ(decode(message, &out), ForeignRefusal::kNone) << out.detail;
+    ASSERT_TRUE(decodesTracks(message, 3u, &out));
     ASSERT_NE(out.version, nullptr);
     EXPECT_EQ(out.version->version, "v" + std::to_string(version));
     EXPECT_EQ(out.stamp, 100 * 1000000000LL + 250);
     EXPECT_EQ(out.frame_id, "map");
-    ASSERT_EQ(out.tracks.size(), 3u);
 
     const wp::ForeignTrack& a = out.tracks[0];
     EXPECT_EQ(a.id_kind, wp::ForeignIdKind::kNumber);
@@ -413,9 +436,8 @@ TEST(ForeignDecoder, SpencerAllVersionsHonourUnsetVariances) {
 TEST(ForeignDecoder, PedsimReadsAsSpencer) {
   wp::ForeignTrackArray out;
   const Sample message = spencer(1, "pedsim_msgs/TrackedPersons");
-  ASSERT_EQ(decode(message, &out), ForeignRefusal::kNone);
+  ASSERT_TRUE(decodesTracks(message, 3u, &out));
   EXPECT_EQ(out.version->type, "pedsim_msgs/TrackedPersons");
-  ASSERT_EQ(out.tracks.size(), 3u);
   EXPECT_EQ(out.tracks[1].id_number, 8u);
   expectVec(out.tracks[1].velocity, 1, 0, 0.2);
 }
@@ -423,10 +445,9 @@ TEST(ForeignDecoder, PedsimReadsAsSpencer) {
 TEST(ForeignDecoder, People) {
   wp::ForeignTrackArray out;
   const Sample message = people();
-  ASSERT_EQ(decode(message, &out), ForeignRefusal::kNone) << out.detail;
+  ASSERT_TRUE(decodesTracks(message, 2u, &out));
   EXPECT_EQ(out.stamp, 20 * 1000000000LL + 5);
   EXPECT_EQ(out.frame_id, "odom");
-  ASSERT_EQ(out.tracks.size(), 2u);
   EXPECT_EQ(out.tracks[0].id_kind, wp::ForeignIdKind::kText);
   EXPECT_EQ(out.tracks[0].id_text, "alice");
   EXPECT_EQ(out.tracks[0].label, "person");
@@ -443,8 +464,7 @@ TEST(ForeignDecoder, People) {
 TEST(ForeignDecoder, PositionMeasurementArray) {
   wp::ForeignTrackArray out;
   const Sample message = positionMeasurements();
-  ASSERT_EQ(decode(message, &out), ForeignRefusal::kNone) << out.detail;
-  ASSERT_EQ(out.tracks.size(), 2u);
+  ASSERT_TRUE(decodesTracks(message, 2u, &out));
   const wp::ForeignTrack& a = out.tracks[0];
   EXPECT_EQ(a.id_text, "Person3");
   EXPECT_EQ(a.frame_id, "laser_a");  // its own header
@@ -467,8 +487,7 @@ TEST(ForeignDecoder, BayesPeopleTrackerBothVersions) {
     SCOPED_TRACE(version);
     wp::ForeignTrackArray out;
     const Sample message = bayes(version);
-    ASSERT_EQ(decode(message, &out), ForeignRefusal::kNone) << out.detail;
-    ASSERT_EQ(out.tracks.size(), 2u);
+    ASSERT_TRUE(decodesTracks(message, 2u, &out));
     EXPECT_EQ(out.tracks[0].id_text, "uuid-a");
     EXPECT_EQ(out.tracks[1].id_text, "uuid-b");
     expectVec(out.tracks[1].position, 2, 2, 0);
@@ -507,8 +526,7 @@ TEST(ForeignDecoder, BayesParallelArraysMustMatch) {
 TEST(ForeignDecoder, LegTracker) {
   wp::ForeignTrackArray out;
   const Sample message = legTracker();
-  ASSERT_EQ(decode(message, &out), ForeignRefusal::kNone) << out.detail;
-  ASSERT_EQ(out.tracks.size(), 2u);
+  ASSERT_TRUE(decodesTracks(message, 2u, &out));
   EXPECT_EQ(out.tracks[0].id_kind, wp::ForeignIdKind::kNumber);
   EXPECT_EQ(out.tracks[0].id_number, 12u);
   EXPECT_EQ(out.tracks[1].id_number, 13u);
@@ -522,8 +540,7 @@ TEST(ForeignDecoder, DerivedObjectsHonourDetectionLevelAndClassified) {
     SCOPED_TRACE(covariance);
     wp::ForeignTrackArray out;
     const Sample message = derivedObjects(covariance);
-    ASSERT_EQ(decode(message, &out), ForeignRefusal::kNone) << out.detail;
-    ASSERT_EQ(out.tracks.size(), 2u);
+    ASSERT_TRUE(decodesTracks(message, 2u, &out));
     const wp::ForeignTrack& a = out.tracks[0];
     EXPECT_EQ(a.id_number, 21u);
     EXPECT_EQ(a.frame_id, "radar");
@@ -556,9 +573,8 @@ TEST(ForeignDecoder, DerivedObjectsHonourDetectionLevelAndClassified) {
 TEST(ForeignDecoder, ObstacleCircles) {
   wp::ForeignTrackArray out;
   const Sample message = obstacles();
-  ASSERT_EQ(decode(message, &out), ForeignRefusal::kNone) << out.detail;
+  ASSERT_TRUE(decodesTracks(message, 2u, &out));
   EXPECT_EQ(out.ignored, 1u);
-  ASSERT_EQ(out.tracks.size(), 2u);
   EXPECT_EQ(out.tracks[0].id_kind, wp::ForeignIdKind::kNone);
   expectVec(out.tracks[0].position, 2, 3, 0);
   expectVec(out.tracks[0].velocity, 0.4, 0, 0);
@@ -570,8 +586,7 @@ TEST(ForeignDecoder, ObstacleCircles) {
 TEST(ForeignDecoder, Detection3DArray) {
   wp::ForeignTrackArray out;
   const Sample message = detections3D();
-  ASSERT_EQ(decode(message, &out), ForeignRefusal::kNone) << out.detail;
-  ASSERT_EQ(out.tracks.size(), 2u);
+  ASSERT_TRUE(decodesTracks(message, 2u, &out));
   const wp::ForeignTrack& a = out.tracks[0];
   EXPECT_EQ(a.id_kind, wp::ForeignIdKind::kNone);  // results[].id is no track id
   ASSERT_TRUE(a.has_label_number);
@@ -591,8 +606,7 @@ TEST(ForeignDecoder, JskBoxesBothVersions) {
     SCOPED_TRACE(version);
     wp::ForeignTrackArray out;
     const Sample message = jsk(version);
-    ASSERT_EQ(decode(message, &out), ForeignRefusal::kNone) << out.detail;
-    ASSERT_EQ(out.tracks.size(), 2u);
+    ASSERT_TRUE(decodesTracks(message, 2u, &out));
     EXPECT_EQ(out.tracks[0].frame_id, "velodyne");
     EXPECT_EQ(out.tracks[1].frame_id, "base");
     expectVec(out.tracks[1].position, 1, 2, 0.8);
@@ -610,10 +624,7 @@ TEST(ForeignDecoder, EveryTruncationIsRefusedByName) {
     wp::ForeignTrackArray out;
     ASSERT_EQ(decode(s, &out), ForeignRefusal::kNone) << out.detail;
     for (std::size_t cut = 0; cut < s.bytes.size(); ++cut) {
-      // A copy of exactly `cut` bytes, so a read past it is a read past an allocation.
-      const std::vector<std::uint8_t> prefix(s.bytes.begin(), s.bytes.begin() + cut);
-      const ForeignRefusal r = wp::decodeForeignTracks(s.type, s.md5, prefix.data(),
-                                                       prefix.size(), &out);
+      const ForeignRefusal r = decodePrefix(s.type, s.md5, s.bytes, cut, &out);
       EXPECT_TRUE(r == ForeignRefusal::kTruncated || r == ForeignRefusal::kBadLength)
           << "cut at " << cut << ": " << wp::foreignRefusalName(r);
       EXPECT_FALSE(out.detail.empty());
@@ -813,9 +824,7 @@ TEST(ForeignDecoder, GenpySerializedFixtures) {
     EXPECT_EQ(i, out.tracks.size());
     EXPECT_GE(i, 2u);
     for (std::size_t cut = 0; cut < bytes.size(); ++cut) {
-      const std::vector<std::uint8_t> prefix(bytes.begin(), bytes.begin() + cut);
-      EXPECT_NE(wp::decodeForeignTracks(type, md5, prefix.data(), prefix.size(), &out),
-                ForeignRefusal::kNone)
+      EXPECT_NE(decodePrefix(type, md5, bytes, cut, &out), ForeignRefusal::kNone)
           << "cut at " << cut;
     }
   }
