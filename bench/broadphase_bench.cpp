@@ -1591,8 +1591,8 @@ std::string ratioText(const Result* peer, const Result& ours) {
   return fmt("%.2f", peer->median_us / ours.median_us) + "×";
 }
 
-// The README's headline: per row, ours against the fastest other peer of that row, whoever it
-// is, plus the reference peers' ratios, all from this run.
+// The headline table (bench/results/README.md): per row, ours against the fastest other peer of
+// that row, whoever it is, plus the reference peers' ratios, all from this run.
 std::string headline(const std::vector<std::pair<ConfigDef, std::vector<Result>>>& all) {
   std::ostringstream o;
   o << "## Headline: ours against the best peer of each row\n\n"

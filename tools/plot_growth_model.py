@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draws docs/growth_model.png: how far a tracked person can be from the constant-velocity
 prediction s seconds after the measurement, with the person settings of
-config/proximity_monitor.yaml, from the formula (README, "Tracked objects within bounds"):
+config/proximity_monitor.yaml, from the formula (docs/node.md, "Tracked objects within bounds"):
 
     margin + position_error + min(e s + a s^2 / 2, (v_max + |v|) s)
 

@@ -5,7 +5,7 @@
 namespace workspace_proximity {
 namespace {
 
-// A consumer treats silence longer than 3 periods as 0 (README): the filter too.
+// A consumer treats silence longer than 3 periods as 0 (docs/ssm.md, Outputs): the filter too.
 constexpr double kStalePeriods = 3.0;
 
 }  // namespace

@@ -253,8 +253,8 @@ class ReplayEpisodesTest(unittest.TestCase):
         self.assertGreaterEqual(s["speed_factor"], 1.0)  # sanity only; speed is measured in scripts/bench
 
     def test_the_shipped_person_growth_only_brings_contacts_earlier(self):
-        # The shipped configuration (people's margins grow, README "Tracked objects within
-        # bounds"): a grown person contains the constant-velocity one at every instant, so
+        # The shipped configuration (people's margins grow, docs/node.md "Tracked objects
+        # within bounds"): a grown person contains the constant-velocity one at every instant, so
         # every contact predicted without growth is predicted with it too, never later, at a
         # level never lower; and a person's pair is reported at least as often.
         out = os.path.join(self.tmp.name, "growth")

@@ -192,7 +192,7 @@ TEST(YamlParams, TheShippedConfigurationFiles) {
   wp_test::expectSameScalars(p, defaults);
   EXPECT_TRUE(p.ignore_pairs.empty());
   EXPECT_EQ(p.label("person").margin, 0.20);
-  // The documented bounds of people (README, "Tracked objects within bounds"); other labels
+  // The documented bounds of people (docs/node.md, "Tracked objects within bounds"); other labels
   // keep the constant-velocity prediction.
   EXPECT_EQ(p.label("person").position_error, 0.05);
   EXPECT_EQ(p.label("person").velocity_error, 0.3);

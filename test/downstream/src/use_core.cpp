@@ -1,4 +1,5 @@
-// The README's core example, checked: a person 2 m in front of a link, walking at it at 1 m/s.
+// The core example of docs/design.md ("Using the core from C++"), checked: a person 2 m in
+// front of a link, walking at it at 1 m/s.
 #include <cmath>
 #include <cstdio>
 
