@@ -15,7 +15,7 @@ namespace workspace_proximity {
 BagReplay::BagReplay(const ReplaySetup& setup)
     : setup_(setup),
       tf_(MonitorBridges::tfCacheTime(setup.params)),
-      pipeline_(setup_.params, setup_.robot, setup_.topics, setup_.qualify, &tf_, &rejection_log_),
+      bridges_(setup_.params, setup_.robot, setup_.topics, setup_.qualify, &tf_, &rejection_log_),
       period_(nanoseconds(1.0 / setup.params.rate)),
       input_trigger_(setup.params.cycle_trigger == "input"),
       trigger_(setup.params.rate),
@@ -25,7 +25,7 @@ BagReplay::BagReplay(const ReplaySetup& setup)
                                     setup.params.tf_timeout, setup.params.stale_after,
                                     setup.params.velocity_window}) + 1.0)),
       robot_posed_(setup.robot.size(), 0) {
-  for (const std::string& line : setup_.permanent_issues) pipeline_.addPermanentIssue(line);
+  for (const std::string& line : setup_.permanent_issues) bridges_.addPermanentIssue(line);
   // As the node does (ProximityMonitor::enableJoints): links moved by joints from joint_states.
   joint_model_ = MonitorBridges::jointModel(setup_.params, setup_.urdf_xml);
   if (!setup_.params.trigger_source.empty()) {
@@ -68,7 +68,7 @@ ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) 
   last_input_ = stats_.begin;
   skipped_ = 0;
 
-  if (joint_model_ && !pipeline_.jointsEnabled()) {
+  if (joint_model_ && !bridges_.jointsEnabled()) {
     // The links joints move are posed from the bag's joint states, as the node poses them;
     // a bag recorded without them (tf only) keeps every link on the tf it recorded.
     const std::string joint_topic = resolveTopic("joint_states");
@@ -77,7 +77,7 @@ ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) 
       recorded = recorded || (t.name == joint_topic && t.kind == BagTopicKind::kJointState && t.messages > 0);
     }
     if (recorded) {
-      pipeline_.enableJoints(joint_model_);
+      bridges_.enableJoints(joint_model_);
       const std::string& traj = setup_.params.trajectory_topic;
       for (const std::string& w : bag->replayJoints(joint_topic, traj.empty() ? std::string() : resolveTopic(traj))) {
         ROS_WARN("replay: %s", w.c_str());
@@ -125,12 +125,12 @@ void BagReplay::onInput(Stamp received) {
 
 void BagReplay::onJointState(const sensor_msgs::JointState& msg, Stamp received) {
   onInput(received);
-  pipeline_.onJointState(msg, received);
+  bridges_.onJointState(msg, received);
 }
 
 void BagReplay::onTrajectory(const trajectory_msgs::JointTrajectory& msg, Stamp received) {
   onInput(received);
-  pipeline_.onTrajectory(msg, received);
+  bridges_.onTrajectory(msg, received);
 }
 
 void BagReplay::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp received) {
@@ -142,7 +142,7 @@ void BagReplay::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp 
   if (std::find(array_frames_.begin(), array_frames_.end(), frame) == array_frames_.end()) {
     array_frames_.push_back(frame);
   }
-  pipeline_.onArray(source, msg, received);
+  bridges_.onArray(source, msg, received);
   // ~cycle_trigger: input: a cycle at the array's arrival when the bucket allows, and the
   // floor one period after it.
   if (input_trigger_ && source == trigger_source_ && trigger_.onArray(received)) {
@@ -186,8 +186,8 @@ void BagReplay::contacts(const CycleReport& report, const ProximityWorld& world)
 void BagReplay::runCycle(Stamp now) {
   advanceClock(now);
   // The node's cycle: reset, failure and timing are the runner's; the contacts are contacts().
-  pipeline_.run(now, this);
-  const Monitor& monitor = pipeline_.monitor();
+  bridges_.run(now, this);
+  const Monitor& monitor = bridges_.monitor();
   const CycleReport& report = monitor.report();
   ++stats_.cycles;
   if (report.degraded) ++stats_.degraded_cycles;

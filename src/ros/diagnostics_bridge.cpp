@@ -6,11 +6,11 @@
 
 namespace workspace_proximity {
 
-void diagnose(const MonitorBridges& pipeline, Stamp now,
+void diagnose(const MonitorBridges& bridges, Stamp now,
               diagnostic_updater::DiagnosticStatusWrapper* status) {
-  const Monitor& monitor = pipeline.monitor();
-  const CycleRunner& runner = pipeline.runner();
-  const BridgeCounters bridges = pipeline.counters();
+  const Monitor& monitor = bridges.monitor();
+  const CycleRunner& runner = bridges.runner();
+  const BridgeCounters counters = bridges.counters();
   const MonitorStatus counts = monitor.status();
   const CycleReport& report = monitor.report();
   const double period_ms = 1000.0 / monitor.params().rate;
@@ -36,14 +36,14 @@ void diagnose(const MonitorBridges& pipeline, Stamp now,
   status->add("tracks", counts.tracks);
   status->add("robot bodies", counts.robot_bodies);
   status->add("robot bodies not posed", counts.robot_unposed);
-  status->add("tf failures", bridges.tf_failures);
-  if (bridges.joints) {
-    status->add("joint states received", bridges.joint.joint_states);
-    status->add("trajectories accepted", bridges.joint.trajectories);
-    status->add("trajectories ignored", bridges.joint.trajectories_ignored);
-    status->add("trajectories dropped (not followed)", bridges.joint.trajectories_dropped);
-    if (!bridges.joint.last_trajectory_problem.empty()) {
-      status->add("last trajectory problem", bridges.joint.last_trajectory_problem);
+  status->add("tf failures", counters.tf_failures);
+  if (counters.joints) {
+    status->add("joint states received", counters.joint.joint_states);
+    status->add("trajectories accepted", counters.joint.trajectories);
+    status->add("trajectories ignored", counters.joint.trajectories_ignored);
+    status->add("trajectories dropped (not followed)", counters.joint.trajectories_dropped);
+    if (!counters.joint.last_trajectory_problem.empty()) {
+      status->add("last trajectory problem", counters.joint.last_trajectory_problem);
     }
   }
   status->add("broad-phase pairs", report.stats.broad_pairs);

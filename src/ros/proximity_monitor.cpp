@@ -41,14 +41,14 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
                              " URDF collision elements cannot be modelled and ~require_all_links "
                              "is true: " + robot.unmodelled.front());
   }
-  pipeline_ = std::make_unique<MonitorBridges>(params_, std::move(robot.bodies), topics,
+  bridges_ = std::make_unique<MonitorBridges>(params_, std::move(robot.bodies), topics,
                                                 !params_.input_topics.empty(), &tf_buffer_,
                                                 &rejection_log_);
   // A link that cannot be modelled is never dropped silently: DEGRADED (and a diagnostics
   // WARN) with its reason for as long as the node runs.
   for (const std::string& line : robot.unmodelled) {
     ROS_WARN("proximity_monitor: %s; status DEGRADED while the node runs", line.c_str());
-    pipeline_->addPermanentIssue(line);
+    bridges_->addPermanentIssue(line);
   }
   enableJoints();
   contacts_ = std::make_unique<ContactPublisher>(nh_, params_.fixed_frame);
@@ -74,14 +74,14 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
         topics[i], 1,
         [this, i](const TrackedBoxArray::ConstPtr& msg) {
           const ros::Time now = ros::Time::now();
-          pipeline_->onArray(static_cast<int>(i), msg, toStamp(now));
+          bridges_->onArray(static_cast<int>(i), msg, toStamp(now));
           if (input_trigger_ && static_cast<int>(i) == trigger_source_) onTriggerArray(now);
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
   }
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("proximity monitor", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
-    diagnose(*pipeline_, toStamp(ros::Time::now()), &s);
+    diagnose(*bridges_, toStamp(ros::Time::now()), &s);
   });
   // Timer trigger: a cycle every period. Input trigger: arrays run the cycles, and a one-shot
   // timer, re-armed after every cycle, runs one when a period passes without (the floor: silence
@@ -110,7 +110,7 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
       [this](ProximityMonitorConfig& config, std::uint32_t level) { reconfigure(config, level); });
   ROS_INFO("proximity_monitor: %d robot bodies, %zu input topics, fixed frame '%s', %.1f Hz "
            "(%s), horizon %.2f s, speed and separation monitoring %s",
-           pipeline_->monitor().robot().size(), topics.size(), params_.fixed_frame.c_str(),
+           bridges_->monitor().robot().size(), topics.size(), params_.fixed_frame.c_str(),
            params_.rate,
            input_trigger_ ? ("cycles on arrays of " + topics[trigger_source_]).c_str() : "timer",
            params_.horizon, params_.ssm.enabled ? "on" : "off");
@@ -123,18 +123,18 @@ void ProximityMonitor::enableJoints() {
   }
   const std::shared_ptr<const KinematicModel> model = MonitorBridges::jointModel(params_, urdf);
   if (!model) return;
-  const int bodies = pipeline_->enableJoints(model);
+  const int bodies = bridges_->enableJoints(model);
   // Queue of a few: every reading counts for the finite differences when velocity is empty.
   subscribers_.push_back(nh_.subscribe<sensor_msgs::JointState>(
       "joint_states", 10,
       [this](const sensor_msgs::JointState::ConstPtr& msg) {
-        pipeline_->onJointState(*msg, toStamp(ros::Time::now()));
+        bridges_->onJointState(*msg, toStamp(ros::Time::now()));
       },
       ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
   if (!params_.trajectory_topic.empty()) {
     subscribers_.push_back(nh_.subscribe<trajectory_msgs::JointTrajectory>(
         params_.trajectory_topic, 5, [this](const trajectory_msgs::JointTrajectory::ConstPtr& msg) {
-          pipeline_->onTrajectory(*msg, toStamp(ros::Time::now()));
+          bridges_->onTrajectory(*msg, toStamp(ros::Time::now()));
         }));
   }
   ROS_INFO("proximity_monitor: %d robot bodies on %zu joint-driven links posed from joint_states "
@@ -145,19 +145,19 @@ void ProximityMonitor::enableJoints() {
 }
 
 ProximityMonitor::~ProximityMonitor() {
-  const std::uint64_t cycles = pipeline_ ? pipeline_->monitor().status().cycles : 0;
+  const std::uint64_t cycles = bridges_ ? bridges_->monitor().status().cycles : 0;
   if (cycles > 0) {
     std::printf("proximity_monitor: %llu cycles; stage times over the last %zu: %s\n",
                 static_cast<unsigned long long>(cycles),
                 std::min<std::size_t>(cycles, CycleTiming::kWindow),
-                pipeline_->runner().timing().summary().c_str());
+                bridges_->runner().timing().summary().c_str());
     std::fflush(stdout);
   }
 }
 
 void ProximityMonitor::cycle(const ros::Time& now) {
   // Reset, failure and timing are the runner's; the outputs are contacts() and rest().
-  const CycleRun run = pipeline_->run(toStamp(now), this);
+  const CycleRun run = bridges_->run(toStamp(now), this);
   if (!run.failed) diagnostics_.update();
   if (input_trigger_) armFloor();
 }
@@ -208,7 +208,7 @@ void ProximityMonitor::reconfigure(ProximityMonitorConfig& config, std::uint32_t
   }
   const bool rate_changed = next.rate != params_.rate;
   params_ = next;
-  pipeline_->setParams(params_);
+  bridges_->setParams(params_);
   trigger_.setRate(params_.rate);
   markers_.setLifetime(params_.marker_lifetime);
   if (rate_changed) {
@@ -231,7 +231,7 @@ void ProximityMonitor::scheduleMarkers(const ros::Time& now) {
 
 void ProximityMonitor::publishMarkers() {
   const auto start = std::chrono::steady_clock::now();
-  const Monitor& monitor = pipeline_->monitor();
+  const Monitor& monitor = bridges_->monitor();
   try {
     markers_.build(monitor.report(), monitor.world(), &markers_msg_);
   } catch (const std::exception& e) {
@@ -239,7 +239,7 @@ void ProximityMonitor::publishMarkers() {
     return;
   }
   markers_pub_.publish(markers_msg_);
-  pipeline_->noteTime(CycleStage::kMarkers, std::chrono::duration<double, std::milli>(
+  bridges_->noteTime(CycleStage::kMarkers, std::chrono::duration<double, std::milli>(
                                                 std::chrono::steady_clock::now() - start)
                                                 .count());
 }

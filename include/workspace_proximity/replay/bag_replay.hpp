@@ -106,7 +106,7 @@ class BagReplay : private BagVisitor, private CycleOutput {
   /// when there are robot bodies, or a bag damaged midway.
   ReplayStats run(BagInput* bag, ReplaySink* sink, double rate_factor);
 
-  const Monitor& monitor() const { return pipeline_.monitor(); }
+  const Monitor& monitor() const { return bridges_.monitor(); }
 
  private:
   void onTf(const tf2_msgs::TFMessage& msg, bool is_static, Stamp received) override;
@@ -124,7 +124,7 @@ class BagReplay : private BagVisitor, private CycleOutput {
   ReplaySetup setup_;
   tf2::BufferCore tf_;
   RejectionLog rejection_log_;
-  MonitorBridges pipeline_;
+  MonitorBridges bridges_;
   std::shared_ptr<const KinematicModel> joint_model_;  // set when links are posed from joints
   ContactEventArray contacts_;  // reused every cycle
   ReplaySink* sink_ = nullptr;

@@ -9,9 +9,9 @@
 
 namespace workspace_proximity {
 
-/// Fills `status` from the pipeline's last report, its counts (MonitorStatus, the bridges'
+/// Fills `status` from the monitor's last report, its counts (MonitorStatus, the bridges'
 /// counters) and its cycle times, at `now`.
-void diagnose(const MonitorBridges& pipeline, Stamp now,
+void diagnose(const MonitorBridges& bridges, Stamp now,
               diagnostic_updater::DiagnosticStatusWrapper* status);
 
 }  // namespace workspace_proximity

@@ -2,7 +2,7 @@
 /// The monitor with its input and robot bridges and the cycle runner: everything one
 /// prediction cycle needs, fed from any source of arrays and tf. The node feeds it from
 /// subscriptions and tf2_ros, the offline replay from a bag; both run every cycle through
-/// run(), and so through CycleRunner (monitor/cycle_runner.hpp), which owns reset, failure and
+/// run(), and so through CycleRunner (rules/cycle_runner.hpp), which owns reset, failure and
 /// timing. Needs no master.
 ///
 /// The runner itself is ROS-free (the benchmarks run it without ROS); this class is its feed:
@@ -42,7 +42,7 @@ struct BridgeCounters {
 
 class MonitorBridges : private CycleFeed {
  public:
-  /// History a tf buffer feeding the pipeline must keep: ten seconds, or four velocity windows.
+  /// History a tf buffer feeding the bridges must keep: ten seconds, or four velocity windows.
   static ros::Duration tfCacheTime(const MonitorParams& params);
   /// The robot's joints for posing links from joint states (~use_joint_states with a URDF,
   /// `urdf_xml`): null when not asked for, when no link moves, or when KDL refuses the tree

@@ -1,8 +1,8 @@
 #pragma once
-/// The proximity_monitor node: wires the monitor pipeline to ROS. Subscriptions feed its input
-/// bridge, tf2_ros its robot bridge, a timer (or, with ~cycle_trigger: input, the arrival of an
-/// array) runs the cycle, and the cycle's report goes to the contact publisher, the speed and
-/// separation outputs, the marker builder and the diagnostics:
+/// The proximity_monitor node: wires the monitor and its bridges (MonitorBridges) to ROS.
+/// Subscriptions feed its input bridge, tf2_ros its robot bridge, a timer (or, with ~cycle_trigger:
+/// input, the arrival of an array) runs the cycle, and the cycle's report goes to the contact
+/// publisher, the speed and separation outputs, the marker builder and the diagnostics:
 ///   arrays -> InputBridge -> Monitor (TrackTable) ; tf -> RobotTfBridge -> Monitor (RobotBodies)
 ///   timer | array (CycleTrigger) -> MonitorBridges::run (CycleRunner) -> CycleReport
 ///     -> {contacts, speed_scale + safety_status + speed_override (+ stops, Twist filter),
@@ -73,7 +73,7 @@ class ProximityMonitor : private CycleOutput {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   RejectionLog rejection_log_;
-  std::unique_ptr<MonitorBridges> pipeline_;
+  std::unique_ptr<MonitorBridges> bridges_;
   std::unique_ptr<ContactPublisher> contacts_;
   std::unique_ptr<SsmPublisher> ssm_;        // null with ~ssm/enabled: false
   std::unique_ptr<TwistFilter> twist_filter_;  // null without ~ssm/cmd_vel_in
