@@ -20,8 +20,11 @@ Checks:
 - stop actions: exactly one empty trajectory_msgs/JointTrajectory on /arm_controller/command
   and one "stop" on /trajectory_execution_event per transition of the scale into 0 (at
   start-up, at each of the two stops, and after the reset of the jump back, when nothing is
-  known again): 4 of each, each within 0.1 s of the cycle that stopped, nothing more.
+  known again): 4 of each, each within 0.1 s of the cycle that stopped, nothing more;
+- speed_scale (Float64) carries safety_status.speed_scale and speed_override (Int64)
+  round(100 x speed_scale), cycle by cycle.
 """
+import math
 import os
 import sys
 import threading
@@ -38,7 +41,8 @@ from rosgraph_msgs.msg import Clock  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 from trajectory_msgs.msg import JointTrajectory  # noqa: E402
 
-from wp_node_testlib import SsmCollector, Track, TrackedBoxArray, WallPacer  # noqa: E402
+from wp_node_testlib import (SsmCollector, Track, TrackedBoxArray, WallPacer,  # noqa: E402
+                             aligned)
 
 STEP_NS = 10 * 1000 * 1000
 START_NS = 100 * 10**9
@@ -205,6 +209,18 @@ class SsmActionsTest(unittest.TestCase):
         self.assertGreater(scaled, 5, "too few commands checked at a partial scale")
         self.assertGreater(full, 50, "too few commands checked at full speed")
         self.assertGreater(stale, 10)
+
+        # The Float64 and Int64 outputs, cycle by cycle (moved here from ssm_approach, whose
+        # verdicts are checked by test_scene_ssm without ROS).
+        status, scale, override = ssm.sequences()
+        self.assertIsNotNone(aligned([m.speed_scale for m in status], scale, lambda a, b: a == b),
+                             "speed_scale does not carry safety_status.speed_scale")
+        # round() half away from zero (the scale is never negative)
+        self.assertIsNotNone(aligned(scale, override, lambda s, o: o == math.floor(100.0 * s + 0.5)),
+                             "speed_override is not round(100 x speed_scale)")
+        self.assertIn(0, override)
+        self.assertIn(100, override)
+        self.assertTrue(any(0 < o < 100 for o in override))
 
 
 if __name__ == "__main__":
