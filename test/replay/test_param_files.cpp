@@ -8,7 +8,7 @@
 // - the docs' parameter tables (docs/node.md and docs/ssm.md, or README.md before the docs
 //   split): every row documented, no row documented that is not one, and each default and
 //   "(<min> to <max>)" range given there equal to the row's.
-// Here rather than under test/node because the YAML files are read with the replay's loader.
+// Here rather than under test/ros because the YAML files are read with the replay's loader.
 
 #include <gtest/gtest.h>
 

@@ -163,7 +163,7 @@ TEST(YamlParams, ErrorsNameTheFileOrTheParameter) {
 
 TEST(YamlParams, TheNodesReaderGivesTheNodesMessages) {
   // A string where a number is expected: the node says "~rate: must be a number" for the
-  // same file loaded by roslaunch (test/node/test_invalid_params.py checks the node's side).
+  // same file loaded by roslaunch (test/ros/test_invalid_params.py checks the node's side).
   try {
     wp::readParams(wp::yamlToParams("rate: fast\n", "c.yaml"));
     FAIL() << "no error";

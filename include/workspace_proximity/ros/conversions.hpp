@@ -1,6 +1,6 @@
 #pragma once
 /// Free conversion functions between the package's messages and the ROS-free layers. Each has
-/// an inverse so round trips are tested (test/node/test_conversions.cpp).
+/// an inverse so round trips are tested (test/ros/test_conversions.cpp).
 
 #include <cstdint>
 #include <string>
