@@ -31,7 +31,7 @@ from roslib.packages import find_node
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tools"))
-sys.path.insert(0, os.path.join(HERE, "..", "node"))
+sys.path.insert(0, os.path.join(HERE, "..", "ros"))
 
 import replay_data  # noqa: E402
 from wp_node_testlib import ContactEventArray  # noqa: E402  (message import with the devel fallback)
