@@ -22,6 +22,12 @@ struct BoxObservation {
   Eigen::Vector3d dimensions = Eigen::Vector3d::Ones();         ///< full edge lengths, m
   Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();    ///< m/s, in the array's frame
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();   ///< rad/s, in the array's frame
+  // The tracker's own uncertainty for this box (issues 23/24). The defaults say "no more than
+  // the label's settings", which is what every publisher meant before these fields existed.
+  double position_error = 0.0;  ///< m, 3 sigma bound on the centre's error (0: use the label's)
+  double velocity_error = 0.0;  ///< m/s, 3 sigma bound on the velocity's error (0: the label's)
+  bool velocity_known = true;   ///< false: no velocity yet; grows at the label's max_speed and
+                                ///< speed and separation use the label's ssm_min_speed
 };
 
 /// Limits on what a tracked box may say before it is rejected as nonsense.
