@@ -1,0 +1,92 @@
+#pragma once
+/// What no sensor saw this frame. The protective volume is the voxels within R (the speed
+/// and separation reach) of the robot, outside the padded robot itself and above the floor.
+/// A protective voxel is seen when at least one sensor has its centre inside its field of
+/// view and range, and the straight line from that sensor to the centre crosses no voxel of
+/// that sensor's frame holding a point (anything: a person, the robot, the floor) or a shadow
+/// cast from outside the volume. The rest is unseen: behind the robot, behind a person, or
+/// outside every field of view; unknown space is never read as clear.
+///
+/// Not covered: a ray with no return (a NaN pixel, black clothing, dropout) says nothing here,
+/// so the voxels along it count as seen when nothing else blocks them; the dropped points are
+/// counted in CloudFrameStats::non_finite instead. ROS-free; allocation-free after configure().
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "workspace_proximity/perception/self_filter.hpp"
+#include "workspace_proximity/perception/voxel_grid.hpp"
+
+namespace workspace_proximity {
+namespace perception {
+
+/// A sensor's field of view. Its frame looks along +x with z up (REP 103's body convention;
+/// a camera's optical frame is turned into it by the caller).
+struct SensorFov {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< sensor frame in the fixed frame
+  double azimuth_min = -0.5;    ///< rad, atan2(y, x) in the sensor frame
+  double azimuth_max = 0.5;     ///< rad
+  double elevation_min = -0.4;  ///< rad, atan2(z, hypot(x, y))
+  double elevation_max = 0.4;   ///< rad
+  double range_min = 0.0;       ///< m
+  double range_max = 10.0;      ///< m
+};
+
+/// One sensor's latest frame: its field of view and the grid its cloud was voxelized into
+/// (CloudFrame::grid(); every sensor's grid must have the geometry given to configure()).
+struct SensorSight {
+  SensorFov fov;
+  const VoxelGrid* grid = nullptr;
+};
+
+struct UnseenResult {
+  std::int64_t protective = 0;   ///< protective voxels this frame
+  std::int64_t unseen = 0;       ///< of them, seen by no sensor
+  std::int64_t outside_fov = 0;  ///< unseen and outside every field of view
+  std::int64_t shadowed = 0;     ///< unseen, inside some field of view but blocked in each
+  double share = 0.0;            ///< unseen / protective (0 with no protective voxel)
+};
+
+class UnseenShare {
+ public:
+  explicit UnseenShare(int max_sensors);
+
+  /// Takes the grid's geometry (cells, size, origin) and sizes the work arrays (allocates).
+  void configure(const VoxelGrid& geometry);
+
+  /// The share for the robot `links` (posed now), reach `reach` (R, m), robot padding
+  /// `padding` (m), floor `floor_z` (m: cells whose centre is below are not protective) and
+  /// the sensors' latest frames. With no sensor every protective voxel is unseen.
+  const UnseenResult& compute(const SelfLink* links, int link_count, double reach, double padding,
+                              double floor_z, const SensorSight* sensors, int sensor_count);
+
+  const UnseenResult& result() const { return result_; }
+  /// The unseen voxels of the last compute() (cell indices of the grid), e.g. to treat them as
+  /// occupied (~unseen: occupied).
+  const std::vector<std::int64_t>& unseenCells() const { return unseen_cells_; }
+  /// The protective voxels of the last compute().
+  const std::vector<std::int64_t>& protectiveCells() const { return protective_; }
+
+  /// Whether the straight line from `from` (fixed frame) to the centre of `cell` crosses a
+  /// voxel of `grid` with a point or a shadow (the cell itself and the voxel holding `from`
+  /// excepted; a cell holding only a shadow is blocked). Public for tests.
+  static bool blocked(const VoxelGrid& grid, const Eigen::Vector3d& from, std::int64_t cell);
+  /// Whether `p` (fixed frame) is inside the field of view and range.
+  static bool inView(const SensorFov& fov, const Eigen::Vector3d& p);
+
+ private:
+  int max_sensors_;
+  VoxelGrid geometry_{0};
+  std::vector<std::uint8_t> mark_;          // per cell: 1 within reach, 2 inside the padded robot
+  std::vector<std::int64_t> marked_;        // cells with a mark, to reset
+  std::vector<std::int64_t> protective_;
+  std::vector<std::int64_t> unseen_cells_;
+  std::vector<Eigen::Isometry3d> to_sensor_;  // fixed -> sensor, per sensor
+  UnseenResult result_;
+};
+
+}  // namespace perception
+}  // namespace workspace_proximity
