@@ -34,6 +34,9 @@ std::string checkCloudFrameParams(const CloudFrameParams& p) {
   if (p.max_cells < 1) return "max_cells: must be >= 1";
   if (p.max_clusters < 1) return "max_clusters: must be >= 1";
   if (p.max_links < 0) return "max_links: must be >= 0";
+  if (p.max_scan_points < 1 || p.max_scan_points > 100000000) {
+    return "max_scan_points: must be within [1, 1e8]";
+  }
   const Eigen::Vector3d extent = p.volume.upper - p.volume.lower;
   double cells = 1.0;
   for (int k = 0; k < 3; ++k) cells *= std::max(1.0, std::ceil(extent[k] / p.voxel_size - 1e-9));
@@ -73,6 +76,7 @@ CloudFrame::CloudFrame(const CloudFrameParams& params)
     throw std::invalid_argument(grid_why);
   }
   clusters_.configure(grid_);
+  scan_xyz_.resize(static_cast<std::size_t>(3 * params.max_scan_points));
   // The crop is the grid's box: the volume rounded out to whole voxels.
   const Aabb box = grid_.box();
   lower_ = box.lower.cast<float>();
@@ -170,6 +174,38 @@ const CloudFrameStats& CloudFrame::process(const CloudView& cloud,
   stats_.clusters = static_cast<int>(clusters_.detections().size());
   stats_.clusters_small = clusters_.droppedSmall();
   stats_.clusters_overflow = clusters_.overflow();
+  return stats_;
+}
+
+const CloudFrameStats& CloudFrame::processScan(const ScanView& scan, const ScanBand& band,
+                                               const Eigen::Isometry3f& scan_to_fixed) {
+  scan_result_ = scanToPoints(scan, band, scan_xyz_.data(), params_.max_scan_points);
+  if (scan_result_.refused) {
+    stats_ = CloudFrameStats{};
+    grid_.clear();
+    clusters_.build(grid_, params_.min_cluster_points);
+    stats_.rejected = CloudRejection::kBadLayout;
+    return stats_;
+  }
+  // Columns whose beam hit the robot go; the others move up in place.
+  const int layers = band.layers();
+  const std::int64_t columns = scan_result_.points / layers;
+  std::int64_t kept = 0, dropped = 0;
+  for (std::int64_t c = 0; c < columns; ++c) {
+    const float* col = scan_xyz_.data() + 3 * layers * c;
+    const Eigen::Vector3f hit = scan_to_fixed * Eigen::Vector3f(col[0], col[1], 0.0f);
+    if (self_.count() > 0 && self_.classify(hit) == SelfVerdict::kSelf) {
+      dropped += layers;
+      continue;
+    }
+    if (kept != c) {
+      std::copy(col, col + 3 * layers, scan_xyz_.data() + 3 * layers * kept);
+    }
+    ++kept;
+  }
+  process(packedXyz(scan_xyz_.data(), kept * layers), scan_to_fixed);
+  stats_.points_in += dropped;
+  stats_.self += dropped;
   return stats_;
 }
 

@@ -7,8 +7,69 @@
 namespace workspace_proximity {
 namespace perception {
 
-UnseenShare::UnseenShare(int max_sensors) : max_sensors_(std::max(0, max_sensors)) {
-  to_sensor_.resize(static_cast<std::size_t>(max_sensors_));
+UnseenShare::UnseenShare(int max_sensors, std::int64_t max_bins, double bin_angle)
+    : max_sensors_(std::max(0, max_sensors)),
+      max_bins_(std::max<std::int64_t>(1, max_bins)),
+      bin_angle_(bin_angle > 0.0 ? bin_angle : 0.004) {
+  depth_.resize(static_cast<std::size_t>(max_bins_));
+}
+
+std::int64_t UnseenShare::binOf(double azimuth, double elevation) const {
+  const auto a = std::min<std::int64_t>(naz_ - 1, std::max<std::int64_t>(0, static_cast<std::int64_t>((azimuth - az0_) / bin_)));
+  const auto e = std::min<std::int64_t>(nel_ - 1, std::max<std::int64_t>(0, static_cast<std::int64_t>((elevation - el0_) / bin_)));
+  return e * naz_ + a;
+}
+
+void UnseenShare::fillDepth(const SensorSight& sight, const Eigen::Isometry3d& to_sensor) {
+  const SensorFov& fov = sight.fov;
+  const double span_az = std::max(fov.azimuth_max - fov.azimuth_min, 0.0);
+  const double span_el = std::max(fov.elevation_max - fov.elevation_min, 0.0);
+  bin_ = bin_angle_;
+  // Coarser bins when the view needs more than the image holds (only more walks follow).
+  while (std::ceil(span_az / bin_ + 1) * std::ceil(span_el / bin_ + 1) > static_cast<double>(max_bins_)) {
+    bin_ *= 1.5;
+  }
+  az0_ = fov.azimuth_min;
+  el0_ = fov.elevation_min;
+  naz_ = static_cast<std::int64_t>(std::ceil(span_az / bin_)) + 1;
+  nel_ = static_cast<std::int64_t>(std::ceil(span_el / bin_)) + 1;
+  const float inf = std::numeric_limits<float>::infinity();
+  std::fill(depth_.begin(), depth_.begin() + naz_ * nel_, inf);
+  all_near_ = false;
+  const VoxelGrid& grid = *sight.grid;
+  // A line of sight crossing a voxel crosses its bounding sphere: the sphere's angular disc,
+  // splatted over every bin it touches, at the sphere's nearest range.
+  const double h = 0.5 * std::sqrt(3.0) * grid.voxelSize();
+  const double two_pi = 2.0 * M_PI;
+  for (const std::int64_t cell : grid.touched()) {
+    if (grid.flags(cell) == 0) continue;
+    const Eigen::Vector3d v = to_sensor * grid.centre(cell).cast<double>();
+    const double r = v.norm();
+    if (r <= h) {
+      all_near_ = true;  // the sensor sits in this voxel's sphere: no bound from the image
+      continue;
+    }
+    const double alpha = std::asin(h / r);
+    const double az = std::atan2(v.y(), v.x());
+    const double el = std::atan2(v.z(), std::hypot(v.x(), v.y()));
+    const double el_lo = el - alpha, el_hi = el + alpha;
+    const double pole = std::max(std::abs(el_lo), std::abs(el_hi));
+    const double half_az = pole < M_PI / 2 - 1e-3 ? std::min(M_PI, alpha / std::cos(pole)) : M_PI;
+    const auto e0 = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor((el_lo - el0_) / bin_)));
+    const auto e1 = std::min<std::int64_t>(nel_ - 1, static_cast<std::int64_t>(std::floor((el_hi - el0_) / bin_)));
+    if (e0 > e1) continue;
+    const auto near = static_cast<float>(r - h - 1e-4);  // float rounding: never farther
+    // The disc's azimuths, and the same shifted by a turn either way (views across +-pi).
+    for (int turn = -1; turn <= 1; ++turn) {
+      const double lo = az - half_az + turn * two_pi, hi = az + half_az + turn * two_pi;
+      const auto a0 = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor((lo - az0_) / bin_)));
+      const auto a1 = std::min<std::int64_t>(naz_ - 1, static_cast<std::int64_t>(std::floor((hi - az0_) / bin_)));
+      for (std::int64_t e = e0; e <= e1; ++e) {
+        float* row = depth_.data() + e * naz_;
+        for (std::int64_t a = a0; a <= a1; ++a) row[a] = std::min(row[a], near);
+      }
+    }
+  }
 }
 
 void UnseenShare::configure(const VoxelGrid& geometry) {
@@ -23,6 +84,8 @@ void UnseenShare::configure(const VoxelGrid& geometry) {
   protective_.reserve(cells);
   unseen_cells_.clear();
   unseen_cells_.reserve(cells);
+  seen_.clear();
+  seen_.reserve(cells);
 }
 
 bool UnseenShare::inView(const SensorFov& fov, const Eigen::Vector3d& p) {
@@ -103,18 +166,24 @@ const UnseenResult& UnseenShare::compute(const SelfLink* links, int link_count, 
       a[k] = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor(lo[k])));
       b[k] = std::min<std::int64_t>(n[k] - 1, static_cast<std::int64_t>(std::floor(hi[k])));
     }
+    // Float, stepping along x: the distances decide membership only (no safety bound rests on
+    // the edge of the protective volume, which is a statistic's denominator).
     const Eigen::Isometry3d to_link = link.pose.inverse(Eigen::Isometry);
+    const Eigen::Matrix3f rot = to_link.linear().cast<float>();
+    const Eigen::Vector3f step_x = rot.col(0) * static_cast<float>(size);
+    const auto reach_f = static_cast<float>(reach), padding_f = static_cast<float>(padding);
     for (std::int64_t z = a[2]; z <= b[2]; ++z) {
       for (std::int64_t y = a[1]; y <= b[1]; ++y) {
-        for (std::int64_t x = a[0]; x <= b[0]; ++x) {
-          const Eigen::Vector3d centre =
-              origin + (Eigen::Vector3d(x, y, z) + Eigen::Vector3d::Constant(0.5)) * size;
-          const double d = shapeDistance(link.shape, Eigen::Vector3d(to_link * centre));
-          if (d > reach) continue;
+        const Eigen::Vector3d first =
+            origin + (Eigen::Vector3d(a[0], y, z) + Eigen::Vector3d::Constant(0.5)) * size;
+        Eigen::Vector3f local = (to_link * first).cast<float>();
+        for (std::int64_t x = a[0]; x <= b[0]; ++x, local += step_x) {
+          const float d = shapeDistance(link.shape, local);
+          if (d > reach_f) continue;
           const std::int64_t cell = g.cellAt(x, y, z);
           auto& m = mark_[static_cast<std::size_t>(cell)];
           if (m == 0) marked_.push_back(cell);
-          m |= d <= padding ? 3 : 1;
+          m |= d <= padding_f ? 3 : 1;
         }
       }
     }
@@ -125,22 +194,50 @@ const UnseenResult& UnseenShare::compute(const SelfLink* links, int link_count, 
     protective_.push_back(cell);
   }
 
-  // 2. Each protective cell against each sensor: in view, and not blocked in its frame.
+  // 2. Sensor by sensor, the protective voxels no earlier sensor saw: in view, and nothing in
+  //    front of them in the depth image, or else a walk that meets nothing.
+  const std::size_t np = protective_.size();
+  seen_.assign(np, 0);  // capacity kept: sized to every cell at configure()
   const int sensors_used = std::min(std::max(sensor_count, 0), max_sensors_);
-  for (const std::int64_t cell : protective_) {
-    const Eigen::Vector3d centre = g.centre(cell).cast<double>();
-    bool seen = false, in_any_view = false;
-    for (int s = 0; s < sensors_used && !seen; ++s) {
-      const SensorSight& sight = sensors[s];
-      if (sight.grid == nullptr || sight.grid->cells() != g.cells()) continue;
-      if (!inView(sight.fov, centre)) continue;
-      in_any_view = true;
-      seen = !blocked(*sight.grid, sight.fov.pose.translation(), cell);
+  for (int s = 0; s < sensors_used; ++s) {
+    const SensorSight& sight = sensors[s];
+    if (sight.grid == nullptr || sight.grid->cells() != g.cells()) continue;
+    const SensorFov& fov = sight.fov;
+    const Eigen::Isometry3d to_sensor = fov.pose.inverse(Eigen::Isometry);
+    fillDepth(sight, to_sensor);
+    for (std::size_t i = 0; i < np; ++i) {
+      if (seen_[i] & 1) continue;
+      const std::int64_t cell = protective_[i];
+      const Eigen::Vector3d v = to_sensor * g.centre(cell).cast<double>();
+      const double range = v.norm();
+      if (!(range >= fov.range_min && range <= fov.range_max)) continue;
+      const double az = std::atan2(v.y(), v.x());
+      const double el = std::atan2(v.z(), std::hypot(v.x(), v.y()));
+      if (!(az >= fov.azimuth_min && az <= fov.azimuth_max && el >= fov.elevation_min &&
+            el <= fov.elevation_max)) {
+        continue;
+      }
+      seen_[i] |= 2;  // in some view
+      const std::uint8_t f = sight.grid->flags(cell);
+      bool visible;
+      if ((f & VoxelGrid::kHit) != 0) {
+        visible = true;
+      } else if ((f & VoxelGrid::kShadow) != 0) {
+        visible = false;
+      } else if (!all_near_ && static_cast<double>(depth_[static_cast<std::size_t>(binOf(az, el))]) >= range) {
+        visible = true;  // nothing can be in front
+      } else {
+        ++result_.walks;
+        visible = !blocked(*sight.grid, fov.pose.translation(), cell);
+      }
+      if (visible) seen_[i] |= 1;
     }
-    if (seen) continue;
+  }
+  for (std::size_t i = 0; i < np; ++i) {
+    if (seen_[i] & 1) continue;
     ++result_.unseen;
-    ++(in_any_view ? result_.shadowed : result_.outside_fov);
-    unseen_cells_.push_back(cell);
+    ++((seen_[i] & 2) ? result_.shadowed : result_.outside_fov);
+    unseen_cells_.push_back(protective_[i]);
   }
   result_.protective = static_cast<std::int64_t>(protective_.size());
   result_.share = result_.protective > 0

@@ -530,6 +530,50 @@ TEST(LaserScan, TwoLegsSeenByAFloorScannerAreTwoClusters) {
   }
 }
 
+TEST(LaserScan, ABeamThatHitsTheRobotDropsItsWholeColumn) {
+  // The scanner at (0.02, 1, 0.11) looking along +x: beams at y < 0 (fixed y < 1) hit the
+  // robot's base, a 0.2 m box at (1.02 + 0.1, 0.85, 0.3) reaching z 0.6; beams at y > 0 a leg.
+  // Without the robot both are clusters; with it, the base's columns (which reach 0.8 m, above
+  // the base) go whole and only the leg stays.
+  std::vector<float> ranges;
+  pc::ScanView scan;
+  scan.angle_min = -0.3f;
+  scan.angle_increment = 0.002f;
+  scan.range_min = 0.05f;
+  scan.range_max = 10.0f;
+  for (int i = 0; i <= 300; ++i) {
+    const double a = -0.3 + 0.002 * i, y = std::tan(a);
+    const bool base = y > -0.24 && y < -0.06, leg = y > 0.1 && y < 0.2;
+    ranges.push_back(base || leg ? static_cast<float>(1.0 / std::cos(a)) : std::numeric_limits<float>::infinity());
+  }
+  scan.ranges = ranges.data();
+  scan.count = static_cast<std::int64_t>(ranges.size());
+  const pc::ScanBand band{-0.1f, 0.7f, 0.025f};
+  auto p = openParams();
+  p.floor_height = 0.0;
+  p.floor_tolerance = 0.02;
+  p.self_padding = 0.03;
+  pc::CloudFrame frame(p);
+  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+  pose.translate(Eigen::Vector3f(0.02f, 1.0f, 0.11f));
+  EXPECT_EQ(frame.processScan(scan, band, pose).clusters, 2);
+  const std::int64_t all = frame.stats().points_in;
+  pc::SelfLink base;
+  base.shape = wp::Shape::box(Eigen::Vector3d(0.1, 0.1, 0.3));
+  base.pose = Eigen::Isometry3d(Eigen::Translation3d(1.12, 0.85, 0.3));
+  ASSERT_TRUE(frame.setRobot(&base, 1, 0.0));
+  const auto& s = frame.processScan(scan, band, pose);
+  EXPECT_EQ(s.clusters, 1);
+  EXPECT_GT(frame.detections()[0].centre.y(), 1.0f);  // the leg
+  EXPECT_EQ(s.points_in, all);
+  EXPECT_EQ(s.self % band.layers(), 0);  // whole columns
+  EXPECT_GT(s.self, 0);
+  EXPECT_EQ(s.non_finite + s.outside_volume + s.floor + s.self + s.near_robot + s.kept, s.points_in);
+  // A refused band is a named rejection.
+  EXPECT_EQ(frame.processScan(scan, pc::ScanBand{0.0f, 1.0f, -1.0f}, pose).rejected,
+            pc::CloudRejection::kBadLayout);
+}
+
 // --- no allocation per frame -------------------------------------------------------------------
 
 TEST(CloudFrame, SteadyStateFramesAllocateNothing) {

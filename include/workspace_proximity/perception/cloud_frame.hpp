@@ -13,6 +13,7 @@
 
 #include "workspace_proximity/aabb.hpp"
 #include "workspace_proximity/perception/cloud_input.hpp"
+#include "workspace_proximity/perception/laser_scan.hpp"
 #include "workspace_proximity/perception/self_filter.hpp"
 #include "workspace_proximity/perception/voxel_clusters.hpp"
 #include "workspace_proximity/perception/voxel_grid.hpp"
@@ -32,6 +33,7 @@ struct CloudFrameParams {
   std::int64_t max_cells = 4000000;   ///< largest grid (volume / voxel_size^3)
   int max_clusters = 512;
   int max_links = 64;
+  std::int64_t max_scan_points = 400000;  ///< beams x band layers of one scan (processScan)
 };
 
 /// "" when the parameters are usable, else a message naming the first bad one.
@@ -81,6 +83,15 @@ class CloudFrame {
   /// detections() and grid() hold the frame until the next call.
   const CloudFrameStats& process(const CloudView& cloud, const Eigen::Isometry3f& sensor_to_fixed);
 
+  /// One laser scan: each valid beam a column over `band` (scanToPoints), then as process().
+  /// A beam whose hit, in the scan plane, lies inside the grown robot is the robot's: its
+  /// whole column is dropped (counted in `self`), so a scanner that sees the robot's base
+  /// does not make a column above it. A refused band or header counts as kBadLayout; beams
+  /// beyond max_scan_points are dropped and counted in scanResult().truncated.
+  const CloudFrameStats& processScan(const ScanView& scan, const ScanBand& band,
+                                     const Eigen::Isometry3f& scan_to_fixed);
+  const ScanResult& scanResult() const { return scan_result_; }
+
   const CloudFrameStats& stats() const { return stats_; }
   const std::vector<Detection>& detections() const { return clusters_.detections(); }
   const VoxelGrid& grid() const { return grid_; }
@@ -94,6 +105,8 @@ class CloudFrame {
   VoxelClusters clusters_;
   SelfFilter self_;
   CloudFrameStats stats_;
+  ScanResult scan_result_;
+  std::vector<float> scan_xyz_;  // capacity max_scan_points
   Eigen::Vector3f lower_, upper_;  // the volume, float
   float floor_z_ = 0.0f;
 };

@@ -22,7 +22,9 @@ struct ScanView {
 struct ScanBand {
   float z_min = 0.0f;   ///< m, scan frame
   float z_max = 1.8f;   ///< m, scan frame
-  float z_step = 0.05f; ///< m between points of a column (use the voxel size)
+  /// m between points of a column: at most half the voxel size, so that float rounding at
+  /// voxel faces never leaves a voxel of the column empty (one column, one cluster).
+  float z_step = 0.025f;
 
   /// Points per column: floor((z_max - z_min) / z_step) + 1 (1 for an empty band).
   int layers() const;

@@ -48,11 +48,17 @@ struct UnseenResult {
   std::int64_t outside_fov = 0;  ///< unseen and outside every field of view
   std::int64_t shadowed = 0;     ///< unseen, inside some field of view but blocked in each
   double share = 0.0;            ///< unseen / protective (0 with no protective voxel)
+  std::int64_t walks = 0;        ///< lines of sight walked voxel by voxel (work done)
 };
 
+/// Per sensor, a depth image in azimuth and elevation first says which protective voxels
+/// have nothing in front of them (seen at once); only the others walk their line of sight
+/// voxel by voxel. The image only skips walks: the answer is the walk's.
 class UnseenShare {
  public:
-  explicit UnseenShare(int max_sensors);
+  /// `max_bins`: size of the depth image (bins of `bin_angle` rad, coarser when a field of
+  /// view needs more).
+  explicit UnseenShare(int max_sensors, std::int64_t max_bins = 1 << 20, double bin_angle = 0.004);
 
   /// Takes the grid's geometry (cells, size, origin) and sizes the work arrays (allocates).
   void configure(const VoxelGrid& geometry);
@@ -78,13 +84,25 @@ class UnseenShare {
   static bool inView(const SensorFov& fov, const Eigen::Vector3d& p);
 
  private:
+  // Fills depth_ for one sensor: per bin the nearest range at which a voxel with a point or a
+  // shadow could cross a line of sight through that bin.
+  void fillDepth(const SensorSight& sight, const Eigen::Isometry3d& to_sensor);
+  std::int64_t binOf(double azimuth, double elevation) const;
+
   int max_sensors_;
+  std::int64_t max_bins_;
+  double bin_angle_;
+  // The depth image of the sensor at hand: bins of bin_ rad from (az0_, el0_).
+  std::vector<float> depth_;
+  double bin_ = 0.0, az0_ = 0.0, el0_ = 0.0;
+  std::int64_t naz_ = 0, nel_ = 0;
+  bool all_near_ = false;  // a voxel around the sensor itself: every line of sight is walked
+  std::vector<std::uint8_t> seen_;  // per protective voxel
   VoxelGrid geometry_{0};
   std::vector<std::uint8_t> mark_;          // per cell: 1 within reach, 2 inside the padded robot
   std::vector<std::int64_t> marked_;        // cells with a mark, to reset
   std::vector<std::int64_t> protective_;
   std::vector<std::int64_t> unseen_cells_;
-  std::vector<Eigen::Isometry3d> to_sensor_;  // fixed -> sensor, per sensor
   UnseenResult result_;
 };
 
