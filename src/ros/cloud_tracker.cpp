@@ -1,0 +1,347 @@
+#include "workspace_proximity/ros/cloud_tracker.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <tf2_eigen/tf2_eigen.h>
+
+#include "workspace_proximity/perception/laser_scan.hpp"
+#include "workspace_proximity/ros/robot_description.hpp"
+#include "workspace_proximity/ros/ros_params.hpp"
+
+namespace workspace_proximity {
+
+namespace pc = perception;
+
+namespace {
+
+[[noreturn]] void fail(const std::string& name, const std::string& what) {
+  throw std::runtime_error("~" + name + ": " + what);
+}
+
+double number(const XmlRpc::XmlRpcValue& v, const std::string& name) {
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(const_cast<XmlRpc::XmlRpcValue&>(v));
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(const_cast<XmlRpc::XmlRpcValue&>(v));
+  fail(name, "must be a number");
+}
+
+// ~name as a number (default when absent), finite and within [lo, hi].
+double readNumber(const ros::NodeHandle& pnh, const std::string& name, double def, double lo, double hi) {
+  XmlRpc::XmlRpcValue v;
+  if (!pnh.getParam(name, v)) return def;
+  const double x = number(v, name);
+  if (!std::isfinite(x) || x < lo || x > hi) {
+    fail(name, "must be within [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return x;
+}
+
+std::vector<double> readNumbers(const ros::NodeHandle& pnh, const std::string& name, std::size_t n) {
+  XmlRpc::XmlRpcValue v;
+  if (!pnh.getParam(name, v)) return {};
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray || static_cast<std::size_t>(v.size()) != n) {
+    fail(name, "must be a list of " + std::to_string(n) + " numbers");
+  }
+  std::vector<double> out;
+  for (int i = 0; i < v.size(); ++i) {
+    out.push_back(number(v[i], name));
+    if (!std::isfinite(out.back())) fail(name, "must be finite");
+  }
+  return out;
+}
+
+std::vector<std::string> readTopics(const ros::NodeHandle& pnh, const std::string& name) {
+  XmlRpc::XmlRpcValue v;
+  std::vector<std::string> out;
+  if (!pnh.getParam(name, v)) return out;
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray) fail(name, "must be a list of topics");
+  for (int i = 0; i < v.size(); ++i) {
+    if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString) fail(name, "must be a list of topics");
+    out.push_back(static_cast<std::string>(v[i]));
+    if (out.back().empty()) fail(name, "an empty topic name");
+  }
+  return out;
+}
+
+}  // namespace
+
+CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
+  CloudTrackerParams p;
+  pnh.param<std::string>("fixed_frame", p.fixed_frame, p.fixed_frame);
+  if (p.fixed_frame.empty()) fail("fixed_frame", "must not be empty");
+  p.cloud_topics = readTopics(pnh, "cloud_topics");
+  p.scan_topics = readTopics(pnh, "scan_topics");
+  if (p.cloud_topics.empty() && p.scan_topics.empty()) {
+    fail("cloud_topics", "no ~cloud_topics and no ~scan_topics: nothing to see with");
+  }
+  p.source_timeout = readNumber(pnh, "source_timeout", p.source_timeout, 0.01, 60.0);
+  p.tf_wait = readNumber(pnh, "tf_wait", p.tf_wait, 0.0, 1.0);
+  p.self_max_speed = readNumber(pnh, "self_max_speed", p.self_max_speed, 0.0, 100.0);
+  pc::CloudFrameParams& f = p.frame;
+  f.voxel_size = readNumber(pnh, "voxel_size", f.voxel_size, 0.005, 1.0);
+  f.floor_height = readNumber(pnh, "floor_height", f.floor_height, -1e3, 1e3);
+  f.floor_tolerance = readNumber(pnh, "floor_tolerance", f.floor_tolerance, 0.0, 1.0);
+  f.self_padding = readNumber(pnh, "self_padding", f.self_padding, 0.0, 1.0);
+  f.min_cluster_points = static_cast<int>(readNumber(pnh, "min_cluster_points", f.min_cluster_points, 1, 1e6));
+  f.max_points = static_cast<std::int64_t>(readNumber(pnh, "max_points", static_cast<double>(f.max_points), 1, 1e8));
+  const std::vector<double> volume = readNumbers(pnh, "volume", 6);
+  if (!volume.empty()) {
+    f.volume = Aabb{Eigen::Vector3d(volume[0], volume[1], volume[2]),
+                    Eigen::Vector3d(volume[3], volume[4], volume[5])};
+  } else {
+    std::vector<double> base = readNumbers(pnh, "robot_base", 3);
+    if (base.empty()) base = {0.0, 0.0, 0.0};
+    const double reach = readNumber(pnh, "robot_reach", 1.0, 0.0, 100.0);
+    const double ssm_reach = readNumber(pnh, "ssm_reach", 1.5, 0.0, 100.0);
+    f.volume = pc::defaultMonitoredVolume(Eigen::Vector3d(base[0], base[1], base[2]), reach,
+                                          ssm_reach, f.floor_height);
+  }
+  const std::string why = pc::checkCloudFrameParams(f);
+  if (!why.empty()) fail("volume", why);
+  const std::vector<double> band = readNumbers(pnh, "scan_band", 2);
+  if (!band.empty()) {
+    if (band[1] < band[0] || band[1] - band[0] > 10.0) fail("scan_band", "must be [z_min, z_max] with z_min <= z_max, at most 10 m apart");
+    p.scan_band.z_min = static_cast<float>(band[0]);
+    p.scan_band.z_max = static_cast<float>(band[1]);
+  } else {
+    p.scan_band.z_min = -0.1f;
+    p.scan_band.z_max = 1.8f;
+  }
+  p.scan_band.z_step = static_cast<float>(0.5 * f.voxel_size);
+  // The robot's bodies, read as the monitor reads them.
+  XmlRpc::XmlRpcValue robot;
+  robot["use_robot_description"] = true;
+  for (const char* key : {"robot_bodies", "use_robot_description", "robot_description_param"}) {
+    XmlRpc::XmlRpcValue v;
+    if (pnh.getParam(key, v)) robot[key] = v;
+  }
+  p.robot = readParams(robot);
+  return p;
+}
+
+CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh,
+                           const CloudTrackerParams& params)
+    : nh_(nh), pnh_(pnh), params_(params), tf_listener_(tf_buffer_), diagnostics_(nh_, pnh_) {
+  const RobotDescription robot = loadRobotBodies(nh_, params_.robot);
+  for (const std::string& line : robot.unmodelled) ROS_WARN("cloud_tracker: %s (not self-filtered)", line.c_str());
+  robot_ = robot.bodies;
+  links_.resize(robot_.size());
+  params_.frame.max_links = static_cast<int>(robot_.size());
+
+  std::vector<std::string> names = params_.cloud_topics;
+  names.insert(names.end(), params_.scan_topics.begin(), params_.scan_topics.end());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    frames_.push_back(std::make_unique<pc::CloudFrame>(params_.frame));
+  }
+  health_ = std::make_unique<pc::SensorHealth>(names, params_.source_timeout, nowNs());
+  const int clouds = static_cast<int>(params_.cloud_topics.size());
+  for (int i = 0; i < clouds; ++i) {
+    subs_.push_back(nh_.subscribe<sensor_msgs::PointCloud2>(
+        params_.cloud_topics[static_cast<std::size_t>(i)], 2,
+        [this, i](const sensor_msgs::PointCloud2ConstPtr& m) { onCloud(i, m); }));
+  }
+  for (std::size_t j = 0; j < params_.scan_topics.size(); ++j) {
+    const int s = clouds + static_cast<int>(j);
+    subs_.push_back(nh_.subscribe<sensor_msgs::LaserScan>(
+        params_.scan_topics[j], 2, [this, s](const sensor_msgs::LaserScanConstPtr& m) { onScan(s, m); }));
+  }
+  markers_ = pnh_.advertise<visualization_msgs::MarkerArray>("clusters", 2);
+  diagnostics_.setHardwareID("workspace_proximity");
+  diagnostics_.add("cloud_tracker", this, &CloudTracker::diagnose);
+  diag_timer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
+}
+
+bool CloudTracker::place(int s, const std_msgs::Header& header, Eigen::Isometry3f* out) {
+  if (header.frame_id.empty()) {
+    health_->frameRejected(s, nowNs(), "no_frame_id");
+    return false;
+  }
+  try {
+    const geometry_msgs::TransformStamped t = tf_buffer_.lookupTransform(
+        params_.fixed_frame, header.frame_id, header.stamp, ros::Duration(params_.tf_wait));
+    *out = tf2::transformToEigen(t).cast<float>();
+    return true;
+  } catch (const tf2::TransformException& e) {
+    health_->frameUnplaced(s, nowNs(), "frame '" + header.frame_id + "' not placed in '" +
+                                           params_.fixed_frame + "' at the stamp: " + e.what());
+    return false;
+  }
+}
+
+std::string CloudTracker::poseRobot(const ros::Time& stamp, pc::CloudFrame* frame) {
+  // Each link at the cloud's stamp; when tf has not got there, its newest pose, grown by the
+  // robot's top speed times the gap.
+  double offset = 0.0;
+  for (std::size_t i = 0; i < robot_.size(); ++i) {
+    const RobotBodySpec& spec = robot_[i];
+    geometry_msgs::TransformStamped t;
+    try {
+      t = tf_buffer_.lookupTransform(params_.fixed_frame, spec.frame, stamp);
+    } catch (const tf2::TransformException&) {
+      try {
+        t = tf_buffer_.lookupTransform(params_.fixed_frame, spec.frame, ros::Time(0));
+        offset = std::max(offset, std::abs((stamp - t.header.stamp).toSec()));
+      } catch (const tf2::TransformException& e) {
+        frame->clearRobot();
+        return "link " + spec.name + " (frame '" + spec.frame + "'): " + e.what();
+      }
+    }
+    links_[i].shape = spec.shape;
+    links_[i].pose = tf2::transformToEigen(t) * spec.offset;
+    links_[i].speed = params_.self_max_speed;
+  }
+  if (!frame->setRobot(links_.data(), static_cast<int>(links_.size()), offset)) {
+    frame->clearRobot();
+    return "the self-filter refused the robot's links";
+  }
+  return "";
+}
+
+void CloudTracker::onCloud(int s, const sensor_msgs::PointCloud2ConstPtr& msg) {
+  pc::CloudView view;
+  for (const sensor_msgs::PointField& f : msg->fields) {
+    if (f.datatype != sensor_msgs::PointField::FLOAT32 || f.count < 1) continue;
+    if (f.name == "x") view.x_offset = static_cast<int>(f.offset);
+    if (f.name == "y") view.y_offset = static_cast<int>(f.offset);
+    if (f.name == "z") view.z_offset = static_cast<int>(f.offset);
+  }
+  if (view.x_offset < 0 || view.y_offset < 0 || view.z_offset < 0) {
+    health_->frameRejected(s, nowNs(), pc::cloudRejectionName(pc::CloudRejection::kMissingXyz));
+    return;
+  }
+  if (msg->is_bigendian) {  // this node reads native little-endian floats
+    health_->frameRejected(s, nowNs(), "big_endian");
+    return;
+  }
+  view.data = msg->data.data();
+  view.data_size = static_cast<std::int64_t>(msg->data.size());
+  view.width = msg->width;
+  view.height = msg->height;
+  view.point_step = msg->point_step;
+  view.row_step = msg->row_step;
+  Eigen::Isometry3f to_fixed;
+  if (!place(s, msg->header, &to_fixed)) return;
+  pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
+  const std::string robot_problem = poseRobot(msg->header.stamp, &frame);
+  const pc::CloudFrameStats& stats = frame.process(view, to_fixed);
+  if (stats.rejected != pc::CloudRejection::kNone) {
+    health_->frameRejected(s, nowNs(), pc::cloudRejectionName(stats.rejected));
+    return;
+  }
+  finish(s, msg->header, robot_problem);
+}
+
+void CloudTracker::onScan(int s, const sensor_msgs::LaserScanConstPtr& msg) {
+  pc::ScanView scan;
+  scan.ranges = msg->ranges.data();
+  scan.count = static_cast<std::int64_t>(msg->ranges.size());
+  scan.angle_min = msg->angle_min;
+  scan.angle_increment = msg->angle_increment;
+  scan.range_min = msg->range_min;
+  scan.range_max = msg->range_max;
+  Eigen::Isometry3f to_fixed;
+  if (!place(s, msg->header, &to_fixed)) return;
+  pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
+  const std::string robot_problem = poseRobot(msg->header.stamp, &frame);
+  const pc::CloudFrameStats& stats = frame.processScan(scan, params_.scan_band, to_fixed);
+  if (stats.rejected != pc::CloudRejection::kNone) {
+    health_->frameRejected(s, nowNs(), "bad_scan");
+    return;
+  }
+  if (frame.scanResult().truncated) {
+    ROS_WARN_THROTTLE(5.0, "cloud_tracker: %s: scan beyond max_scan_points, beams dropped",
+                      health_->name(s).c_str());
+  }
+  finish(s, msg->header, robot_problem);
+}
+
+void CloudTracker::finish(int s, const std_msgs::Header& header, const std::string& robot_problem) {
+  const pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
+  health_->frameUsed(s, nowNs(), frame.stats(), robot_problem);
+  if (markers_.getNumSubscribers() > 0) publishMarkers(s, header);
+}
+
+void CloudTracker::publishMarkers(int s, const std_msgs::Header& header) {
+  const pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
+  marker_msg_.markers.clear();
+  const std::string& name = health_->name(s);
+  // The clusters as boxes; each lives a little over the sensor's silence limit, so a
+  // cluster's box goes when its sensor stops reporting it.
+  int id = 0;
+  for (const pc::Detection& d : frame.detections()) {
+    visualization_msgs::Marker m;
+    m.header.frame_id = params_.fixed_frame;
+    m.header.stamp = header.stamp;
+    m.ns = "clusters " + name;
+    m.id = id++;
+    m.type = visualization_msgs::Marker::CUBE;
+    m.action = visualization_msgs::Marker::ADD;
+    m.pose.position.x = d.centre.x();
+    m.pose.position.y = d.centre.y();
+    m.pose.position.z = d.centre.z();
+    m.pose.orientation.w = 1.0;
+    m.scale.x = d.size.x();
+    m.scale.y = d.size.y();
+    m.scale.z = d.size.z();
+    m.color.r = 1.0f;
+    m.color.g = 0.6f;
+    m.color.a = 0.5f;
+    m.lifetime = ros::Duration(0.25);
+    marker_msg_.markers.push_back(m);
+  }
+  // The occupied voxels (object points after the self-filter), one cube list.
+  visualization_msgs::Marker v;
+  v.header.frame_id = params_.fixed_frame;
+  v.header.stamp = header.stamp;
+  v.ns = "voxels " + name;
+  v.id = 0;
+  v.type = visualization_msgs::Marker::CUBE_LIST;
+  v.action = visualization_msgs::Marker::ADD;
+  v.pose.orientation.w = 1.0;
+  v.scale.x = v.scale.y = v.scale.z = frame.grid().voxelSize();
+  v.color.b = 1.0f;
+  v.color.a = 0.6f;
+  v.lifetime = ros::Duration(0.25);
+  for (const std::int64_t cell : frame.grid().touched()) {
+    if (frame.grid().count(cell) == 0) continue;
+    const Eigen::Vector3f c = frame.grid().centre(cell);
+    geometry_msgs::Point p;
+    p.x = c.x();
+    p.y = c.y();
+    p.z = c.z();
+    v.points.push_back(p);
+  }
+  marker_msg_.markers.push_back(v);
+  markers_.publish(marker_msg_);
+}
+
+void CloudTracker::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  std::vector<std::string> reasons;
+  health_->degradedReasons(nowNs(), &reasons);
+  if (reasons.empty()) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::OK, "seeing");
+  } else {
+    std::string all = "DEGRADED: " + reasons.front();
+    for (std::size_t i = 1; i < reasons.size(); ++i) all += "; " + reasons[i];
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN, all);
+  }
+  for (int s = 0; s < health_->size(); ++s) {
+    const std::string n = health_->name(s) + ": ";
+    const pc::CloudFrameStats& st = health_->lastStats(s);
+    status.add(n + "frames used", health_->framesUsed(s));
+    status.add(n + "frames rejected", health_->framesRejected(s));
+    if (health_->framesRejected(s) > 0) status.add(n + "last rejection", health_->lastRejection(s));
+    status.add(n + "frames not placed by tf", health_->framesUnplaced(s));
+    status.add(n + "points", st.points_in);
+    status.add(n + "NaN points", st.non_finite);
+    status.add(n + "outside the volume", st.outside_volume);
+    status.add(n + "floor points", st.floor);
+    status.add(n + "robot points", st.self);
+    status.add(n + "points within 5 cm of the padded robot", st.near_robot);
+    status.add(n + "occupied voxels", st.voxels);
+    status.add(n + "clusters", st.clusters);
+    status.add(n + "clusters over capacity", st.clusters_overflow);
+  }
+}
+
+}  // namespace workspace_proximity
