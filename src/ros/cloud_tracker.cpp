@@ -1,6 +1,8 @@
 #include "workspace_proximity/ros/cloud_tracker.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include <tf2_eigen/tf2_eigen.h>
@@ -116,6 +118,39 @@ CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
     if (pnh.getParam(key, v)) robot[key] = v;
   }
   p.robot = readParams(robot);
+  p.ssm_reach = readNumber(pnh, "ssm_reach", p.ssm_reach, 0.0, 100.0);
+  p.unseen_limit = readNumber(pnh, "unseen_limit", p.unseen_limit, 0.0, 1.0);
+  p.unseen_rate = readNumber(pnh, "unseen_rate", p.unseen_rate, 0.1, 100.0);
+  XmlRpc::XmlRpcValue views;
+  if (pnh.getParam("sensor_fov", views)) {
+    if (views.getType() != XmlRpc::XmlRpcValue::TypeStruct) fail("sensor_fov", "must map topics to views");
+    for (auto it = views.begin(); it != views.end(); ++it) {
+      const std::string where = "sensor_fov/" + it->first;
+      const XmlRpc::XmlRpcValue& v = it->second;
+      if (v.getType() != XmlRpc::XmlRpcValue::TypeStruct) fail(where, "must be {azimuth, elevation, range, optical}");
+      CloudTrackerParams::View view;
+      auto pair = [&](const char* key, double* lo, double* hi) {
+        if (!v.hasMember(key)) fail(where, std::string("needs ") + key + ": [min, max]");
+        const XmlRpc::XmlRpcValue& x = const_cast<XmlRpc::XmlRpcValue&>(v)[key];
+        if (x.getType() != XmlRpc::XmlRpcValue::TypeArray || x.size() != 2) fail(where + "/" + key, "must be [min, max]");
+        *lo = number(x[0], where + "/" + key);
+        *hi = number(x[1], where + "/" + key);
+        if (!std::isfinite(*lo) || !std::isfinite(*hi) || *lo > *hi) fail(where + "/" + key, "must be finite, min <= max");
+      };
+      pair("azimuth", &view.fov.azimuth_min, &view.fov.azimuth_max);
+      pair("elevation", &view.fov.elevation_min, &view.fov.elevation_max);
+      pair("range", &view.fov.range_min, &view.fov.range_max);
+      if (v.hasMember("optical")) {
+        const XmlRpc::XmlRpcValue& o = const_cast<XmlRpc::XmlRpcValue&>(v)["optical"];
+        if (o.getType() != XmlRpc::XmlRpcValue::TypeBoolean) fail(where + "/optical", "must be true or false");
+        view.optical = static_cast<bool>(const_cast<XmlRpc::XmlRpcValue&>(o));
+      }
+      const bool known = std::count(p.cloud_topics.begin(), p.cloud_topics.end(), it->first) +
+                         std::count(p.scan_topics.begin(), p.scan_topics.end(), it->first) > 0;
+      if (!known) fail(where, "not one of ~cloud_topics or ~scan_topics");
+      p.views[it->first] = view;
+    }
+  }
   return p;
 }
 
@@ -149,6 +184,54 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("cloud_tracker", this, &CloudTracker::diagnose);
   diag_timer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
+
+  unseen_.configure(frames_.front()->grid());
+  sights_.resize(names.size());
+  sensor_pose_.assign(names.size(), Eigen::Isometry3d::Identity());
+  last_frame_ns_.assign(names.size(), -1);
+  for (const std::string& n : names) {
+    const auto it = params_.views.find(n);
+    view_.push_back(it == params_.views.end() ? nullptr : &it->second);
+  }
+  unseen_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.unseen_rate),
+                                  [this](const ros::TimerEvent&) { updateUnseen(); });
+}
+
+void CloudTracker::updateUnseen() {
+  // The robot now (its newest poses); without it the protective volume is unknown.
+  for (std::size_t i = 0; i < robot_.size(); ++i) {
+    try {
+      const geometry_msgs::TransformStamped t =
+          tf_buffer_.lookupTransform(params_.fixed_frame, robot_[i].frame, ros::Time(0));
+      links_[i].shape = robot_[i].shape;
+      links_[i].pose = tf2::transformToEigen(t) * robot_[i].offset;
+    } catch (const tf2::TransformException& e) {
+      unseen_problem_ = "unseen share unknown: link " + robot_[i].name + " not posed: " + e.what();
+      return;
+    }
+  }
+  // Each sensor with a view and a frame within the source timeout sees from where it was.
+  const std::int64_t now = nowNs();
+  const auto timeout = static_cast<std::int64_t>(params_.source_timeout * 1e9);
+  int count = 0;
+  for (std::size_t s = 0; s < view_.size(); ++s) {
+    if (view_[s] == nullptr || last_frame_ns_[s] < 0 || now - last_frame_ns_[s] > timeout) continue;
+    perception::SensorSight& sight = sights_[static_cast<std::size_t>(count++)];
+    sight.fov = view_[s]->fov;
+    sight.fov.pose = sensor_pose_[s];
+    if (view_[s]->optical) {
+      // Body frame (x forward, z up) from the optical frame (z forward, x right, y down).
+      Eigen::Matrix3d optical_body;
+      optical_body << 0, -1, 0, 0, 0, -1, 1, 0, 0;
+      sight.fov.pose.linear() = sensor_pose_[s].linear() * optical_body;
+    }
+    sight.grid = &frames_[s]->grid();
+  }
+  unseen_result_ = unseen_.compute(links_.data(), static_cast<int>(links_.size()), params_.ssm_reach,
+                                   params_.frame.self_padding,
+                                   params_.frame.floor_height + params_.frame.floor_tolerance,
+                                   sights_.data(), count);
+  unseen_problem_.clear();
 }
 
 bool CloudTracker::place(int s, const std_msgs::Header& header, Eigen::Isometry3f* out) {
@@ -159,7 +242,9 @@ bool CloudTracker::place(int s, const std_msgs::Header& header, Eigen::Isometry3
   try {
     const geometry_msgs::TransformStamped t = tf_buffer_.lookupTransform(
         params_.fixed_frame, header.frame_id, header.stamp, ros::Duration(params_.tf_wait));
-    *out = tf2::transformToEigen(t).cast<float>();
+    const Eigen::Isometry3d pose = tf2::transformToEigen(t);
+    sensor_pose_[static_cast<std::size_t>(s)] = pose;
+    *out = pose.cast<float>();
     return true;
   } catch (const tf2::TransformException& e) {
     health_->frameUnplaced(s, nowNs(), "frame '" + header.frame_id + "' not placed in '" +
@@ -258,6 +343,7 @@ void CloudTracker::onScan(int s, const sensor_msgs::LaserScanConstPtr& msg) {
 void CloudTracker::finish(int s, const std_msgs::Header& header, const std::string& robot_problem) {
   const pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
   health_->frameUsed(s, nowNs(), frame.stats(), robot_problem);
+  last_frame_ns_[static_cast<std::size_t>(s)] = nowNs();
   if (markers_.getNumSubscribers() > 0) publishMarkers(s, header);
 }
 
@@ -318,12 +404,27 @@ void CloudTracker::publishMarkers(int s, const std_msgs::Header& header) {
 void CloudTracker::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   std::vector<std::string> reasons;
   health_->degradedReasons(nowNs(), &reasons);
+  char share[160];
+  if (!unseen_problem_.empty()) {
+    reasons.push_back(unseen_problem_);
+  } else if (unseen_result_.share > params_.unseen_limit) {
+    std::snprintf(share, sizeof share, "unseen share %.3f of the protective volume above unseen_limit %.3f",
+                  unseen_result_.share, params_.unseen_limit);
+    reasons.push_back(share);
+  }
   if (reasons.empty()) {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "seeing");
   } else {
     std::string all = "DEGRADED: " + reasons.front();
     for (std::size_t i = 1; i < reasons.size(); ++i) all += "; " + reasons[i];
     status.summary(diagnostic_msgs::DiagnosticStatus::WARN, all);
+  }
+  if (unseen_problem_.empty()) {
+    status.add("unseen share", unseen_result_.share);
+    status.add("protective voxels", unseen_result_.protective);
+    status.add("unseen voxels", unseen_result_.unseen);
+    status.add("unseen: outside every view", unseen_result_.outside_fov);
+    status.add("unseen: shadowed", unseen_result_.shadowed);
   }
   for (int s = 0; s < health_->size(); ++s) {
     const std::string n = health_->name(s) + ": ";

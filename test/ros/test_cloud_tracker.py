@@ -16,6 +16,9 @@ Checks:
    ("missing_xyz", counted), and the good frames keep giving the cluster.
 4. /diagnostics: WARN naming /silent_scan (no usable frame) and /cam2/points (its frame
    'nowhere' not placed by tf), and not naming /cam/points or /scan.
+5. The unseen share: the only view (the camera's, azimuth -0.6 to -0.4 rad) misses every
+   voxel within ssm_reach 0.5 m of the post (their azimuths from the camera are above -0.1
+   rad; the scanners have no view): share exactly 1, above unseen_limit 0.5: DEGRADED.
 """
 import math
 import os
@@ -179,6 +182,15 @@ class CloudTrackerTest(unittest.TestCase):
         self.assertIn("'nowhere'", st.message)
         self.assertNotIn("sensor /cam/points", st.message)
         self.assertNotIn("sensor /scan:", st.message)
+
+    def test_5_unseen_share_outside_every_view(self):
+        st = self.diag.wait_for(lambda s, v: "unseen share" in v, 10.0, since=time.monotonic())
+        self.assertIsNotNone(st, "no unseen share")
+        v = diag_values(st)
+        self.assertEqual(float(v["unseen share"]), 1.0)
+        self.assertGreater(int(v["protective voxels"]), 1000)
+        self.assertEqual(v["unseen: outside every view"], v["protective voxels"])
+        self.assertIn("unseen share 1.000 of the protective volume above unseen_limit 0.500", st.message)
 
 
 if __name__ == "__main__":

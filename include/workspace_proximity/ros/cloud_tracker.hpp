@@ -8,6 +8,7 @@
 /// The clusters are per frame: no ids kept, no velocity. Feeding them to the monitor needs the
 /// multi-object tracker between (issue 23): not wired here yet.
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +23,7 @@
 
 #include "workspace_proximity/perception/cloud_frame.hpp"
 #include "workspace_proximity/perception/sensor_health.hpp"
+#include "workspace_proximity/perception/unseen_share.hpp"
 #include "workspace_proximity/rules/monitor_params.hpp"
 
 namespace workspace_proximity {
@@ -36,6 +38,17 @@ struct CloudTrackerParams {
   perception::CloudFrameParams frame;  ///< volume, voxel size, floor, padding, ...
   perception::ScanBand scan_band;      ///< scan frame z band of a beam's column
   MonitorParams robot;           ///< robot_bodies, use_robot_description, robot_description_param
+  /// The unseen share: R (m) around the robot, its limit, how often; the sensors' views by
+  /// topic (a sensor without one sees nothing there). `optical`: the view is given in a
+  /// camera's optical frame (z forward, x right, y down) instead of x forward, z up.
+  double ssm_reach = 1.5;
+  double unseen_limit = 0.3;     ///< share above which the status is DEGRADED
+  double unseen_rate = 5.0;      ///< Hz
+  struct View {
+    perception::SensorFov fov;   ///< pose unused: the sensor's frame at its frame's stamp
+    bool optical = false;
+  };
+  std::map<std::string, View> views;
 };
 
 /// Reads the private parameters; throws std::runtime_error naming a bad one.
@@ -56,6 +69,8 @@ class CloudTracker {
   void finish(int sensor, const std_msgs::Header& header, const std::string& robot_problem);
   void publishMarkers(int sensor, const std_msgs::Header& header);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+  // The unseen share of the protective volume from every sensor's latest frame.
+  void updateUnseen();
   std::int64_t nowNs() const { return static_cast<std::int64_t>(ros::Time::now().toNSec()); }
 
   ros::NodeHandle nh_, pnh_;
@@ -70,6 +85,14 @@ class CloudTracker {
   ros::Publisher markers_;
   diagnostic_updater::Updater diagnostics_;
   ros::Timer diag_timer_;
+  ros::Timer unseen_timer_;
+  perception::UnseenShare unseen_{64};  // sensors beyond 64 see nothing there (counted unseen)
+  std::vector<perception::SensorSight> sights_;
+  std::vector<Eigen::Isometry3d> sensor_pose_;      // per sensor: its frame at its last frame
+  std::vector<std::int64_t> last_frame_ns_;         // per sensor: when its last frame was used
+  std::vector<const CloudTrackerParams::View*> view_;  // per sensor, or null
+  std::string unseen_problem_ = "not computed yet";  // "" when the share below is current
+  perception::UnseenResult unseen_result_;
   visualization_msgs::MarkerArray marker_msg_;
 };
 
