@@ -1,44 +1,16 @@
 #include "workspace_proximity/perception/self_filter.hpp"
 
+#include "shape_distance.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace workspace_proximity {
 namespace perception {
 
-namespace {
 
-// Distance from p (shape frame) to the shape, 0 inside; exact for every shape type, so that
-// the grown shape is the true Minkowski sum with a ball (what "within g of the link" means).
-template <typename T>
-T distanceTo(const Shape& s, const Eigen::Matrix<T, 3, 1>& p) {
-  switch (s.type) {
-    case ShapeType::kBox: {
-      const Eigen::Matrix<T, 3, 1> q =
-          (p.cwiseAbs() - s.half_extents.cast<T>()).cwiseMax(T(0));
-      return q.norm();
-    }
-    case ShapeType::kSphere:
-      return std::max(p.norm() - T(s.radius), T(0));
-    case ShapeType::kCylinder: {
-      const T radial = std::max(std::hypot(p.x(), p.y()) - T(s.radius), T(0));
-      const T axial = std::max(std::abs(p.z()) - T(0.5 * s.length), T(0));
-      return std::hypot(radial, axial);
-    }
-    case ShapeType::kCapsule: {
-      const T h = T(0.5 * s.length);
-      const T z = std::min(std::max(p.z(), -h), h);
-      const Eigen::Matrix<T, 3, 1> d(p.x(), p.y(), p.z() - z);
-      return std::max(d.norm() - T(s.radius), T(0));
-    }
-  }
-  return T(0);
-}
-
-}  // namespace
-
-double shapeDistance(const Shape& shape, const Eigen::Vector3d& p) { return distanceTo(shape, p); }
-float shapeDistance(const Shape& shape, const Eigen::Vector3f& p) { return distanceTo(shape, p); }
+double shapeDistance(const Shape& shape, const Eigen::Vector3d& p) { return shapeDistanceT(shape, p); }
+float shapeDistance(const Shape& shape, const Eigen::Vector3f& p) { return shapeDistanceT(shape, p); }
 
 double linkSpeedBound(const BodyMotion& motion, const Shape& shape) {
   return motion.linear_velocity.norm() + motion.angular_velocity.norm() * shape.boundingRadius();
@@ -96,7 +68,7 @@ SelfVerdict SelfFilter::classify(const Eigen::Vector3f& p) const {
   for (int i = 0; i < count_; ++i) {
     const Link& l = links_[static_cast<std::size_t>(i)];
     if ((p.array() < l.lower.array()).any() || (p.array() > l.upper.array()).any()) continue;
-    const float d = distanceTo(l.shape, Eigen::Vector3f(l.to_local * (p - l.origin)));
+    const float d = shapeDistanceT(l.shape, Eigen::Vector3f(l.to_local * (p - l.origin)));
     if (d <= l.grow) return SelfVerdict::kSelf;
     if (d <= l.reach) verdict = SelfVerdict::kNear;
   }

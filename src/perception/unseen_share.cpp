@@ -1,11 +1,53 @@
 #include "workspace_proximity/perception/unseen_share.hpp"
 
+#include "shape_distance.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace workspace_proximity {
 namespace perception {
+
+namespace {
+
+// Angles and ranges of a point in a sensor's frame (fast, float), and the view test with the
+// margins that make fastAtan2's error and float rounding conservative.
+struct Bearing {
+  float range, azimuth, elevation;
+};
+
+Bearing bearingOf(const Eigen::Vector3f& v) {
+  const float planar = std::sqrt(v.x() * v.x() + v.y() * v.y());
+  return {v.norm(), fastAtan2(v.y(), v.x()), fastAtan2(v.z(), planar)};
+}
+
+bool within(const SensorFov& fov, const Bearing& b) {
+  constexpr float kRangeMargin = 1e-4f;  // m
+  const float e = kFastAtan2Error;
+  return b.range >= static_cast<float>(fov.range_min) + kRangeMargin &&
+         b.range <= static_cast<float>(fov.range_max) - kRangeMargin &&
+         b.azimuth >= static_cast<float>(fov.azimuth_min) + e &&
+         b.azimuth <= static_cast<float>(fov.azimuth_max) - e &&
+         b.elevation >= static_cast<float>(fov.elevation_min) + e &&
+         b.elevation <= static_cast<float>(fov.elevation_max) - e;
+}
+
+}  // namespace
+
+float fastAtan2(float y, float x) {
+  const float ax = std::abs(x), ay = std::abs(y);
+  if (ax == 0.0f && ay == 0.0f) return 0.0f;
+  const bool steep = ay > ax;
+  const float z = steep ? ax / ay : ay / ax;  // in [0, 1]
+  const float z2 = z * z;
+  // A minimax polynomial for atan on [0, 1] (odd, in z^2).
+  float a = z * (0.99997726f + z2 * (-0.33262347f + z2 * (0.19354346f + z2 * (-0.11643287f +
+                 z2 * (0.05265332f + z2 * -0.01172120f)))));
+  if (steep) a = static_cast<float>(M_PI / 2) - a;
+  if (x < 0.0f) a = static_cast<float>(M_PI) - a;
+  return y < 0.0f ? -a : a;
+}
 
 UnseenShare::UnseenShare(int max_sensors, std::int64_t max_bins, double bin_angle)
     : max_sensors_(std::max(0, max_sensors)),
@@ -37,21 +79,25 @@ void UnseenShare::fillDepth(const SensorSight& sight, const Eigen::Isometry3d& t
   std::fill(depth_.begin(), depth_.begin() + naz_ * nel_, inf);
   all_near_ = false;
   const VoxelGrid& grid = *sight.grid;
+  const Eigen::Matrix3f rot = to_sensor.linear().cast<float>();
+  const Eigen::Vector3f shift = to_sensor.translation().cast<float>();
   // A line of sight crossing a voxel crosses its bounding sphere: the sphere's angular disc,
   // splatted over every bin it touches, at the sphere's nearest range.
   const double h = 0.5 * std::sqrt(3.0) * grid.voxelSize();
   const double two_pi = 2.0 * M_PI;
   for (const std::int64_t cell : grid.touched()) {
     if (grid.flags(cell) == 0) continue;
-    const Eigen::Vector3d v = to_sensor * grid.centre(cell).cast<double>();
-    const double r = v.norm();
-    if (r <= h) {
+    const Bearing b = bearingOf(rot * grid.centre(cell) + shift);
+    const double r = b.range;
+    if (r <= h + 1e-3) {
       all_near_ = true;  // the sensor sits in this voxel's sphere: no bound from the image
       continue;
     }
-    const double alpha = std::asin(h / r);
-    const double az = std::atan2(v.y(), v.x());
-    const double el = std::atan2(v.z(), std::hypot(v.x(), v.y()));
+    // Dilated by twice fastAtan2's error: the disc's centre and the target's direction are
+    // each that far from the true ones at most.
+    const double alpha = std::asin(h / r) + 2.0 * kFastAtan2Error;
+    const double az = b.azimuth;
+    const double el = b.elevation;
     const double el_lo = el - alpha, el_hi = el + alpha;
     const double pole = std::max(std::abs(el_lo), std::abs(el_hi));
     const double half_az = pole < M_PI / 2 - 1e-3 ? std::min(M_PI, alpha / std::cos(pole)) : M_PI;
@@ -89,13 +135,7 @@ void UnseenShare::configure(const VoxelGrid& geometry) {
 }
 
 bool UnseenShare::inView(const SensorFov& fov, const Eigen::Vector3d& p) {
-  const Eigen::Vector3d v = fov.pose.inverse(Eigen::Isometry) * p;
-  const double range = v.norm();
-  if (!(range >= fov.range_min && range <= fov.range_max)) return false;
-  const double azimuth = std::atan2(v.y(), v.x());
-  const double elevation = std::atan2(v.z(), std::hypot(v.x(), v.y()));
-  return azimuth >= fov.azimuth_min && azimuth <= fov.azimuth_max &&
-         elevation >= fov.elevation_min && elevation <= fov.elevation_max;
+  return within(fov, bearingOf((fov.pose.inverse(Eigen::Isometry) * p).cast<float>()));
 }
 
 bool UnseenShare::blocked(const VoxelGrid& grid, const Eigen::Vector3d& from, std::int64_t cell) {
@@ -126,16 +166,25 @@ bool UnseenShare::blocked(const VoxelGrid& grid, const Eigen::Vector3d& from, st
       t_delta[k] = 1.0 / std::abs(dir[k]);
     }
   }
+  // The walk by cell index: one add per step instead of a product.
+  const std::int64_t stride[3] = {1, n[0], n[0] * n[1]};
+  const std::int64_t last_cell =
+      (last[0] >= 0 && last[0] < n[0] && last[1] >= 0 && last[1] < n[1] && last[2] >= 0 && last[2] < n[2])
+          ? grid.cellAt(last[0], last[1], last[2])
+          : -1;
+  const std::uint8_t* flags = grid.flagData();
+  std::int64_t index = cell;
   for (;;) {
     int axis = 0;
     if (t_max[1] < t_max[axis]) axis = 1;
     if (t_max[2] < t_max[axis]) axis = 2;
     if (t_max[axis] > 1.0) return false;  // reached `from`'s voxel
     i[axis] += step[axis];
-    t_max[axis] += t_delta[axis];
     if (i[axis] < 0 || i[axis] >= n[axis]) return false;  // left the grid
-    if (i[0] == last[0] && i[1] == last[1] && i[2] == last[2]) return false;
-    if (grid.flags(grid.cellAt(i[0], i[1], i[2])) != 0) return true;
+    t_max[axis] += t_delta[axis];
+    index += step[axis] * stride[axis];
+    if (index == last_cell) return false;
+    if (flags[index] != 0) return true;
   }
 }
 
@@ -178,7 +227,7 @@ const UnseenResult& UnseenShare::compute(const SelfLink* links, int link_count, 
             origin + (Eigen::Vector3d(a[0], y, z) + Eigen::Vector3d::Constant(0.5)) * size;
         Eigen::Vector3f local = (to_link * first).cast<float>();
         for (std::int64_t x = a[0]; x <= b[0]; ++x, local += step_x) {
-          const float d = shapeDistance(link.shape, local);
+          const float d = shapeDistanceT(link.shape, local);
           if (d > reach_f) continue;
           const std::int64_t cell = g.cellAt(x, y, z);
           auto& m = mark_[static_cast<std::size_t>(cell)];
@@ -205,18 +254,14 @@ const UnseenResult& UnseenShare::compute(const SelfLink* links, int link_count, 
     const SensorFov& fov = sight.fov;
     const Eigen::Isometry3d to_sensor = fov.pose.inverse(Eigen::Isometry);
     fillDepth(sight, to_sensor);
+    const Eigen::Matrix3f rot = to_sensor.linear().cast<float>();
+    const Eigen::Vector3f shift = to_sensor.translation().cast<float>();
     for (std::size_t i = 0; i < np; ++i) {
       if (seen_[i] & 1) continue;
       const std::int64_t cell = protective_[i];
-      const Eigen::Vector3d v = to_sensor * g.centre(cell).cast<double>();
-      const double range = v.norm();
-      if (!(range >= fov.range_min && range <= fov.range_max)) continue;
-      const double az = std::atan2(v.y(), v.x());
-      const double el = std::atan2(v.z(), std::hypot(v.x(), v.y()));
-      if (!(az >= fov.azimuth_min && az <= fov.azimuth_max && el >= fov.elevation_min &&
-            el <= fov.elevation_max)) {
-        continue;
-      }
+      const Bearing b = bearingOf(rot * g.centre(cell) + shift);
+      if (!within(fov, b)) continue;
+      const double range = b.range, az = b.azimuth, el = b.elevation;
       seen_[i] |= 2;  // in some view
       const std::uint8_t f = sight.grid->flags(cell);
       bool visible;

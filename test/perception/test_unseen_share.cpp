@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "allocation_counter.hpp"  // test/shared
@@ -87,6 +89,26 @@ pc::SensorFov camera(const Eigen::Vector3d& at, double azimuth = 0.6, double ele
   return f;
 }
 
+TEST(UnseenShare, FastAtan2IsWithinItsStatedError) {
+  // The error depends on the ratio of the smaller to the larger |coordinate| and on the
+  // quadrant: a million ratios in each octant.
+  double worst = 0.0;
+  for (int i = 0; i <= 1000000; ++i) {
+    const double t = i / 1000000.0;
+    for (const auto& xy : {std::make_pair(1.0, t), std::make_pair(t, 1.0), std::make_pair(-1.0, t),
+                           std::make_pair(-t, 1.0), std::make_pair(1.0, -t), std::make_pair(t, -1.0),
+                           std::make_pair(-1.0, -t), std::make_pair(-t, -1.0)}) {
+      const auto x = static_cast<float>(xy.first * 3.7), y = static_cast<float>(xy.second * 3.7);
+      const double exact = std::atan2(static_cast<double>(y), static_cast<double>(x));
+      double d = std::abs(pc::fastAtan2(y, x) - exact);
+      d = std::min(d, std::abs(d - 2 * M_PI));  // -pi and pi are the same direction
+      worst = std::max(worst, d);
+    }
+  }
+  EXPECT_LT(worst, pc::kFastAtan2Error);
+  EXPECT_EQ(pc::fastAtan2(0.0f, 0.0f), 0.0f);
+}
+
 TEST(UnseenShare, AWallInFrontOfTheCameraShadowsTheVoxelsBehindIt) {
   pc::CloudFrame frame(sceneParams());
   // The wall: cells x in [0.80, 0.85), y in [-0.20, 0.20), z in [-0.15, 0.25).
@@ -126,6 +148,11 @@ TEST(UnseenShare, AWallInFrontOfTheCameraShadowsTheVoxelsBehindIt) {
     const Eigen::Vector3d v = centre - eye;
     const double az = std::atan2(v.y(), v.x()), el = std::atan2(v.z(), std::hypot(v.x(), v.y()));
     const bool in_view = std::abs(az) <= 0.25 && std::abs(el) <= 0.2;
+    // Within 1e-4 rad of a view limit: the code's margin (kFastAtan2Error) may say outside.
+    if (std::abs(std::abs(az) - 0.25) < 1e-4 || std::abs(std::abs(el) - 0.2) < 1e-4) {
+      ++ambiguous;
+      continue;
+    }
     const bool in_wall = (centre.array() > lo.array()).all() && (centre.array() < hi.array()).all();
     const bool hit_big = segmentHitsBox(eye, centre, lo - eps, hi + eps);
     const bool hit_small = segmentHitsBox(eye, centre, lo + eps, hi - eps);
@@ -138,15 +165,16 @@ TEST(UnseenShare, AWallInFrontOfTheCameraShadowsTheVoxelsBehindIt) {
     outside += !in_view;
     wrong += expect_unseen != (is_unseen[static_cast<std::size_t>(c)] != 0);
   }
-  EXPECT_EQ(ambiguous, 0);
+  EXPECT_LT(ambiguous, 10);
   EXPECT_EQ(wrong, 0);
   EXPECT_EQ(r.protective, protective);
   EXPECT_GT(shadowed, 50);  // the scene does shadow something, and leaves something in view
   EXPECT_GT(outside, 50);
-  EXPECT_EQ(r.shadowed, shadowed);
-  EXPECT_EQ(r.outside_fov, outside);
-  EXPECT_EQ(r.unseen, shadowed + outside);
-  EXPECT_DOUBLE_EQ(r.share, static_cast<double>(shadowed + outside) / static_cast<double>(protective));
+  // Exact but for the ambiguous voxels (each could fall either way).
+  EXPECT_LE(std::abs(r.shadowed - shadowed), ambiguous);
+  EXPECT_LE(std::abs(r.outside_fov - outside), ambiguous);
+  EXPECT_LE(std::abs(r.unseen - (shadowed + outside)), ambiguous);
+  EXPECT_DOUBLE_EQ(r.share, static_cast<double>(r.unseen) / static_cast<double>(protective));
 }
 
 TEST(UnseenShare, AWallOutsideTheVolumeStillShadows) {
@@ -183,8 +211,9 @@ TEST(UnseenShare, AWallOutsideTheVolumeStillShadows) {
   for (const std::int64_t c : unseen.protectiveCells()) {
     const Eigen::Vector3d centre = g.centre(c).cast<double>();
     const Eigen::Vector3d v = centre - eye;
-    if (std::abs(std::atan2(v.y(), v.x())) > 0.6 || std::abs(std::atan2(v.z(), std::hypot(v.x(), v.y()))) > 0.5) {
-      continue;
+    if (std::abs(std::atan2(v.y(), v.x())) > 0.6 - 1e-4 ||
+        std::abs(std::atan2(v.z(), std::hypot(v.x(), v.y()))) > 0.5 - 1e-4) {
+      continue;  // outside the view, or too close to its edge to call
     }
     const bool inner = segmentHitsBox(eye, centre, Eigen::Vector3d(-0.02, -0.04, -0.04),
                                       Eigen::Vector3d(-0.02, 0.04, 0.04));

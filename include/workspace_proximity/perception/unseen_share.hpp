@@ -51,6 +51,11 @@ struct UnseenResult {
   std::int64_t walks = 0;        ///< lines of sight walked voxel by voxel (work done)
 };
 
+/// rad: the largest error of fastAtan2 (test_unseen_share checks it against std::atan2).
+constexpr float kFastAtan2Error = 2e-5f;
+/// atan2 by a polynomial, within kFastAtan2Error of std::atan2 (0 at the origin).
+float fastAtan2(float y, float x);
+
 /// Per sensor, a depth image in azimuth and elevation first says which protective voxels
 /// have nothing in front of them (seen at once); only the others walk their line of sight
 /// voxel by voxel. The image only skips walks: the answer is the walk's.
@@ -80,7 +85,8 @@ class UnseenShare {
   /// voxel of `grid` with a point or a shadow (the cell itself and the voxel holding `from`
   /// excepted; a cell holding only a shadow is blocked). Public for tests.
   static bool blocked(const VoxelGrid& grid, const Eigen::Vector3d& from, std::int64_t cell);
-  /// Whether `p` (fixed frame) is inside the field of view and range.
+  /// Whether `p` (fixed frame) is inside the field of view and range, by a margin: within
+  /// kFastAtan2Error of an angular limit or 0.1 mm of a range limit counts as outside.
   static bool inView(const SensorFov& fov, const Eigen::Vector3d& p);
 
  private:

@@ -68,6 +68,8 @@ class VoxelGrid {
 
   std::uint16_t count(std::int64_t cell) const { return counts_[static_cast<std::size_t>(cell)]; }
   std::uint8_t flags(std::int64_t cell) const { return flags_[static_cast<std::size_t>(cell)]; }
+  /// Every cell's flags, by cell index.
+  const std::uint8_t* flagData() const { return flags_.data(); }
   /// Cells with a count or a flag this frame, in the order first touched.
   const std::vector<std::int64_t>& touched() const { return touched_; }
   /// Cells with an object point this frame.
