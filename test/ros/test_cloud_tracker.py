@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""cloud_tracker through its topics (status "cloud_tracker: cloud_tracker" on /diagnostics,
-clusters as markers on /cloud_tracker/clusters).
+"""cloud_tracker through its topics (status "cloud_tracker: cloud_tracker" on /diagnostics, or
+~status; clusters as markers on /cloud_tracker/clusters). Parameters:
+test/ros/fixtures/cloud_tracker_params.yaml.
 
 Scene (static tf): the camera at world (0, 0, 1) not turned, its points given in its frame;
 the robot body "post" (0.3 m cube) on frame post_link at world (1.5, 0.5, 0.5); a floor
@@ -80,7 +81,8 @@ class CloudTrackerTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("test_cloud_tracker")
-        cls.diag = DiagnosticsCollector(STATUS)
+        # As a nodelet, diagnostic_updater names the status after the manager.
+        cls.diag = DiagnosticsCollector(rospy.get_param("~status", STATUS))
         cls.lock = threading.Lock()
         cls.markers = []  # (monotonic, MarkerArray)
         cls.sub = rospy.Subscriber("/cloud_tracker/clusters", MarkerArray, cls.on_markers, queue_size=50)
