@@ -197,7 +197,19 @@ const UnseenResult& UnseenShare::compute(const SelfLink* links, int link_count, 
   protective_.clear();
   unseen_cells_.clear();
   const VoxelGrid& g = geometry_;
-  if (g.cells() == 0 || !(reach >= 0.0) || !(padding >= 0.0)) return result_;
+  // Unknown is never clear: bad inputs give a refused result with the share 1.
+  bool ok = g.cells() > 0 && std::isfinite(reach) && reach >= 0.0 && std::isfinite(padding) &&
+            padding >= 0.0 && std::isfinite(floor_z) && link_count >= 0 &&
+            (link_count == 0 || links != nullptr);
+  for (int l = 0; ok && l < link_count; ++l) {
+    ok = links[l].shape.valid() && links[l].pose.matrix().allFinite() &&
+         links[l].pose.translation().cwiseAbs().maxCoeff() <= Limits::kMaxCoordinate;
+  }
+  if (!ok) {
+    result_.refused = true;
+    result_.share = 1.0;
+    return result_;
+  }
   const double size = g.voxelSize();
   const Eigen::Vector3d origin = g.origin().cast<double>();
 

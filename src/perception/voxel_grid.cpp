@@ -9,6 +9,7 @@ VoxelGrid::VoxelGrid(std::int64_t max_cells) : max_cells_(max_cells) {}
 
 bool VoxelGrid::configure(const Aabb& volume, double voxel_size, std::string* why) {
   nx_ = ny_ = nz_ = 0;
+  n_f_.setZero();
   touched_.clear();
   auto fail = [&](const std::string& text) {
     if (why != nullptr) *why = text;
@@ -31,6 +32,7 @@ bool VoxelGrid::configure(const Aabb& volume, double voxel_size, std::string* wh
   size_ = static_cast<float>(voxel_size);
   inv_size_ = static_cast<float>(1.0 / voxel_size);
   origin_ = volume.lower.cast<float>();
+  n_f_ = Eigen::Vector3f(static_cast<float>(nx_), static_cast<float>(ny_), static_cast<float>(nz_));
   const auto total = static_cast<std::size_t>(cells());
   counts_.assign(total, 0);
   flags_.assign(total, 0);

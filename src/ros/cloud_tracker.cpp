@@ -231,7 +231,7 @@ void CloudTracker::updateUnseen() {
                                    params_.frame.self_padding,
                                    params_.frame.floor_height + params_.frame.floor_tolerance,
                                    sights_.data(), count);
-  unseen_problem_.clear();
+  unseen_problem_ = unseen_result_.refused ? "unseen share unknown: a robot link's pose or shape refused" : "";
 }
 
 bool CloudTracker::place(int s, const std_msgs::Header& header, Eigen::Isometry3f* out) {

@@ -320,6 +320,63 @@ TEST(CloudFrame, ParametersAreRefusedByName) {
   EXPECT_EQ(pc::checkCloudFrameParams(openParams()), "");
 }
 
+TEST(CloudFrame, RandomLayoutsAndBytesAreRejectedOrCountedNeverReadOutside) {
+  // Random steps, offsets, sizes and bytes (NaN, inf, huge and ordinary floats): each cloud is
+  // either rejected by name or every point is counted once; detections lie in the volume.
+  // Under AddressSanitizer (scripts/test-sanitizers) a read past the data fails the test: the
+  // bytes live in a buffer of exactly data_size.
+  auto p = openParams();
+  p.max_points = 5000;
+  p.volume = wp::Aabb{Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1)};
+  pc::CloudFrame frame(p);
+  wp_test::Rng rng(23);
+  int rejected = 0, processed = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    pc::CloudView v;
+    v.width = rng.integer(0, 80);
+    v.height = rng.integer(0, 3) == 0 ? rng.integer(0, 40) : 1;
+    v.point_step = rng.integer(0, 40);
+    v.row_step = rng.chance(0.8) ? v.width * v.point_step + rng.integer(0, 8) : rng.integer(0, 4000);
+    v.x_offset = rng.integer(-1, 36);
+    v.y_offset = rng.integer(-1, 36);
+    v.z_offset = rng.integer(-1, 36);
+    const std::int64_t honest = v.height > 1 ? v.row_step * v.height : v.row_step;
+    const std::int64_t size = rng.chance(0.7) ? honest : rng.integer(0, 5000);
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(std::max<std::int64_t>(size, 0)));
+    for (std::size_t i = 0; i + 4 <= bytes.size(); i += 4) {
+      float f;
+      const int kind = rng.integer(0, 9);
+      if (kind == 0) {
+        f = std::numeric_limits<float>::quiet_NaN();
+      } else if (kind == 1) {
+        f = std::numeric_limits<float>::infinity();
+      } else if (kind == 2) {
+        f = 3e38f;
+      } else {
+        f = static_cast<float>(rng.uniform(-1.5, 1.5));
+      }
+      std::memcpy(bytes.data() + i, &f, 4);
+    }
+    v.data = bytes.empty() ? nullptr : bytes.data();
+    v.data_size = static_cast<std::int64_t>(bytes.size());
+    const Eigen::Isometry3f pose(Eigen::AngleAxisf(static_cast<float>(rng.uniform(-3, 3)), Eigen::Vector3f::UnitZ()));
+    const auto& s = frame.process(v, pose);
+    if (s.rejected != pc::CloudRejection::kNone) {
+      ++rejected;
+      EXPECT_EQ(frame.detections().size(), 0u);
+      continue;
+    }
+    ++processed;
+    EXPECT_EQ(s.points_in, v.width * v.height);
+    EXPECT_EQ(s.non_finite + s.outside_volume + s.floor + s.self + s.near_robot + s.kept, s.points_in);
+    for (const pc::Detection& d : frame.detections()) {
+      EXPECT_TRUE((d.centre.array() > -1.0f).all() && (d.centre.array() < 1.0f).all());
+    }
+  }
+  EXPECT_GT(rejected, 300);
+  EXPECT_GT(processed, 300);
+}
+
 // --- the self-filter -----------------------------------------------------------------------
 
 // Oracle: distance from p to a posed box by clamping p's local coordinates onto the box.

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -287,6 +288,23 @@ TEST(UnseenShare, TheFloorAndThePaddedRobotAreNotProtective) {
   EXPECT_EQ(all, expect_all);
   EXPECT_EQ(above, expect_above);
   EXPECT_LT(above, all);
+}
+
+TEST(UnseenShare, BadLinksOrReachAreRefusedAsAllUnseen) {
+  pc::CloudFrame frame(sceneParams());
+  Scene scene;
+  pc::UnseenShare unseen(1);
+  unseen.configure(frame.grid());
+  scene.robot.pose.translation().x() = std::numeric_limits<double>::quiet_NaN();
+  const pc::UnseenResult bad_link = unseen.compute(&scene.robot, 1, 0.6, 0.03, -5.0, nullptr, 0);
+  EXPECT_TRUE(bad_link.refused);
+  EXPECT_EQ(bad_link.share, 1.0);
+  scene.robot.pose.translation().x() = 1.5;
+  const pc::UnseenResult bad_reach =
+      unseen.compute(&scene.robot, 1, std::numeric_limits<double>::infinity(), 0.03, -5.0, nullptr, 0);
+  EXPECT_TRUE(bad_reach.refused);
+  EXPECT_EQ(bad_reach.share, 1.0);
+  EXPECT_FALSE(unseen.compute(&scene.robot, 1, 0.6, 0.03, -5.0, nullptr, 0).refused);
 }
 
 }  // namespace

@@ -49,6 +49,9 @@ struct UnseenResult {
   std::int64_t shadowed = 0;     ///< unseen, inside some field of view but blocked in each
   double share = 0.0;            ///< unseen / protective (0 with no protective voxel)
   std::int64_t walks = 0;        ///< lines of sight walked voxel by voxel (work done)
+  /// The inputs were refused (a link not finite or invalid, a reach or padding not finite
+  /// or negative): the protective volume is unknown, and the share is 1.
+  bool refused = false;
 };
 
 /// rad: the largest error of fastAtan2 (test_unseen_share checks it against std::atan2).

@@ -37,8 +37,12 @@ class VoxelGrid {
   /// The cell holding `p` (fixed frame), or -1 outside the grid.
   std::int64_t cellOf(const Eigen::Vector3f& p) const {
     const Eigen::Vector3f q = (p - origin_) * inv_size_;
-    // Negated comparisons: NaN is outside.
-    if (!(q.x() >= 0.0f && q.y() >= 0.0f && q.z() >= 0.0f)) return -1;
+    // Negated comparisons: NaN is outside; compared in float before any conversion, so a huge
+    // coordinate never reaches the (then undefined) float-to-integer cast.
+    if (!(q.x() >= 0.0f && q.y() >= 0.0f && q.z() >= 0.0f && q.x() < n_f_.x() &&
+          q.y() < n_f_.y() && q.z() < n_f_.z())) {
+      return -1;
+    }
     const auto ix = static_cast<std::int64_t>(q.x());
     const auto iy = static_cast<std::int64_t>(q.y());
     const auto iz = static_cast<std::int64_t>(q.z());
@@ -100,6 +104,7 @@ class VoxelGrid {
   std::int64_t nx_ = 0, ny_ = 0, nz_ = 0;
   float size_ = 0.0f, inv_size_ = 0.0f;
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
+  Eigen::Vector3f n_f_ = Eigen::Vector3f::Zero();  // nx, ny, nz as floats
   std::vector<std::uint16_t> counts_;
   std::vector<std::uint8_t> flags_;
   std::vector<std::int64_t> touched_;  // capacity: every cell
