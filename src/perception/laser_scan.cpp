@@ -6,7 +6,8 @@ namespace workspace_proximity {
 namespace perception {
 
 int ScanBand::layers() const {
-  if (!(z_max > z_min)) return 1;
+  // A band scanToPoints would refuse counts as one layer here (no cast of a huge ratio).
+  if (!(z_max > z_min) || !(z_step > 0.0f) || !((z_max - z_min) / z_step < 1e5f)) return 1;
   // The small slack keeps z_max itself when the band is a whole number of steps.
   return static_cast<int>(std::floor((z_max - z_min) / z_step + 1e-4f)) + 1;
 }

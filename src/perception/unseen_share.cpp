@@ -264,6 +264,13 @@ const UnseenResult& UnseenShare::compute(const SelfLink* links, int link_count, 
     const SensorSight& sight = sensors[s];
     if (sight.grid == nullptr || sight.grid->cells() != g.cells()) continue;
     const SensorFov& fov = sight.fov;
+    // A view with a number that is not finite sees nothing (its voxels stay unseen).
+    if (!fov.pose.matrix().allFinite() || !std::isfinite(fov.azimuth_min) ||
+        !std::isfinite(fov.azimuth_max) || !std::isfinite(fov.elevation_min) ||
+        !std::isfinite(fov.elevation_max) || !std::isfinite(fov.range_min) ||
+        !std::isfinite(fov.range_max)) {
+      continue;
+    }
     const Eigen::Isometry3d to_sensor = fov.pose.inverse(Eigen::Isometry);
     fillDepth(sight, to_sensor);
     const Eigen::Matrix3f rot = to_sensor.linear().cast<float>();

@@ -305,6 +305,11 @@ TEST(UnseenShare, BadLinksOrReachAreRefusedAsAllUnseen) {
   EXPECT_TRUE(bad_reach.refused);
   EXPECT_EQ(bad_reach.share, 1.0);
   EXPECT_FALSE(unseen.compute(&scene.robot, 1, 0.6, 0.03, -5.0, nullptr, 0).refused);
+  // A view with an infinite limit sees nothing (and does not hang sizing its depth image).
+  pc::SensorSight sight{camera(Eigen::Vector3d(-0.5, 0.013, 0.017)), &frame.grid()};
+  sight.fov.azimuth_max = std::numeric_limits<double>::infinity();
+  const pc::UnseenResult blind = unseen.compute(&scene.robot, 1, 0.6, 0.03, -5.0, &sight, 1);
+  EXPECT_EQ(blind.unseen, blind.protective);
 }
 
 }  // namespace
