@@ -79,6 +79,7 @@ CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
   p.source_timeout = readNumber(pnh, "source_timeout", p.source_timeout, 0.01, 60.0);
   p.tf_wait = readNumber(pnh, "tf_wait", p.tf_wait, 0.0, 1.0);
   p.self_max_speed = readNumber(pnh, "self_max_speed", p.self_max_speed, 0.0, 100.0);
+  p.self_max_gap = readNumber(pnh, "self_max_gap", p.self_max_gap, 0.0, 10.0);
   pc::CloudFrameParams& f = p.frame;
   f.voxel_size = readNumber(pnh, "voxel_size", f.voxel_size, 0.005, 1.0);
   f.floor_height = readNumber(pnh, "floor_height", f.floor_height, -1e3, 1e3);
@@ -239,6 +240,13 @@ bool CloudTracker::place(int s, const std_msgs::Header& header, Eigen::Isometry3
     health_->frameRejected(s, nowNs(), "no_frame_id");
     return false;
   }
+  // A frame tf has never heard of fails at once: waiting ~tf_wait for it on every frame
+  // would hold up the other sensors' callbacks.
+  if (!tf_buffer_._frameExists(header.frame_id)) {
+    health_->frameUnplaced(s, nowNs(), "frame '" + header.frame_id + "' unknown to tf (fixed frame '" +
+                                           params_.fixed_frame + "')");
+    return false;
+  }
   try {
     const geometry_msgs::TransformStamped t = tf_buffer_.lookupTransform(
         params_.fixed_frame, header.frame_id, header.stamp, ros::Duration(params_.tf_wait));
@@ -274,6 +282,13 @@ std::string CloudTracker::poseRobot(const ros::Time& stamp, pc::CloudFrame* fram
     links_[i].shape = spec.shape;
     links_[i].pose = tf2::transformToEigen(t) * spec.offset;
     links_[i].speed = params_.self_max_speed;
+  }
+  if (offset > params_.self_max_gap) {
+    frame->clearRobot();
+    char why[160];
+    std::snprintf(why, sizeof why, "newest robot poses %.3f s from the frame's stamp (self_max_gap %.3f s)",
+                  offset, params_.self_max_gap);
+    return why;
   }
   if (!frame->setRobot(links_.data(), static_cast<int>(links_.size()), offset)) {
     frame->clearRobot();

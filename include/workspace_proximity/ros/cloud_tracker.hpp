@@ -35,6 +35,10 @@ struct CloudTrackerParams {
   double source_timeout = 1.0;   ///< s without a usable frame from a sensor -> DEGRADED
   double tf_wait = 0.05;         ///< s a frame waits for its transforms
   double self_max_speed = 2.0;   ///< m/s, bound on any robot point's speed (self-filter growth)
+  /// s: the largest gap between a cloud's stamp and the robot poses used for it. Beyond it
+  /// the growth would hide too much around the robot: the frame goes without the self-filter
+  /// (the robot's points stay, conservative) and the sensor is DEGRADED.
+  double self_max_gap = 0.1;
   perception::CloudFrameParams frame;  ///< volume, voxel size, floor, padding, ...
   perception::ScanBand scan_band;      ///< scan frame z band of a beam's column
   MonitorParams robot;           ///< robot_bodies, use_robot_description, robot_description_param
