@@ -17,6 +17,9 @@ Checks:
    ("missing_xyz", counted), and the good frames keep giving the cluster.
 4. /diagnostics: WARN naming /silent_scan (no usable frame) and /cam2/points (its frame
    'nowhere' not placed by tf), and not naming /cam/points or /scan.
+6. The robot body "arm" on a tf frame broadcast at 50 Hz (far from everything): while its tf
+   stops for 0.6 s the cameras' frames come with poses older than self_max_gap (0.1 s):
+   DEGRADED naming it; once tf is back that reason goes.
 5. The unseen share: the only view (the camera's, azimuth -0.6 to -0.4 rad) misses every
    voxel within ssm_reach 0.5 m of the post (their azimuths from the camera are above -0.1
    rad; the scanners have no view): share exactly 1, above unseen_limit 0.5: DEGRADED.
@@ -38,7 +41,8 @@ from sensor_msgs.msg import LaserScan, PointCloud2, PointField  # noqa: E402
 from std_msgs.msg import Header  # noqa: E402
 from visualization_msgs.msg import MarkerArray  # noqa: E402
 
-from wp_node_testlib import DiagnosticsCollector, broadcast_static, diag_values  # noqa: E402
+from wp_node_testlib import (DiagnosticsCollector, TfBroadcaster, broadcast_static,  # noqa: E402
+                             diag_values)
 
 STATUS = "cloud_tracker: cloud_tracker"
 CAMERA = (0.0, 0.0, 1.0)
@@ -91,6 +95,7 @@ class CloudTrackerTest(unittest.TestCase):
             ("world", "post_link", (1.5, 0.5, 0.5), (0.0, 0.0, 0.0)),
             ("world", "scan_link", (0.0, -1.5, 0.11), (0.0, 0.0, math.pi / 2)),
         ])
+        cls.arm_tf = TfBroadcaster("world", "arm_link", lambda stamp: (2.5, 2.5, 2.0))
         cls.cam = rospy.Publisher("/cam/points", PointCloud2, queue_size=5)
         cls.cam2 = rospy.Publisher("/cam2/points", PointCloud2, queue_size=5)
         cls.scan = rospy.Publisher("/scan", LaserScan, queue_size=5)
@@ -193,6 +198,21 @@ class CloudTrackerTest(unittest.TestCase):
         self.assertGreater(int(v["protective voxels"]), 1000)
         self.assertEqual(v["unseen: outside every view"], v["protective voxels"])
         self.assertIn("unseen share 1.000 of the protective volume above unseen_limit 0.500", st.message)
+
+    def test_6_robot_poses_too_old_are_degraded(self):
+        def gap(s, v):
+            return "self_max_gap" in s.message
+        self.assertIsNone(self.diag.wait_for(gap, 1.0, since=time.monotonic()), "gap before the outage")
+        self.arm_tf.paused.set()
+        try:
+            st = self.diag.wait_for(gap, 5.0, since=time.monotonic())
+            self.assertIsNotNone(st, "no DEGRADED reason for robot poses older than self_max_gap")
+            self.assertIn("sensor /cam/points: robot poses unknown", st.message)
+        finally:
+            self.arm_tf.paused.clear()
+        time.sleep(0.5)
+        st = self.diag.wait_for(lambda s, v: not gap(s, v), 5.0, since=time.monotonic())
+        self.assertIsNotNone(st, "the gap reason stayed after tf came back")
 
 
 if __name__ == "__main__":
