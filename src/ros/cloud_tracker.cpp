@@ -233,6 +233,32 @@ void CloudTracker::updateUnseen() {
                                    params_.frame.floor_height + params_.frame.floor_tolerance,
                                    sights_.data(), count);
   unseen_problem_ = unseen_result_.refused ? "unseen share unknown: a robot link's pose or shape refused" : "";
+  if (markers_.getNumSubscribers() == 0 || !unseen_problem_.empty()) return;
+  // The unseen voxels of the protective volume, grey.
+  const perception::VoxelGrid& grid = frames_.front()->grid();
+  visualization_msgs::Marker m;
+  m.header.frame_id = params_.fixed_frame;
+  m.header.stamp = ros::Time::now();
+  m.ns = "unseen";
+  m.type = visualization_msgs::Marker::CUBE_LIST;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = m.scale.y = m.scale.z = 0.8 * grid.voxelSize();
+  m.color.r = m.color.g = m.color.b = 0.5f;
+  m.color.a = 0.25f;
+  m.lifetime = ros::Duration(2.0 / params_.unseen_rate);
+  m.points.reserve(unseen_.unseenCells().size());
+  for (const std::int64_t cell : unseen_.unseenCells()) {
+    const Eigen::Vector3f c = grid.centre(cell);
+    geometry_msgs::Point p;
+    p.x = c.x();
+    p.y = c.y();
+    p.z = c.z();
+    m.points.push_back(p);
+  }
+  visualization_msgs::MarkerArray out;
+  out.markers.push_back(std::move(m));
+  markers_.publish(out);
 }
 
 bool CloudTracker::place(int s, const std_msgs::Header& header, Eigen::Isometry3f* out) {
