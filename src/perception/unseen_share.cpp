@@ -54,6 +54,7 @@ UnseenShare::UnseenShare(int max_sensors, std::int64_t max_bins, double bin_angl
       max_bins_(std::max<std::int64_t>(1, max_bins)),
       bin_angle_(bin_angle > 0.0 ? bin_angle : 0.004) {
   depth_.resize(static_cast<std::size_t>(max_bins_));
+  inner_.resize(static_cast<std::size_t>(max_bins_));
 }
 
 std::int64_t UnseenShare::binOf(double azimuth, double elevation) const {
@@ -77,6 +78,7 @@ void UnseenShare::fillDepth(const SensorSight& sight, const Eigen::Isometry3d& t
   nel_ = static_cast<std::int64_t>(std::ceil(span_el / bin_)) + 1;
   const float inf = std::numeric_limits<float>::infinity();
   std::fill(depth_.begin(), depth_.begin() + naz_ * nel_, inf);
+  std::fill(inner_.begin(), inner_.begin() + naz_ * nel_, inf);
   all_near_ = false;
   const VoxelGrid& grid = *sight.grid;
   const Eigen::Matrix3f rot = to_sensor.linear().cast<float>();
@@ -115,6 +117,40 @@ void UnseenShare::fillDepth(const SensorSight& sight, const Eigen::Isometry3d& t
         for (std::int64_t a = a0; a <= a1; ++a) row[a] = std::min(row[a], near);
       }
     }
+    // The inscribed sphere (radius s/2, inside the voxel): every direction within beta of its
+    // centre crosses it, so a line of sight in such a direction reaching beyond r + s/2 has
+    // crossed the voxel. A bin counts when its centre is within beta - bin - 4 eps of the
+    // sphere's centre: every point of a bin is within `bin` of its centre (a path along the
+    // parallel and the meridian), and each of the two directions is within 2 eps of its
+    // fastAtan2 estimate.
+    const double beta = std::asin(0.5 * grid.voxelSize() / r);
+    const double reach = beta - bin_ - 4.0 * kFastAtan2Error;
+    if (reach <= 0.0 || std::abs(el) + reach >= M_PI / 2 - 1e-3) continue;
+    const auto far = static_cast<float>(r + 0.5 * grid.voxelSize() + 1e-4);  // never nearer
+    const double in_half_az = std::min(M_PI, reach / std::cos(std::abs(el) + reach));
+    const auto f0 = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor((el - reach - el0_) / bin_)));
+    const auto f1 = std::min<std::int64_t>(nel_ - 1, static_cast<std::int64_t>(std::floor((el + reach - el0_) / bin_)));
+    const double sin_half_reach = std::sin(0.5 * reach);
+    const double cos_el = std::cos(el);
+    for (int turn = -1; turn <= 1; ++turn) {
+      const double centre_az = az + turn * two_pi;
+      const auto a0 = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor((centre_az - in_half_az - az0_) / bin_)));
+      const auto a1 = std::min<std::int64_t>(naz_ - 1, static_cast<std::int64_t>(std::floor((centre_az + in_half_az - az0_) / bin_)));
+      for (std::int64_t e = f0; e <= f1; ++e) {
+        const double el_c = el0_ + (static_cast<double>(e) + 0.5) * bin_;
+        const double s_el = std::sin(0.5 * (el_c - el));
+        const double k = cos_el * std::cos(el_c);
+        float* row = inner_.data() + e * naz_;
+        for (std::int64_t a = a0; a <= a1; ++a) {
+          const double az_c = az0_ + (static_cast<double>(a) + 0.5) * bin_;
+          const double s_az = std::sin(0.5 * (az_c - centre_az));
+          // Haversine: sin^2(d / 2) = sin^2(d_el / 2) + cos el cos el_c sin^2(d_az / 2).
+          if (s_el * s_el + k * s_az * s_az <= sin_half_reach * sin_half_reach) {
+            row[a] = std::min(row[a], far);
+          }
+        }
+      }
+    }
   }
 }
 
@@ -138,7 +174,8 @@ bool UnseenShare::inView(const SensorFov& fov, const Eigen::Vector3d& p) {
   return within(fov, bearingOf((fov.pose.inverse(Eigen::Isometry) * p).cast<float>()));
 }
 
-bool UnseenShare::blocked(const VoxelGrid& grid, const Eigen::Vector3d& from, std::int64_t cell) {
+bool UnseenShare::blocked(const VoxelGrid& grid, const Eigen::Vector3d& from, std::int64_t cell,
+                          double until) {
   // Amanatides & Woo's voxel walk, in voxel units, from the cell's centre towards `from`: every
   // voxel the segment passes through, in order, until it reaches `from`'s voxel or leaves the
   // grid (nothing outside is known; shadows from outside sit in the entry voxels).
@@ -178,7 +215,7 @@ bool UnseenShare::blocked(const VoxelGrid& grid, const Eigen::Vector3d& from, st
     int axis = 0;
     if (t_max[1] < t_max[axis]) axis = 1;
     if (t_max[2] < t_max[axis]) axis = 2;
-    if (t_max[axis] > 1.0) return false;  // reached `from`'s voxel
+    if (t_max[axis] > until) return false;  // reached `from`'s voxel, or nothing beyond
     i[axis] += step[axis];
     if (i[axis] < 0 || i[axis] >= n[axis]) return false;  // left the grid
     t_max[axis] += t_delta[axis];
@@ -290,9 +327,16 @@ const UnseenResult& UnseenShare::compute(const SelfLink* links, int link_count, 
         visible = false;
       } else if (!all_near_ && static_cast<double>(depth_[static_cast<std::size_t>(binOf(az, el))]) >= range) {
         visible = true;  // nothing can be in front
+      } else if (static_cast<double>(inner_[static_cast<std::size_t>(binOf(az, el))]) < range) {
+        visible = false;  // certainly crossed a blocking voxel
       } else {
+        // Every blocking voxel is entered at a range of at least the depth image's (its
+        // sphere's nearest range, and the walk's entry into it is no nearer): the walk may stop
+        // once the next voxel starts nearer the sensor than that.
+        const std::size_t bin = static_cast<std::size_t>(binOf(az, el));
+        const double until = all_near_ ? 1.0 : std::min(1.0, std::max(0.0, 1.0 - (static_cast<double>(depth_[bin]) - 1e-4) / range));
         ++result_.walks;
-        visible = !blocked(*sight.grid, fov.pose.translation(), cell);
+        visible = !blocked(*sight.grid, fov.pose.translation(), cell, until);
       }
       if (visible) seen_[i] |= 1;
     }

@@ -60,8 +60,9 @@ constexpr float kFastAtan2Error = 2e-5f;
 float fastAtan2(float y, float x);
 
 /// Per sensor, a depth image in azimuth and elevation first says which protective voxels
-/// have nothing in front of them (seen at once); only the others walk their line of sight
-/// voxel by voxel. The image only skips walks: the answer is the walk's.
+/// have nothing in front of them (seen at once) and which certainly have (blocked at once);
+/// only the others walk their line of sight voxel by voxel. The images only skip walks: the
+/// answer is the walk's.
 class UnseenShare {
  public:
   /// `max_bins`: size of the depth image (bins of `bin_angle` rad, coarser when a field of
@@ -86,8 +87,11 @@ class UnseenShare {
 
   /// Whether the straight line from `from` (fixed frame) to the centre of `cell` crosses a
   /// voxel of `grid` with a point or a shadow (the cell itself and the voxel holding `from`
-  /// excepted; a cell holding only a shadow is blocked). Public for tests.
-  static bool blocked(const VoxelGrid& grid, const Eigen::Vector3d& from, std::int64_t cell);
+  /// excepted; a cell holding only a shadow is blocked). Public for tests. `until`: the walk
+  /// stops (not blocked) before entering a voxel beyond this fraction of the way to `from`
+  /// (when nothing blocking can lie nearer `from` than that).
+  static bool blocked(const VoxelGrid& grid, const Eigen::Vector3d& from, std::int64_t cell,
+                      double until = 1.0);
   /// Whether `p` (fixed frame) is inside the field of view and range, by a margin: within
   /// kFastAtan2Error of an angular limit or 0.1 mm of a range limit counts as outside.
   static bool inView(const SensorFov& fov, const Eigen::Vector3d& p);
@@ -103,6 +107,9 @@ class UnseenShare {
   double bin_angle_;
   // The depth image of the sensor at hand: bins of bin_ rad from (az0_, el0_).
   std::vector<float> depth_;
+  // Per bin the range beyond which a line of sight through any part of the bin has certainly
+  // crossed a blocking voxel (its inscribed sphere covers the whole bin): blocked, no walk.
+  std::vector<float> inner_;
   double bin_ = 0.0, az0_ = 0.0, el0_ = 0.0;
   std::int64_t naz_ = 0, nel_ = 0;
   bool all_near_ = false;  // a voxel around the sensor itself: every line of sight is walked
