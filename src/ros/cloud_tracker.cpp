@@ -170,6 +170,20 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
     frames_.push_back(std::make_unique<pc::CloudFrame>(params_.frame));
   }
   health_ = std::make_unique<pc::SensorHealth>(names, params_.source_timeout, nowNs());
+  unseen_.configure(frames_.front()->grid());
+  sights_.resize(names.size());
+  sensor_pose_.assign(names.size(), Eigen::Isometry3d::Identity());
+  last_frame_ns_.assign(names.size(), -1);
+  for (const std::string& n : names) {
+    const auto it = params_.views.find(n);
+    view_.push_back(it == params_.views.end() ? nullptr : &it->second);
+  }
+  markers_ = pnh_.advertise<visualization_msgs::MarkerArray>("clusters", 2);
+  diagnostics_.setHardwareID("workspace_proximity");
+  diagnostics_.add("cloud_tracker", this, &CloudTracker::diagnose);
+
+  // Callbacks last: in a nodelet manager they may run as soon as they exist, so everything
+  // they touch is built first.
   const int clouds = static_cast<int>(params_.cloud_topics.size());
   for (int i = 0; i < clouds; ++i) {
     subs_.push_back(nh_.subscribe<sensor_msgs::PointCloud2>(
@@ -181,19 +195,7 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
     subs_.push_back(nh_.subscribe<sensor_msgs::LaserScan>(
         params_.scan_topics[j], 2, [this, s](const sensor_msgs::LaserScanConstPtr& m) { onScan(s, m); }));
   }
-  markers_ = pnh_.advertise<visualization_msgs::MarkerArray>("clusters", 2);
-  diagnostics_.setHardwareID("workspace_proximity");
-  diagnostics_.add("cloud_tracker", this, &CloudTracker::diagnose);
   diag_timer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
-
-  unseen_.configure(frames_.front()->grid());
-  sights_.resize(names.size());
-  sensor_pose_.assign(names.size(), Eigen::Isometry3d::Identity());
-  last_frame_ns_.assign(names.size(), -1);
-  for (const std::string& n : names) {
-    const auto it = params_.views.find(n);
-    view_.push_back(it == params_.views.end() ? nullptr : &it->second);
-  }
   unseen_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.unseen_rate),
                                   [this](const ros::TimerEvent&) { updateUnseen(); });
 }
