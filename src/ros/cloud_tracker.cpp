@@ -71,6 +71,8 @@ CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
   CloudTrackerParams p;
   pnh.param<std::string>("fixed_frame", p.fixed_frame, p.fixed_frame);
   if (p.fixed_frame.empty()) fail("fixed_frame", "must not be empty");
+  // tf2 refuses frame ids with a leading '/' in every lookup.
+  if (p.fixed_frame[0] == '/') fail("fixed_frame", "must not start with '/' (tf2 refuses it)");
   p.cloud_topics = readTopics(pnh, "cloud_topics");
   p.scan_topics = readTopics(pnh, "scan_topics");
   if (p.cloud_topics.empty() && p.scan_topics.empty()) {
@@ -119,6 +121,9 @@ CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
     if (pnh.getParam(key, v)) robot[key] = v;
   }
   p.robot = readParams(robot);
+  // Checked as the monitor checks them (the rest of MonitorParams keeps its valid defaults).
+  const std::vector<std::string> robot_errors = validate(p.robot);
+  if (!robot_errors.empty()) throw std::runtime_error(robot_errors.front());
   p.ssm_reach = readNumber(pnh, "ssm_reach", p.ssm_reach, 0.0, 100.0);
   p.unseen_limit = readNumber(pnh, "unseen_limit", p.unseen_limit, 0.0, 1.0);
   p.unseen_rate = readNumber(pnh, "unseen_rate", p.unseen_rate, 0.1, 100.0);
