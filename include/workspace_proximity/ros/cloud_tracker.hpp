@@ -1,0 +1,103 @@
+#pragma once
+/// The cloud_tracker node (and nodelet): depth clouds and laser scans into clusters, thin
+/// wiring around the ROS-free perception rules (src/perception):
+///   PointCloud2 (~cloud_topics) | LaserScan (~scan_topics)
+///     -> fields and frame checked (rejected by name) -> tf2: sensor -> ~fixed_frame at the stamp
+///     -> robot links posed from tf at the stamp (self-filter) -> CloudFrame -> clusters
+///     -> ~clusters (markers), /diagnostics (SensorHealth: DEGRADED reasons by sensor, figures)
+/// The clusters are per frame: no ids kept, no velocity. Feeding them to the monitor needs the
+/// multi-object tracker between (issue 23): not wired here yet.
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <ros/ros.h>
+#include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "workspace_proximity/perception/cloud_frame.hpp"
+#include "workspace_proximity/perception/sensor_health.hpp"
+#include "workspace_proximity/perception/unseen_share.hpp"
+#include "workspace_proximity/rules/monitor_params.hpp"
+
+namespace workspace_proximity {
+
+struct CloudTrackerParams {
+  std::string fixed_frame = "world";
+  std::vector<std::string> cloud_topics;
+  std::vector<std::string> scan_topics;
+  double source_timeout = 1.0;   ///< s without a usable frame from a sensor -> DEGRADED
+  double tf_wait = 0.05;         ///< s a frame waits for its transforms
+  double self_max_speed = 2.0;   ///< m/s, bound on any robot point's speed (self-filter growth)
+  /// s: the largest gap between a cloud's stamp and the robot poses used for it. Beyond it
+  /// the growth would hide too much around the robot: the frame goes without the self-filter
+  /// (the robot's points stay, conservative) and the sensor is DEGRADED.
+  double self_max_gap = 0.1;
+  perception::CloudFrameParams frame;  ///< volume, voxel size, floor, padding, ...
+  perception::ScanBand scan_band;      ///< scan frame z band of a beam's column
+  MonitorParams robot;           ///< robot_bodies, use_robot_description, robot_description_param
+  /// The unseen share: R (m) around the robot, its limit, how often; the sensors' views by
+  /// topic (a sensor without one sees nothing there). `optical`: the view is given in a
+  /// camera's optical frame (z forward, x right, y down) instead of x forward, z up.
+  double ssm_reach = 1.5;
+  double unseen_limit = 0.3;     ///< share above which the status is DEGRADED
+  double unseen_rate = 5.0;      ///< Hz
+  struct View {
+    perception::SensorFov fov;   ///< pose unused: the sensor's frame at its frame's stamp
+    bool optical = false;
+  };
+  std::map<std::string, View> views;
+};
+
+/// Reads the private parameters; throws std::runtime_error naming a bad one.
+CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& private_nh);
+
+class CloudTracker {
+ public:
+  CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh,
+               const CloudTrackerParams& params);
+
+ private:
+  void onCloud(int sensor, const sensor_msgs::PointCloud2ConstPtr& msg);
+  void onScan(int sensor, const sensor_msgs::LaserScanConstPtr& msg);
+  // The sensor -> fixed transform at the frame's stamp, or false (the sensor told why).
+  bool place(int sensor, const std_msgs::Header& header, Eigen::Isometry3f* sensor_to_fixed);
+  // Poses the robot's links at `stamp` for the self-filter; "" or why it could not.
+  std::string poseRobot(const ros::Time& stamp, perception::CloudFrame* frame);
+  void finish(int sensor, const std_msgs::Header& header, const std::string& robot_problem);
+  void publishMarkers(int sensor, const std_msgs::Header& header);
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+  // The unseen share of the protective volume from every sensor's latest frame.
+  void updateUnseen();
+  std::int64_t nowNs() const { return static_cast<std::int64_t>(ros::Time::now().toNSec()); }
+
+  ros::NodeHandle nh_, pnh_;
+  CloudTrackerParams params_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  std::vector<RobotBodySpec> robot_;
+  std::vector<perception::SelfLink> links_;
+  std::vector<std::unique_ptr<perception::CloudFrame>> frames_;  // one per sensor
+  std::unique_ptr<perception::SensorHealth> health_;
+  std::vector<ros::Subscriber> subs_;
+  ros::Publisher markers_;
+  diagnostic_updater::Updater diagnostics_;
+  ros::Timer diag_timer_;
+  ros::Timer unseen_timer_;
+  perception::UnseenShare unseen_{64};  // sensors beyond 64 see nothing there (counted unseen)
+  std::vector<perception::SensorSight> sights_;
+  std::vector<Eigen::Isometry3d> sensor_pose_;      // per sensor: its frame at its last frame
+  std::vector<std::int64_t> last_frame_ns_;         // per sensor: when its last frame was used
+  std::vector<const CloudTrackerParams::View*> view_;  // per sensor, or null
+  std::string unseen_problem_ = "not computed yet";  // "" when the share below is current
+  perception::UnseenResult unseen_result_;
+  visualization_msgs::MarkerArray marker_msg_;
+};
+
+}  // namespace workspace_proximity

@@ -1,0 +1,496 @@
+#include "workspace_proximity/ros/cloud_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include <tf2_eigen/tf2_eigen.h>
+
+#include "workspace_proximity/perception/laser_scan.hpp"
+#include "workspace_proximity/ros/robot_description.hpp"
+#include "workspace_proximity/ros/ros_params.hpp"
+
+namespace workspace_proximity {
+
+namespace pc = perception;
+
+namespace {
+
+[[noreturn]] void fail(const std::string& name, const std::string& what) {
+  throw std::runtime_error("~" + name + ": " + what);
+}
+
+double number(const XmlRpc::XmlRpcValue& v, const std::string& name) {
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) return static_cast<double>(const_cast<XmlRpc::XmlRpcValue&>(v));
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(const_cast<XmlRpc::XmlRpcValue&>(v));
+  fail(name, "must be a number");
+}
+
+// ~name as a number (default when absent), finite and within [lo, hi].
+double readNumber(const ros::NodeHandle& pnh, const std::string& name, double def, double lo, double hi) {
+  XmlRpc::XmlRpcValue v;
+  if (!pnh.getParam(name, v)) return def;
+  const double x = number(v, name);
+  if (!std::isfinite(x) || x < lo || x > hi) {
+    fail(name, "must be within [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return x;
+}
+
+std::vector<double> readNumbers(const ros::NodeHandle& pnh, const std::string& name, std::size_t n) {
+  XmlRpc::XmlRpcValue v;
+  if (!pnh.getParam(name, v)) return {};
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray || static_cast<std::size_t>(v.size()) != n) {
+    fail(name, "must be a list of " + std::to_string(n) + " numbers");
+  }
+  std::vector<double> out;
+  for (int i = 0; i < v.size(); ++i) {
+    out.push_back(number(v[i], name));
+    if (!std::isfinite(out.back())) fail(name, "must be finite");
+  }
+  return out;
+}
+
+std::vector<std::string> readTopics(const ros::NodeHandle& pnh, const std::string& name) {
+  XmlRpc::XmlRpcValue v;
+  std::vector<std::string> out;
+  if (!pnh.getParam(name, v)) return out;
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray) fail(name, "must be a list of topics");
+  for (int i = 0; i < v.size(); ++i) {
+    if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString) fail(name, "must be a list of topics");
+    out.push_back(static_cast<std::string>(v[i]));
+    if (out.back().empty()) fail(name, "an empty topic name");
+  }
+  return out;
+}
+
+}  // namespace
+
+CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
+  CloudTrackerParams p;
+  pnh.param<std::string>("fixed_frame", p.fixed_frame, p.fixed_frame);
+  if (p.fixed_frame.empty()) fail("fixed_frame", "must not be empty");
+  // tf2 refuses frame ids with a leading '/' in every lookup.
+  if (p.fixed_frame[0] == '/') fail("fixed_frame", "must not start with '/' (tf2 refuses it)");
+  p.cloud_topics = readTopics(pnh, "cloud_topics");
+  p.scan_topics = readTopics(pnh, "scan_topics");
+  if (p.cloud_topics.empty() && p.scan_topics.empty()) {
+    fail("cloud_topics", "no ~cloud_topics and no ~scan_topics: nothing to see with");
+  }
+  p.source_timeout = readNumber(pnh, "source_timeout", p.source_timeout, 0.01, 60.0);
+  p.tf_wait = readNumber(pnh, "tf_wait", p.tf_wait, 0.0, 1.0);
+  p.self_max_speed = readNumber(pnh, "self_max_speed", p.self_max_speed, 0.0, 100.0);
+  p.self_max_gap = readNumber(pnh, "self_max_gap", p.self_max_gap, 0.0, 10.0);
+  pc::CloudFrameParams& f = p.frame;
+  f.voxel_size = readNumber(pnh, "voxel_size", f.voxel_size, 0.005, 1.0);
+  f.floor_height = readNumber(pnh, "floor_height", f.floor_height, -1e3, 1e3);
+  f.floor_tolerance = readNumber(pnh, "floor_tolerance", f.floor_tolerance, 0.0, 1.0);
+  f.self_padding = readNumber(pnh, "self_padding", f.self_padding, 0.0, 1.0);
+  f.min_cluster_points = static_cast<int>(readNumber(pnh, "min_cluster_points", f.min_cluster_points, 1, 1e6));
+  f.max_points = static_cast<std::int64_t>(readNumber(pnh, "max_points", static_cast<double>(f.max_points), 1, 1e8));
+  const std::vector<double> volume = readNumbers(pnh, "volume", 6);
+  if (!volume.empty()) {
+    f.volume = Aabb{Eigen::Vector3d(volume[0], volume[1], volume[2]),
+                    Eigen::Vector3d(volume[3], volume[4], volume[5])};
+  } else {
+    std::vector<double> base = readNumbers(pnh, "robot_base", 3);
+    if (base.empty()) base = {0.0, 0.0, 0.0};
+    const double reach = readNumber(pnh, "robot_reach", 1.0, 0.0, 100.0);
+    const double ssm_reach = readNumber(pnh, "ssm_reach", 1.5, 0.0, 100.0);
+    f.volume = pc::defaultMonitoredVolume(Eigen::Vector3d(base[0], base[1], base[2]), reach,
+                                          ssm_reach, f.floor_height);
+  }
+  const std::string why = pc::checkCloudFrameParams(f);
+  if (!why.empty()) fail("volume", why);
+  const std::vector<double> band = readNumbers(pnh, "scan_band", 2);
+  if (!band.empty()) {
+    if (band[1] < band[0] || band[1] - band[0] > 10.0) fail("scan_band", "must be [z_min, z_max] with z_min <= z_max, at most 10 m apart");
+    p.scan_band.z_min = static_cast<float>(band[0]);
+    p.scan_band.z_max = static_cast<float>(band[1]);
+  } else {
+    p.scan_band.z_min = -0.1f;
+    p.scan_band.z_max = 1.8f;
+  }
+  p.scan_band.z_step = static_cast<float>(0.5 * f.voxel_size);
+  // The robot's bodies, read as the monitor reads them.
+  XmlRpc::XmlRpcValue robot;
+  robot["use_robot_description"] = true;
+  for (const char* key : {"robot_bodies", "use_robot_description", "robot_description_param"}) {
+    XmlRpc::XmlRpcValue v;
+    if (pnh.getParam(key, v)) robot[key] = v;
+  }
+  p.robot = readParams(robot);
+  // Checked as the monitor checks them (the rest of MonitorParams keeps its valid defaults).
+  const std::vector<std::string> robot_errors = validate(p.robot);
+  if (!robot_errors.empty()) throw std::runtime_error(robot_errors.front());
+  p.ssm_reach = readNumber(pnh, "ssm_reach", p.ssm_reach, 0.0, 100.0);
+  p.unseen_limit = readNumber(pnh, "unseen_limit", p.unseen_limit, 0.0, 1.0);
+  p.unseen_rate = readNumber(pnh, "unseen_rate", p.unseen_rate, 0.1, 100.0);
+  XmlRpc::XmlRpcValue views;
+  if (pnh.getParam("sensor_fov", views)) {
+    if (views.getType() != XmlRpc::XmlRpcValue::TypeStruct) fail("sensor_fov", "must map topics to views");
+    for (auto it = views.begin(); it != views.end(); ++it) {
+      const std::string where = "sensor_fov/" + it->first;
+      const XmlRpc::XmlRpcValue& v = it->second;
+      if (v.getType() != XmlRpc::XmlRpcValue::TypeStruct) fail(where, "must be {azimuth, elevation, range, optical}");
+      CloudTrackerParams::View view;
+      auto pair = [&](const char* key, double* lo, double* hi) {
+        if (!v.hasMember(key)) fail(where, std::string("needs ") + key + ": [min, max]");
+        const XmlRpc::XmlRpcValue& x = const_cast<XmlRpc::XmlRpcValue&>(v)[key];
+        if (x.getType() != XmlRpc::XmlRpcValue::TypeArray || x.size() != 2) fail(where + "/" + key, "must be [min, max]");
+        *lo = number(x[0], where + "/" + key);
+        *hi = number(x[1], where + "/" + key);
+        if (!std::isfinite(*lo) || !std::isfinite(*hi) || *lo > *hi) fail(where + "/" + key, "must be finite, min <= max");
+      };
+      pair("azimuth", &view.fov.azimuth_min, &view.fov.azimuth_max);
+      pair("elevation", &view.fov.elevation_min, &view.fov.elevation_max);
+      pair("range", &view.fov.range_min, &view.fov.range_max);
+      if (v.hasMember("optical")) {
+        const XmlRpc::XmlRpcValue& o = const_cast<XmlRpc::XmlRpcValue&>(v)["optical"];
+        if (o.getType() != XmlRpc::XmlRpcValue::TypeBoolean) fail(where + "/optical", "must be true or false");
+        view.optical = static_cast<bool>(const_cast<XmlRpc::XmlRpcValue&>(o));
+      }
+      const bool known = std::count(p.cloud_topics.begin(), p.cloud_topics.end(), it->first) +
+                         std::count(p.scan_topics.begin(), p.scan_topics.end(), it->first) > 0;
+      if (!known) fail(where, "not one of ~cloud_topics or ~scan_topics");
+      p.views[it->first] = view;
+    }
+  }
+  return p;
+}
+
+CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh,
+                           const CloudTrackerParams& params)
+    : nh_(nh), pnh_(pnh), params_(params), tf_listener_(tf_buffer_), diagnostics_(nh_, pnh_) {
+  const RobotDescription robot = loadRobotBodies(nh_, params_.robot);
+  for (const std::string& line : robot.unmodelled) ROS_WARN("cloud_tracker: %s (not self-filtered)", line.c_str());
+  robot_ = robot.bodies;
+  links_.resize(robot_.size());
+  params_.frame.max_links = static_cast<int>(robot_.size());
+
+  std::vector<std::string> names = params_.cloud_topics;
+  names.insert(names.end(), params_.scan_topics.begin(), params_.scan_topics.end());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    frames_.push_back(std::make_unique<pc::CloudFrame>(params_.frame));
+  }
+  health_ = std::make_unique<pc::SensorHealth>(names, params_.source_timeout, nowNs());
+  unseen_.configure(frames_.front()->grid());
+  sights_.resize(names.size());
+  sensor_pose_.assign(names.size(), Eigen::Isometry3d::Identity());
+  last_frame_ns_.assign(names.size(), -1);
+  for (const std::string& n : names) {
+    const auto it = params_.views.find(n);
+    view_.push_back(it == params_.views.end() ? nullptr : &it->second);
+  }
+  markers_ = pnh_.advertise<visualization_msgs::MarkerArray>("clusters", 2);
+  diagnostics_.setHardwareID("workspace_proximity");
+  diagnostics_.add("cloud_tracker", this, &CloudTracker::diagnose);
+
+  // Callbacks last: in a nodelet manager they may run as soon as they exist, so everything
+  // they touch is built first.
+  const int clouds = static_cast<int>(params_.cloud_topics.size());
+  for (int i = 0; i < clouds; ++i) {
+    subs_.push_back(nh_.subscribe<sensor_msgs::PointCloud2>(
+        params_.cloud_topics[static_cast<std::size_t>(i)], 2,
+        [this, i](const sensor_msgs::PointCloud2ConstPtr& m) { onCloud(i, m); }));
+  }
+  for (std::size_t j = 0; j < params_.scan_topics.size(); ++j) {
+    const int s = clouds + static_cast<int>(j);
+    subs_.push_back(nh_.subscribe<sensor_msgs::LaserScan>(
+        params_.scan_topics[j], 2, [this, s](const sensor_msgs::LaserScanConstPtr& m) { onScan(s, m); }));
+  }
+  diag_timer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
+  unseen_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.unseen_rate),
+                                  [this](const ros::TimerEvent&) { updateUnseen(); });
+}
+
+void CloudTracker::updateUnseen() {
+  // The robot now (its newest poses); without it the protective volume is unknown.
+  for (std::size_t i = 0; i < robot_.size(); ++i) {
+    try {
+      const geometry_msgs::TransformStamped t =
+          tf_buffer_.lookupTransform(params_.fixed_frame, robot_[i].frame, ros::Time(0));
+      links_[i].shape = robot_[i].shape;
+      links_[i].pose = tf2::transformToEigen(t) * robot_[i].offset;
+    } catch (const tf2::TransformException& e) {
+      unseen_problem_ = "unseen share unknown: link " + robot_[i].name + " not posed: " + e.what();
+      return;
+    }
+  }
+  // Each sensor with a view and a frame within the source timeout sees from where it was.
+  const std::int64_t now = nowNs();
+  const auto timeout = static_cast<std::int64_t>(params_.source_timeout * 1e9);
+  int count = 0;
+  for (std::size_t s = 0; s < view_.size(); ++s) {
+    if (view_[s] == nullptr || last_frame_ns_[s] < 0 || now - last_frame_ns_[s] > timeout) continue;
+    perception::SensorSight& sight = sights_[static_cast<std::size_t>(count++)];
+    sight.fov = view_[s]->fov;
+    sight.fov.pose = sensor_pose_[s];
+    if (view_[s]->optical) {
+      // Body frame (x forward, z up) from the optical frame (z forward, x right, y down).
+      Eigen::Matrix3d optical_body;
+      optical_body << 0, -1, 0, 0, 0, -1, 1, 0, 0;
+      sight.fov.pose.linear() = sensor_pose_[s].linear() * optical_body;
+    }
+    sight.grid = &frames_[s]->grid();
+  }
+  unseen_result_ = unseen_.compute(links_.data(), static_cast<int>(links_.size()), params_.ssm_reach,
+                                   params_.frame.self_padding,
+                                   params_.frame.floor_height + params_.frame.floor_tolerance,
+                                   sights_.data(), count);
+  unseen_problem_ = unseen_result_.refused ? "unseen share unknown: a robot link's pose or shape refused" : "";
+  if (markers_.getNumSubscribers() == 0 || !unseen_problem_.empty()) return;
+  // The unseen voxels of the protective volume, grey.
+  const perception::VoxelGrid& grid = frames_.front()->grid();
+  visualization_msgs::Marker m;
+  m.header.frame_id = params_.fixed_frame;
+  m.header.stamp = ros::Time::now();
+  m.ns = "unseen";
+  m.type = visualization_msgs::Marker::CUBE_LIST;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = m.scale.y = m.scale.z = 0.8 * grid.voxelSize();
+  m.color.r = m.color.g = m.color.b = 0.5f;
+  m.color.a = 0.25f;
+  m.lifetime = ros::Duration(2.0 / params_.unseen_rate);
+  m.points.reserve(unseen_.unseenCells().size());
+  for (const std::int64_t cell : unseen_.unseenCells()) {
+    const Eigen::Vector3f c = grid.centre(cell);
+    geometry_msgs::Point p;
+    p.x = c.x();
+    p.y = c.y();
+    p.z = c.z();
+    m.points.push_back(p);
+  }
+  visualization_msgs::MarkerArray out;
+  out.markers.push_back(std::move(m));
+  markers_.publish(out);
+}
+
+bool CloudTracker::place(int s, const std_msgs::Header& header, Eigen::Isometry3f* out) {
+  if (header.frame_id.empty()) {
+    health_->frameRejected(s, nowNs(), "no_frame_id");
+    return false;
+  }
+  // A frame tf has never heard of fails at once: waiting ~tf_wait for it on every frame
+  // would hold up the other sensors' callbacks.
+  if (!tf_buffer_._frameExists(header.frame_id)) {
+    health_->frameUnplaced(s, nowNs(), "frame '" + header.frame_id + "' unknown to tf (fixed frame '" +
+                                           params_.fixed_frame + "')");
+    return false;
+  }
+  try {
+    const geometry_msgs::TransformStamped t = tf_buffer_.lookupTransform(
+        params_.fixed_frame, header.frame_id, header.stamp, ros::Duration(params_.tf_wait));
+    const Eigen::Isometry3d pose = tf2::transformToEigen(t);
+    sensor_pose_[static_cast<std::size_t>(s)] = pose;
+    *out = pose.cast<float>();
+    return true;
+  } catch (const tf2::TransformException& e) {
+    health_->frameUnplaced(s, nowNs(), "frame '" + header.frame_id + "' not placed in '" +
+                                           params_.fixed_frame + "' at the stamp: " + e.what());
+    return false;
+  }
+}
+
+std::string CloudTracker::poseRobot(const ros::Time& stamp, pc::CloudFrame* frame) {
+  // Each link at the cloud's stamp; when tf has not got there, its newest pose, grown by the
+  // robot's top speed times the gap.
+  double offset = 0.0;
+  for (std::size_t i = 0; i < robot_.size(); ++i) {
+    const RobotBodySpec& spec = robot_[i];
+    geometry_msgs::TransformStamped t;
+    try {
+      t = tf_buffer_.lookupTransform(params_.fixed_frame, spec.frame, stamp);
+    } catch (const tf2::TransformException&) {
+      try {
+        t = tf_buffer_.lookupTransform(params_.fixed_frame, spec.frame, ros::Time(0));
+        offset = std::max(offset, std::abs((stamp - t.header.stamp).toSec()));
+      } catch (const tf2::TransformException& e) {
+        frame->clearRobot();
+        return "link " + spec.name + " (frame '" + spec.frame + "'): " + e.what();
+      }
+    }
+    links_[i].shape = spec.shape;
+    links_[i].pose = tf2::transformToEigen(t) * spec.offset;
+    links_[i].speed = params_.self_max_speed;
+  }
+  if (offset > params_.self_max_gap) {
+    frame->clearRobot();
+    char why[160];
+    std::snprintf(why, sizeof why, "newest robot poses %.3f s from the frame's stamp (self_max_gap %.3f s)",
+                  offset, params_.self_max_gap);
+    return why;
+  }
+  if (!frame->setRobot(links_.data(), static_cast<int>(links_.size()), offset)) {
+    frame->clearRobot();
+    return "the self-filter refused the robot's links";
+  }
+  return "";
+}
+
+void CloudTracker::onCloud(int s, const sensor_msgs::PointCloud2ConstPtr& msg) {
+  pc::CloudView view;
+  for (const sensor_msgs::PointField& f : msg->fields) {
+    if (f.datatype != sensor_msgs::PointField::FLOAT32 || f.count < 1) continue;
+    if (f.name == "x") view.x_offset = static_cast<int>(f.offset);
+    if (f.name == "y") view.y_offset = static_cast<int>(f.offset);
+    if (f.name == "z") view.z_offset = static_cast<int>(f.offset);
+  }
+  if (view.x_offset < 0 || view.y_offset < 0 || view.z_offset < 0) {
+    health_->frameRejected(s, nowNs(), pc::cloudRejectionName(pc::CloudRejection::kMissingXyz));
+    return;
+  }
+  if (msg->is_bigendian) {  // this node reads native little-endian floats
+    health_->frameRejected(s, nowNs(), "big_endian");
+    return;
+  }
+  view.data = msg->data.data();
+  view.data_size = static_cast<std::int64_t>(msg->data.size());
+  view.width = msg->width;
+  view.height = msg->height;
+  view.point_step = msg->point_step;
+  view.row_step = msg->row_step;
+  Eigen::Isometry3f to_fixed;
+  if (!place(s, msg->header, &to_fixed)) return;
+  pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
+  const std::string robot_problem = poseRobot(msg->header.stamp, &frame);
+  const pc::CloudFrameStats& stats = frame.process(view, to_fixed);
+  if (stats.rejected != pc::CloudRejection::kNone) {
+    health_->frameRejected(s, nowNs(), pc::cloudRejectionName(stats.rejected));
+    return;
+  }
+  finish(s, msg->header, robot_problem);
+}
+
+void CloudTracker::onScan(int s, const sensor_msgs::LaserScanConstPtr& msg) {
+  pc::ScanView scan;
+  scan.ranges = msg->ranges.data();
+  scan.count = static_cast<std::int64_t>(msg->ranges.size());
+  scan.angle_min = msg->angle_min;
+  scan.angle_increment = msg->angle_increment;
+  scan.range_min = msg->range_min;
+  scan.range_max = msg->range_max;
+  Eigen::Isometry3f to_fixed;
+  if (!place(s, msg->header, &to_fixed)) return;
+  pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
+  const std::string robot_problem = poseRobot(msg->header.stamp, &frame);
+  const pc::CloudFrameStats& stats = frame.processScan(scan, params_.scan_band, to_fixed);
+  if (stats.rejected != pc::CloudRejection::kNone) {
+    health_->frameRejected(s, nowNs(), "bad_scan");
+    return;
+  }
+  if (frame.scanResult().truncated) {
+    ROS_WARN_THROTTLE(5.0, "cloud_tracker: %s: scan beyond max_scan_points, beams dropped",
+                      health_->name(s).c_str());
+  }
+  finish(s, msg->header, robot_problem);
+}
+
+void CloudTracker::finish(int s, const std_msgs::Header& header, const std::string& robot_problem) {
+  const pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
+  health_->frameUsed(s, nowNs(), frame.stats(), robot_problem);
+  last_frame_ns_[static_cast<std::size_t>(s)] = nowNs();
+  if (markers_.getNumSubscribers() > 0) publishMarkers(s, header);
+}
+
+void CloudTracker::publishMarkers(int s, const std_msgs::Header& header) {
+  const pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
+  marker_msg_.markers.clear();
+  const std::string& name = health_->name(s);
+  // The clusters as boxes; each lives a little over the sensor's silence limit, so a
+  // cluster's box goes when its sensor stops reporting it.
+  int id = 0;
+  for (const pc::Detection& d : frame.detections()) {
+    visualization_msgs::Marker m;
+    m.header.frame_id = params_.fixed_frame;
+    m.header.stamp = header.stamp;
+    m.ns = "clusters " + name;
+    m.id = id++;
+    m.type = visualization_msgs::Marker::CUBE;
+    m.action = visualization_msgs::Marker::ADD;
+    m.pose.position.x = d.centre.x();
+    m.pose.position.y = d.centre.y();
+    m.pose.position.z = d.centre.z();
+    m.pose.orientation.w = 1.0;
+    m.scale.x = d.size.x();
+    m.scale.y = d.size.y();
+    m.scale.z = d.size.z();
+    m.color.r = 1.0f;
+    m.color.g = 0.6f;
+    m.color.a = 0.5f;
+    m.lifetime = ros::Duration(0.25);
+    marker_msg_.markers.push_back(m);
+  }
+  // The occupied voxels (object points after the self-filter), one cube list.
+  visualization_msgs::Marker v;
+  v.header.frame_id = params_.fixed_frame;
+  v.header.stamp = header.stamp;
+  v.ns = "voxels " + name;
+  v.id = 0;
+  v.type = visualization_msgs::Marker::CUBE_LIST;
+  v.action = visualization_msgs::Marker::ADD;
+  v.pose.orientation.w = 1.0;
+  v.scale.x = v.scale.y = v.scale.z = frame.grid().voxelSize();
+  v.color.b = 1.0f;
+  v.color.a = 0.6f;
+  v.lifetime = ros::Duration(0.25);
+  for (const std::int64_t cell : frame.grid().touched()) {
+    if (frame.grid().count(cell) == 0) continue;
+    const Eigen::Vector3f c = frame.grid().centre(cell);
+    geometry_msgs::Point p;
+    p.x = c.x();
+    p.y = c.y();
+    p.z = c.z();
+    v.points.push_back(p);
+  }
+  marker_msg_.markers.push_back(v);
+  markers_.publish(marker_msg_);
+}
+
+void CloudTracker::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  std::vector<std::string> reasons;
+  health_->degradedReasons(nowNs(), &reasons);
+  char share[160];
+  if (!unseen_problem_.empty()) {
+    reasons.push_back(unseen_problem_);
+  } else if (unseen_result_.share > params_.unseen_limit) {
+    std::snprintf(share, sizeof share, "unseen share %.3f of the protective volume above unseen_limit %.3f",
+                  unseen_result_.share, params_.unseen_limit);
+    reasons.push_back(share);
+  }
+  if (reasons.empty()) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::OK, "seeing");
+  } else {
+    std::string all = "DEGRADED: " + reasons.front();
+    for (std::size_t i = 1; i < reasons.size(); ++i) all += "; " + reasons[i];
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN, all);
+  }
+  if (unseen_problem_.empty()) {
+    status.add("unseen share", unseen_result_.share);
+    status.add("protective voxels", unseen_result_.protective);
+    status.add("unseen voxels", unseen_result_.unseen);
+    status.add("unseen: outside every view", unseen_result_.outside_fov);
+    status.add("unseen: shadowed", unseen_result_.shadowed);
+  }
+  for (int s = 0; s < health_->size(); ++s) {
+    const std::string n = health_->name(s) + ": ";
+    const pc::CloudFrameStats& st = health_->lastStats(s);
+    status.add(n + "frames used", health_->framesUsed(s));
+    status.add(n + "frames rejected", health_->framesRejected(s));
+    if (health_->framesRejected(s) > 0) status.add(n + "last rejection", health_->lastRejection(s));
+    status.add(n + "frames not placed by tf", health_->framesUnplaced(s));
+    status.add(n + "points", st.points_in);
+    status.add(n + "NaN points", st.non_finite);
+    status.add(n + "outside the volume", st.outside_volume);
+    status.add(n + "floor points", st.floor);
+    status.add(n + "robot points", st.self);
+    status.add(n + "points within 5 cm of the padded robot", st.near_robot);
+    status.add(n + "occupied voxels", st.voxels);
+    status.add(n + "clusters", st.clusters);
+    status.add(n + "clusters over capacity", st.clusters_overflow);
+  }
+}
+
+}  // namespace workspace_proximity
