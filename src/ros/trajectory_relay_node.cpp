@@ -5,6 +5,7 @@
 // a dead relay leaves the controller at most one chunk of motion.
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <ros/ros.h>
@@ -211,6 +212,9 @@ class TrajectoryRelay {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Line by line: the pause and resume lines reach a piped launch output (scripts/demo) when
+  // they happen, not when a buffer fills.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   ros::init(argc, argv, "trajectory_relay");
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
