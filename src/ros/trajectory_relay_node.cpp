@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 #include <ros/ros.h>
 #include <std_msgs/Float64.h>
@@ -35,18 +36,48 @@ struct RelayParams {
 
 // Reads and checks the parameters; an empty string when they are fine, else the first error,
 // naming the parameter.
+// One parameter, kept at its default when absent; false when it is set but of another type.
+template <typename T>
+bool readOne(const ros::NodeHandle& pnh, const std::string& name, T& value) {
+  if (!pnh.hasParam(name)) return true;
+  return pnh.getParam(name, value);
+}
+
+// Numbers written without a decimal point arrive as ints: read either.
+bool readNumber(const ros::NodeHandle& pnh, const std::string& name, double& value) {
+  if (!pnh.hasParam(name)) return true;
+  if (pnh.getParam(name, value)) return true;
+  int i = 0;
+  if (!pnh.getParam(name, i)) return false;
+  value = i;
+  return true;
+}
+
 std::string readParams(const ros::NodeHandle& pnh, RelayParams& p) {
-  pnh.param("trajectory_topic", p.trajectory_topic, p.trajectory_topic);
-  pnh.param("speed_scale_topic", p.speed_scale_topic, p.speed_scale_topic);
-  pnh.param("command_topic", p.command_topic, p.command_topic);
-  pnh.param("rate", p.rate, p.rate);
-  pnh.param("chunk", p.chunk, p.chunk);
-  pnh.param("scale_timeout", p.scale_timeout, p.scale_timeout);
-  pnh.param("max_points", p.max_points, p.max_points);
-  pnh.param("max_joints", p.max_joints, p.max_joints);
+  for (auto [name, value] : {std::make_pair("trajectory_topic", &p.trajectory_topic),
+                             std::make_pair("speed_scale_topic", &p.speed_scale_topic),
+                             std::make_pair("command_topic", &p.command_topic)}) {
+    if (!readOne(pnh, name, *value)) return std::string("~") + name + " must be a string";
+  }
+  for (auto [name, value] : {std::make_pair("rate", &p.rate), std::make_pair("chunk", &p.chunk),
+                             std::make_pair("scale_timeout", &p.scale_timeout)}) {
+    if (!readNumber(pnh, name, *value)) return std::string("~") + name + " must be a number";
+  }
+  for (auto [name, value] : {std::make_pair("max_points", &p.max_points),
+                             std::make_pair("max_joints", &p.max_joints)}) {
+    if (!readOne(pnh, name, *value)) return std::string("~") + name + " must be an integer";
+  }
   if (p.trajectory_topic.empty()) return "~trajectory_topic must name the planned trajectory's topic";
   if (p.speed_scale_topic.empty()) return "~speed_scale_topic must not be empty";
   if (p.command_topic.empty()) return "~command_topic must name the controller's command topic";
+  for (auto [name, value] : {std::make_pair("trajectory_topic", &p.trajectory_topic),
+                             std::make_pair("speed_scale_topic", &p.speed_scale_topic),
+                             std::make_pair("command_topic", &p.command_topic)}) {
+    std::string why;
+    if (!ros::names::validate(*value, why)) {
+      return std::string("~") + name + " is not a valid topic name: " + why;
+    }
+  }
   if (p.command_topic == p.trajectory_topic ||
       ros::names::resolve(p.command_topic) == ros::names::resolve(p.trajectory_topic)) {
     return "~command_topic and ~trajectory_topic must differ (the relay would read its own chunks)";
@@ -58,6 +89,10 @@ std::string readParams(const ros::NodeHandle& pnh, RelayParams& p) {
   if (!(p.scale_timeout > 0.0 && p.scale_timeout <= 10.0)) return "~scale_timeout must be in (0, 10] s";
   if (p.max_points < 2 || p.max_points > 1000000) return "~max_points must be in [2, 1000000]";
   if (p.max_joints < 1 || p.max_joints > 1000) return "~max_joints must be in [1, 1000]";
+  // The plan's storage is set up at start (several arrays of max_points x max_joints doubles).
+  if (static_cast<long long>(p.max_points) * p.max_joints > 1000000LL) {
+    return "~max_points x ~max_joints must be at most 1000000";
+  }
   return "";
 }
 
@@ -224,7 +259,12 @@ int main(int argc, char** argv) {
     ROS_FATAL("trajectory_relay: invalid parameter %s", error.c_str());
     return 1;
   }
-  TrajectoryRelay relay(nh, params);
-  ros::spin();
+  try {
+    TrajectoryRelay relay(nh, params);
+    ros::spin();
+  } catch (const std::exception& e) {
+    ROS_FATAL("trajectory_relay: %s", e.what());
+    return 1;
+  }
   return 0;
 }

@@ -13,9 +13,11 @@ the fake arm's joint_states.
     from ~scale_timeout + hold + a period on, and goes on when the scale returns; then the relay
     is killed: the arm stands still from ~chunk + T_s (the monitor's ~ssm/stopping_time
     default, 0.3 s) after the kill on, short of the plan's end.
+  * Bad parameters: the relay binary, started once per bad setting, exits with an error naming
+    the parameter (the running relay above is the positive control).
 """
 import bisect
-import os
+import subprocess
 import sys
 import threading
 import time
@@ -127,6 +129,14 @@ def spread(states):
     return max(max(q[j] for q in states) - min(q[j] for q in states) for j in range(3))
 
 
+# Bad settings: (private parameter, value, word the error must hold).
+BAD_PARAMS = [('rate', '0.5', '~rate'), ('rate', 'fast', '~rate'), ('chunk', '0.01', '~chunk'),
+              ('scale_timeout', '0', '~scale_timeout'), ('max_points', '1', '~max_points'),
+              ('command_topic', 'planned_trajectory', '~command_topic'),
+              ('trajectory_topic', "'bad name'", '~trajectory_topic'),
+              ('max_joints', '1000', '~max_points x ~max_joints')]
+
+
 class TestTrajectoryRelay(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -202,6 +212,25 @@ class TestTrajectoryRelay(unittest.TestCase):
         self.assertGreater(len(still), 50)
         self.assertLess(spread(still), STILL, 'the arm went on after the relay was killed')
         self.assertGreater(distance_to_point(still[-1], WAYPOINTS[0]), 0.05)
+
+    def test_3_bad_parameters_stop_the_relay_naming_them(self):
+        from roslib.packages import find_node
+        binary = find_node('workspace_proximity', 'trajectory_relay')[0]
+        failures = []
+        for k, (name, value, word) in enumerate(BAD_PARAMS):
+            proc = subprocess.Popen([binary, '__name:=bad_relay_%d' % k, '_%s:=%s' % (name, value)],
+                                    stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+            try:
+                out, err = proc.communicate(timeout=8)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.communicate()
+                failures.append('%s=%s: still running' % (name, value))
+                continue
+            text = (out + err).decode(errors='replace')
+            if proc.returncode <= 0 or word not in text or 'invalid parameter' not in text:
+                failures.append('%s=%s: status %d, %r' % (name, value, proc.returncode, text[-300:]))
+        self.assertEqual(failures, [], '\n'.join(failures))
 
 
 def distance_to_point(q, p):
