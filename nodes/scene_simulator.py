@@ -24,7 +24,10 @@ Parameters (private):
   ~seed (0)               0: the deterministic scene; otherwise random phases for paths and joints
   ~objects (true)         publish tracked_objects
   ~robot (true)           publish the arm
-  ~robot_output ("joint_states")  joint_states (+ robot_state_publisher) or tf
+  ~robot_output ("joint_states")  joint_states (+ robot_state_publisher) or tf; or base_only:
+                          only the static transform of the arm's root, its joints driven by
+                          another node (the demo: a planner through trajectory_relay and
+                          fake_trajectory_controller.py)
   ~follow_speed_scale (false)     slow the arm down by speed_scale (the demo turns it on)
   ~speed_scale_timeout (0.1)      s without a speed_scale message after which the scale is 0
                                   (the demo: 3 periods of the monitor)
@@ -380,8 +383,9 @@ def main():
     scale_timeout = float(rospy.get_param('~speed_scale_timeout', 0.1))
     trajectory_topic = rospy.get_param('~trajectory_topic', '')
     plan_period = float(rospy.get_param('~plan_period', 15.0))
-    if robot_output not in ('joint_states', 'tf'):
-        rospy.logfatal("~robot_output must be 'joint_states' or 'tf', got %r", robot_output)
+    if robot_output not in ('joint_states', 'tf', 'base_only'):
+        rospy.logfatal("~robot_output must be 'joint_states', 'tf' or 'base_only', got %r",
+                       robot_output)
         return 1
 
     arm = None
@@ -408,8 +412,9 @@ def main():
     broadcaster = tf2_ros.TransformBroadcaster()
     pub = rospy.Publisher('tracked_objects', TrackedBoxArray, queue_size=10)
     joints_pub = None
-    if arm is not None and robot_output == 'joint_states':
-        joints_pub = rospy.Publisher('joint_states', JointState, queue_size=10)
+    if arm is not None and robot_output in ('joint_states', 'base_only'):
+        if robot_output == 'joint_states':
+            joints_pub = rospy.Publisher('joint_states', JointState, queue_size=10)
         # The arm stands still in the cell: its base is a static transform, the rest comes from
         # robot_state_publisher.
         static_broadcaster = tf2_ros.StaticTransformBroadcaster()
@@ -420,6 +425,8 @@ def main():
                   len(objects), (', seed %d' % seed) if seed else '',
                   (', the arm follows %s' % rospy.resolve_name('speed_scale')) if (arm and follow) else '')
 
+    if robot_output == 'base_only':
+        arm = None  # its joints are another node's
     speed_scale = SpeedScale(scale_timeout) if (arm is not None and follow) else None
     plan_pub, plan = None, None
     if joints_pub is not None and trajectory_topic and plan_period > PLAN_TIMES[-1] + PLAN_LEAD:
