@@ -69,7 +69,7 @@ struct TrackerParams {
   int confirm_hits = 2;        ///< detections that confirm a tentative track (1: at once)
   int max_misses = 3;          ///< frames in a row without a detection that delete a track
   double timeout = 1.0;        ///< s since its last detection that delete a track
-  double known_velocity_error = 0.5;  ///< m/s, 3 sigma: the velocity is known at or below
+  double known_velocity_error = 1.0;  ///< m/s, 3 sigma: the velocity is known at or below
   std::string id_prefix = "t";        ///< ids are id_prefix + a number (at most 15 chars)
   std::vector<TrackerLabel> labels{TrackerLabel()};  ///< at least one
 };
