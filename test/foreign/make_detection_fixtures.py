@@ -33,11 +33,17 @@ def at(p0, v, t):
     return tuple(p + vi * t for p, vi in zip(p0, v))
 
 
+def stamp(msg, k):
+    msg.header.stamp = genpy.Time(20, k * 100000000)
+    msg.header.frame_id = 'camera'
+    return msg
+
+
 def detections3d(m, g, k, order):
-    msg = mf.stamped(m.Detection3DArray(), 20, 'camera')
+    msg = stamp(m.Detection3DArray(), k)
     for i in order:
         name, p0, v = PEOPLE[i]
-        d = mf.stamped(m.Detection3D(), 20, 'camera')
+        d = stamp(m.Detection3D(), k)
         # A user's overloaded id: swaps between the people every frame.
         d.results.append(m.ObjectHypothesisWithPose(id=(i + k) % 2 + 1, score=0.9))
         d.bbox.center.position = g.Point(*at(p0, v, k * PERIOD))
@@ -48,10 +54,10 @@ def detections3d(m, g, k, order):
 
 
 def jsk(m, g, k, order):
-    msg = mf.stamped(m.BoundingBoxArray(), 20, 'camera')
+    msg = stamp(m.BoundingBoxArray(), k)
     for i in order:
         name, p0, v = PEOPLE[i]
-        b = mf.stamped(m.BoundingBox(), 20, 'camera')
+        b = stamp(m.BoundingBox(), k)
         b.pose.position = g.Point(*at(p0, v, k * PERIOD))
         b.pose.orientation.w = 1.0
         b.dimensions = g.Vector3(0.6, 0.6, 0.0)  # no height: the label's default applies
@@ -61,8 +67,49 @@ def jsk(m, g, k, order):
     return msg
 
 
+def markers(m, g, k, order):
+    # Per person a CYLINDER (a detection) with an rviz id that swaps, then a TEXT_VIEW_FACING
+    # label and an ARROW (not detections); a DELETE of another marker at the end.
+    msg = m.MarkerArray()
+    for i in order:
+        name, p0, v = PEOPLE[i]
+        for kind in (m.Marker.CYLINDER, m.Marker.TEXT_VIEW_FACING, m.Marker.ARROW):
+            mk = stamp(m.Marker(), k)
+            mk.ns = 'people'
+            mk.id = (i + k) % 2 + 10 * kind
+            mk.type = kind
+            mk.action = m.Marker.ADD
+            mk.pose.position = g.Point(*at(p0, v, k * PERIOD))
+            mk.pose.orientation.w = 1.0
+            mk.scale = g.Vector3(0.5, 0.5, 1.7)
+            mk.color.a = 1.0
+            if kind == m.Marker.TEXT_VIEW_FACING:
+                mk.text = name
+            if kind == m.Marker.ARROW:
+                mk.points = [g.Point(0, 0, 0), g.Point(1, 0, 0)]
+            msg.markers.append(mk)
+    gone = stamp(m.Marker(), k)
+    gone.action = m.Marker.DELETE
+    gone.type = m.Marker.CUBE
+    gone.pose.orientation.w = 1.0
+    msg.markers.append(gone)
+    return msg
+
+
+def poses(m, g, k, order):
+    msg = stamp(g.PoseArray(), k)
+    for i in order:
+        name, p0, v = PEOPLE[i]
+        msg.poses.append(g.Pose(position=g.Point(*at(p0, v, k * PERIOD)),
+                                orientation=g.Quaternion(0, 0, 0, 1)))
+    return msg
+
+
+# name, package (None: Debian's own Python), builder
 CASES = [('walk_detections3d', 'vision_msgs', detections3d),
-         ('walk_jsk', 'jsk_recognition_msgs', jsk)]
+         ('walk_jsk', 'jsk_recognition_msgs', jsk),
+         ('walk_markers', None, markers),
+         ('walk_poses', None, poses)]
 
 
 def main():
@@ -70,14 +117,16 @@ def main():
     for name, package, build in CASES:
         root = mf.generate({})
         try:
-            m = mf.load(root, package)
+            if package is None:
+                import visualization_msgs.msg as m
+            else:
+                m = mf.load(root, package)
             data = io.BytesIO()
             lines = []
             for k in range(FRAMES):
                 order = [0, 1] if k % 2 == 0 else [1, 0]
                 msg = build(m, g, k, order)
                 nsecs = k * 100000000
-                msg.header.stamp = genpy.Time(20, nsecs)
                 buff = io.BytesIO()
                 msg.serialize(buff)
                 data.write(struct.pack('<I', len(buff.getvalue())))

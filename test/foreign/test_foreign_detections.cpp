@@ -145,6 +145,50 @@ TEST(ForeignDetections, JskBoxesWithoutHeightTakeTheDefault) {
   walk("walk_jsk", Eigen::Isometry3d::Identity(), 1.8);
 }
 
+TEST(ForeignDetections, MarkerArraySolidMarkersAreDetections) {
+  walk("walk_markers", Eigen::Isometry3d::Identity(), 1.7);
+}
+
+TEST(ForeignDetections, PoseArrayPosesTakeTheDefaultSize) {
+  walk("walk_poses", Eigen::Isometry3d::Identity(), 1.8);
+}
+
+TEST(ForeignDetections, TheDebianTypesDecodeAsGenpyWroteThem) {
+  // MarkerArray: per person a CYLINDER (read), a TEXT_VIEW_FACING and an ARROW (ignored), and
+  // a DELETE (ignored); no header of its own: the first solid marker's stamp and frame.
+  // PoseArray: its poses, without sizes. Every shorter prefix is refused.
+  for (const char* name : {"walk_markers", "walk_poses"}) {
+    SCOPED_TRACE(name);
+    const Sequence s = readSequence(name);
+    const bool markers = std::string(name) == "walk_markers";
+    wp::ForeignTrackArray array;
+    for (const Frame& f : s.frames) {
+      ASSERT_EQ(wp::decodeForeignTracks(s.type, s.md5, f.bytes.data(), f.bytes.size(), &array),
+                wp::ForeignRefusal::kNone)
+          << array.detail;
+      ASSERT_EQ(array.tracks.size(), 2u);
+      EXPECT_EQ(array.ignored, markers ? 5u : 0u);
+      EXPECT_EQ(array.stamp, f.stamp);
+      EXPECT_EQ(array.frame_id, "camera");
+      EXPECT_EQ(array.version->family, wp::ForeignFamily::kDetections);
+      for (const wp::ForeignTrack& t : array.tracks) {
+        EXPECT_EQ(t.id_kind, wp::ForeignIdKind::kNone);
+        EXPECT_EQ(t.dimension_axes, markers ? wp::kAxesAll : wp::kAxesNone);
+        bool someone = false;
+        for (const auto& [who, truth] : f.truth) {
+          someone = someone || (t.position - truth.position).norm() < 1e-12;
+        }
+        EXPECT_TRUE(someone) << t.position.transpose();
+      }
+    }
+    const std::vector<std::uint8_t>& bytes = s.frames[3].bytes;
+    for (std::size_t cut = 0; cut < bytes.size(); ++cut) {
+      wp::decodeForeignTracks(s.type, s.md5, bytes.data(), cut, &array);
+      EXPECT_NE(array.refusal, wp::ForeignRefusal::kNone) << "cut at " << cut;
+    }
+  }
+}
+
 TEST(ForeignDetections, TheTrackerRunsInTheFixedFrame) {
   // A camera 2 m up and turned 90 degrees about z: tracks, their velocities and orientations
   // come out in the fixed frame.
