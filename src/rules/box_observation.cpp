@@ -30,6 +30,9 @@ Drop checkBox(const BoxObservation& box, const BoxLimits& limits, std::string* d
   if (!box.linear_velocity.allFinite() || !box.angular_velocity.allFinite()) {
     return reject(Drop::kNonFinite, "non-finite twist");
   }
+  if (!std::isfinite(box.position_error) || !std::isfinite(box.velocity_error)) {
+    return reject(Drop::kNonFinite, "non-finite position_error or velocity_error");
+  }
   const Eigen::Vector3d& d = box.dimensions;
   if ((d.array() < 2.0 * Limits::kMinSize).any()) {
     return reject(Drop::kDimensions, explain("dimensions ", d.transpose(),
@@ -43,6 +46,16 @@ Drop checkBox(const BoxObservation& box, const BoxLimits& limits, std::string* d
   if (box.position.cwiseAbs().maxCoeff() > limits.max_coordinate) {
     return reject(Drop::kPosition, explain("position ", box.position.transpose(), " m is beyond ",
                                            limits.max_coordinate, " m"));
+  }
+  // The tracker's own errors: a negative bound means nothing, one beyond the limits is nonsense
+  // (and would grow the track over the whole cell).
+  if (box.position_error < 0.0 || box.position_error > limits.max_dimension) {
+    return reject(Drop::kPosition, explain("position_error ", box.position_error,
+                                           " m must be in [0, ", limits.max_dimension, "]"));
+  }
+  if (box.velocity_error < 0.0 || box.velocity_error > limits.max_speed) {
+    return reject(Drop::kSpeed, explain("velocity_error ", box.velocity_error,
+                                        " m/s must be in [0, ", limits.max_speed, "]"));
   }
   const double qn = box.quaternion.norm();
   if (std::abs(qn - 1.0) > limits.quaternion_tolerance) {

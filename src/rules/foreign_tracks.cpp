@@ -30,6 +30,12 @@ constexpr std::size_t kDetection3DMin = ws::kHeaderMin + 4 + (ws::kPose + ws::kP
                                         kPointCloud2Min;
 constexpr std::size_t kJskBoxV1Min = ws::kHeaderMin + ws::kPose + ws::kPoint;
 constexpr std::size_t kJskBoxV2Min = kJskBoxV1Min + 4 + 4;
+// visualization_msgs/Marker: header, ns, id, type, action, pose, scale, color, lifetime,
+// frame_locked, points[], colors[], text, mesh_resource, mesh_use_embedded_materials.
+constexpr std::size_t kMarkerMin =
+    ws::kHeaderMin + 4 + 4 + 4 + 4 + ws::kPose + ws::kPoint + 16 + 8 + 1 + 4 + 4 + 4 + 4 + 1;
+constexpr std::int32_t kMarkerCube = 1, kMarkerSphere = 2, kMarkerCylinder = 3;
+constexpr std::int32_t kMarkerAdd = 0;  // ADD and MODIFY
 
 constexpr std::string_view kPerson = "person";
 constexpr std::uint8_t kObjectTracked = 1;  // derived_object_msgs OBJECT_TRACKED
@@ -401,6 +407,58 @@ ForeignRefusal decodeJskBoxes(WireReader& r, ForeignTrackArray* out, bool with_l
   });
 }
 
+// Solid markers being added (CUBE, SPHERE, CYLINDER: their scale is their full extents) are
+// detections; every other marker (arrows, text, lines, deletions) is ignored and counted. A
+// MarkerArray has no header: the first solid marker's stamp and frame are the array's, and a
+// solid marker in another frame is ignored too (one transform per message).
+ForeignRefusal decodeMarkers(WireReader& r, ForeignTrackArray* out) {
+  const std::uint32_t n = r.arrayLength(kMarkerMin);
+  bool first = true;
+  for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
+    Stamp stamp = 0;
+    std::string_view frame_id;
+    readHeader(r, &stamp, &frame_id);
+    r.string();  // ns
+    r.i32();     // id: rviz's handle, never a track id
+    const std::int32_t type = r.i32();
+    const std::int32_t action = r.i32();
+    ForeignTrack t;
+    readBox(r, &t);  // pose, then scale: the full extents of these three shapes
+    r.skip(16);      // color
+    r.duration();    // lifetime
+    r.u8();          // frame_locked
+    r.skipArray(ws::kPoint);  // points
+    r.skipArray(16);          // colors
+    r.string();               // text
+    r.string();               // mesh_resource
+    r.u8();                   // mesh_use_embedded_materials
+    const bool solid = type == kMarkerCube || type == kMarkerSphere || type == kMarkerCylinder;
+    if (first && solid && action == kMarkerAdd) {
+      out->stamp = stamp;
+      out->frame_id = frame_id;
+      first = false;
+    }
+    if (!solid || action != kMarkerAdd || frame_id != out->frame_id) {
+      ++out->ignored;
+      continue;
+    }
+    if (!fits(static_cast<std::uint32_t>(out->tracks.size() + 1), out)) return out->refusal;
+    ForeignTrack& kept = newTrack(out);
+    kept.position = t.position;
+    kept.quaternion = t.quaternion;
+    kept.has_orientation = true;
+    kept.dimensions = t.dimensions;
+    kept.dimension_axes = kAxesAll;
+  }
+  return ForeignRefusal::kNone;
+}
+
+// geometry_msgs/PoseArray: poses only (no size, no class, no id).
+ForeignRefusal decodePoses(WireReader& r, ForeignTrackArray* out) {
+  readHeader(r, &out->stamp, &out->frame_id);
+  return readTracks(r, out, ws::kPose, [&](ForeignTrack& t) { readPose(r, &t); });
+}
+
 ForeignRefusal decodeFormat(ForeignFormat format, WireReader& r, ForeignTrackArray* out) {
   switch (format) {
     case ForeignFormat::kPeople: return decodePeople(r, out);
@@ -418,6 +476,8 @@ ForeignRefusal decodeFormat(ForeignFormat format, WireReader& r, ForeignTrackArr
     case ForeignFormat::kDetection3DArray: return decodeDetections3D(r, out);
     case ForeignFormat::kJskBoxArrayV1: return decodeJskBoxes(r, out, false);
     case ForeignFormat::kJskBoxArrayV2: return decodeJskBoxes(r, out, true);
+    case ForeignFormat::kMarkerArray: return decodeMarkers(r, out);
+    case ForeignFormat::kPoseArray: return decodePoses(r, out);
   }
   return refuse(out, ForeignRefusal::kUnknownType, "no decoder for this format");
 }

@@ -180,6 +180,31 @@ float32 value
 uint32 label
 )";
 
+// The two Debian types of issue 24 (their definitions: /usr/share/<package>/msg, md5s.txt's
+// "debian" rows).
+constexpr std::string_view kMarkerArray = R"(Marker[] markers
+MSG: visualization_msgs/Marker
+Header header
+string ns
+int32 id
+int32 type
+int32 action
+geometry_msgs/Pose pose
+geometry_msgs/Vector3 scale
+std_msgs/ColorRGBA color
+duration lifetime
+bool frame_locked
+geometry_msgs/Point[] points
+std_msgs/ColorRGBA[] colors
+string text
+string mesh_resource
+bool mesh_use_embedded_materials
+)";
+
+constexpr std::string_view kPoseArray = R"(Header header
+Pose[] poses
+)";
+
 using F = ForeignFormat;
 
 // What a format carries and its layout: the format decides both, so that type names sharing a
@@ -208,6 +233,8 @@ constexpr FormatFacts formatFacts(ForeignFormat format) {
     case F::kDetection3DArray: return {kDetections, kDetection3DArray};
     case F::kJskBoxArrayV1: return {kDetections, kJskV1};
     case F::kJskBoxArrayV2: return {kDetections, kJskV2};
+    case F::kMarkerArray: return {kDetections, kMarkerArray};
+    case F::kPoseArray: return {kDetections, kPoseArray};
   }
   return {kTracks, {}};
 }
@@ -249,6 +276,9 @@ constexpr ForeignVersion kVersions[] = {
           F::kJskBoxArrayV1),
     known("jsk_recognition_msgs/BoundingBoxArray", "v2", "c8f4a8bb1acd18ce778d183912bb472d",
           F::kJskBoxArrayV2),
+    known("visualization_msgs/MarkerArray", "debian", "d155b9ce5188fbaf89745847fd5882d7",
+          F::kMarkerArray),
+    known("geometry_msgs/PoseArray", "debian", "916c28c5764443f268b296bb671b9d97", F::kPoseArray),
 };
 constexpr std::size_t kVersionCount = sizeof(kVersions) / sizeof(kVersions[0]);
 

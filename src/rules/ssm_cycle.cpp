@@ -15,9 +15,19 @@ bool listed(const std::vector<std::string>& labels, const std::string& label) {
   return labels.empty() || std::find(labels.begin(), labels.end(), label) != labels.end();
 }
 
-// The fastest the object can approach anything: its tracked speed, or its label's minimum.
-double fastestApproach(const BodyMotion& motion, const LabelSettings& label) {
-  return std::max(motion.linear_velocity.norm(), label.ssm_min_speed);
+// The fastest the object can approach anything: its tracked speed (plus its tracker's own
+// velocity error), or its label's minimum. A track without a known velocity has nominal
+// velocity 0 here: its label's minimum is its approach speed.
+double fastestApproach(const BodyMotion& motion, const LabelSettings& label,
+                       const TrackErrors& own) {
+  const double error = own.velocity_known ? own.velocity_error : 0.0;
+  return std::max(motion.linear_velocity.norm() + error, label.ssm_min_speed);
+}
+
+// m: how much a track's own position error exceeds the sensor uncertainty Z_d that S_p already
+// holds (the label's position_error is for the growth model; Z_d is the site's figure).
+double extraUncertainty(const SsmParams& p, const TrackErrors& own) {
+  return std::max(0.0, own.position_error - p.sensor_uncertainty);
 }
 
 }  // namespace
@@ -40,8 +50,10 @@ void SsmCycle::prepare(const TrackTable& tracks, const LabelTable& labels,
       const auto slot = static_cast<std::size_t>(t.handle.index);
       if (slot >= monitored_.size()) monitored_.resize(slot + 1, 0);  // grows with the slots only
       monitored_[slot] = 1;
-      const double v_h = fastestApproach(world->motion(t.handle), labels.settings(t.settings));
-      reach_ = std::max(reach_, protectiveSeparation(params_, v_h, params_.robot_max_speed));
+      const double v_h =
+          fastestApproach(world->motion(t.handle), labels.settings(t.settings), t.errors);
+      reach_ = std::max(reach_, protectiveSeparation(params_, v_h, params_.robot_max_speed) +
+                                    extraUncertainty(params_, t.errors));
     }
   }
   // The core refuses reaches beyond its size limit; such a reach would cover the whole cell.
@@ -89,12 +101,19 @@ void SsmCycle::evaluate(Stamp now, const ProximityWorld& world, const TrackTable
     } else {
       towards = robot_first ? Eigen::Vector3d(-near.normal) : near.normal;
     }
-    const LabelSettings& label = labels.settings(tracks.track(track).settings);
-    const double along = world.motion(o).linear_velocity.dot(towards);
+    const Track& object = tracks.track(track);
+    const LabelSettings& label = labels.settings(object.settings);
+    // Its tracker's own errors, when it gave them: the approach may be faster by the velocity
+    // error (not for an unknown velocity: nominal 0, the label's minimum rules), and the
+    // object nearer by what its position error exceeds Z_d.
+    const TrackErrors& own = object.errors;
+    const double along = world.motion(o).linear_velocity.dot(towards) +
+                         (own.velocity_known ? own.velocity_error : 0.0);
     const double v_h = std::max({0.0, along, label.ssm_min_speed});
-    const double required = protectiveSeparation(params_, v_h, params_.robot_max_speed);
+    const double extra = extraUncertainty(params_, own);
+    const double required = protectiveSeparation(params_, v_h, params_.robot_max_speed) + extra;
     const double slack = near.distance - required;
-    out->raw_scale = std::min(out->raw_scale, pairScale(params_, near.distance, v_h));
+    out->raw_scale = std::min(out->raw_scale, pairScale(params_, near.distance - extra, v_h));
     if (slack < best_slack) {
       best_slack = slack;
       out->limited = true;

@@ -17,6 +17,20 @@ bool needsResize(const Eigen::Vector3d& current, const Eigen::Vector3d& wanted) 
          (wanted.array() < current.array() - kShrinkSlack).any();
 }
 
+// A tracker's own position error changes a little with every box (a filter's covariance).
+// Rounded up to this step and shrunk only when this much smaller, so the margin is never
+// below the error and the body is not reshaped every message.
+constexpr double kErrorStep = 0.01;         // m
+constexpr double kMarginShrinkSlack = 0.02;  // m
+
+TrackErrors errorsOf(const BoxObservation& box) {
+  TrackErrors e;
+  e.position_error = box.position_error;
+  e.velocity_error = box.velocity_error;
+  e.velocity_known = box.velocity_known;
+  return e;
+}
+
 }  // namespace
 
 TrackTable::TrackTable(ProximityWorld* world, const LabelTable* labels, int max_tracks,
@@ -143,11 +157,26 @@ void TrackTable::update(const ArrayContext& array, int index, const BoxObservati
   if (array.stamp < t.stamp) return;  // older than what we have
   t.stamp = array.stamp;
   t.motion = motion;
+  t.errors = errorsOf(box);
+  // No velocity yet: predicted standing still, grown at the label's speed (track_growth.hpp).
+  if (!t.errors.velocity_known) t.motion.linear_velocity.setZero();
   const Shape shape = boxShape(box);
-  if (needsResize(t.half, shape.half_extents)) {
-    world_->setShape(t.handle, shape, trackMargin(labels_->settings(t.settings)));
-    t.half = shape.half_extents;
+  const bool resize = needsResize(t.half, shape.half_extents);
+  const double wanted = wantedMargin(t);
+  const bool remargin = wanted > t.margin || wanted < t.margin - kMarginShrinkSlack;
+  if (resize || remargin) {
+    const double margin = remargin ? wanted : t.margin;
+    world_->setShape(t.handle, resize ? shape : world_->desc(t.handle).shape, margin);
+    if (resize) t.half = shape.half_extents;
+    t.margin = margin;
   }
+}
+
+double TrackTable::wantedMargin(const Track& t) const {
+  const LabelSettings& label = labels_->settings(t.settings);
+  double own = t.errors.position_error;
+  if (own > label.position_error) own = std::ceil(own / kErrorStep) * kErrorStep;
+  return trackMargin(label, own);
 }
 
 void TrackTable::add(const ArrayContext& array, const BoxObservation& box, const BodyMotion& motion) {
@@ -157,12 +186,14 @@ void TrackTable::add(const ArrayContext& array, const BoxObservation& box, const
   t.settings = labels_->indexOf(t.label);
   t.stamp = array.stamp;
   t.motion = motion;
+  t.errors = errorsOf(box);
+  if (!t.errors.velocity_known) t.motion.linear_velocity.setZero();
   const Shape shape = boxShape(box);
   t.half = shape.half_extents;
   t.array_serial = array_serial_;
-  t.handle = world_->addBody(BodyDesc{t.key, t.label, BodyGroup::kObject, shape,
-                                      trackMargin(labels_->settings(t.settings))},
-                             motion);
+  t.margin = wantedMargin(t);
+  t.handle = world_->addBody(BodyDesc{t.key, t.label, BodyGroup::kObject, shape, t.margin},
+                             t.motion);
   const int added = size();
   setTrackOfSlot(t.handle.index, added);
   index_.emplace(t.key, added);
@@ -198,7 +229,7 @@ void TrackTable::advance(Stamp now) {
     // prediction instant is already R(age) wider (the label's settings are looked up every
     // cycle, so live tuning applies at once; no growth: today's prediction, bit for bit).
     world_->setGrowth(t.handle, trackGrowth(labels_->settings(t.settings),
-                                            t.motion.linear_velocity.norm(), age));
+                                            t.motion.linear_velocity.norm(), age, t.errors));
   }
 }
 
@@ -213,9 +244,10 @@ void TrackTable::refreshSettings(int max_tracks) {
   max_tracks_ = max_tracks;
   for (Track& t : tracks_) {
     t.settings = labels_->indexOf(t.label);
-    const double margin = trackMargin(labels_->settings(t.settings));
+    const double margin = wantedMargin(t);
     const BodyDesc& desc = world_->desc(t.handle);
     if (margin != desc.margin) world_->setShape(t.handle, desc.shape, margin);
+    t.margin = margin;
   }
 }
 

@@ -860,6 +860,8 @@ TEST(ForeignCatalogue, AgreesWithStoredDefinitions) {
     // A nested type from the top-level type's package when stored there (pedsim's copy of
     // spencer's TrackedPerson), else from the package the layout names.
     auto load = [&](const std::string& nested_package, const std::string& name) {
+      // A Debian type (version "debian"): its folder under /usr/share, nested types beside it.
+      if (!dir.empty() && dir[0] == '/') return readFile(dir + "/" + name + ".msg");
       const std::string from =
           readFile(root + package + "/" + name + ".msg").empty() ? nested_package : package;
       const std::string text = readFile(root + from + "/" + dir + "/" + name + ".msg");

@@ -42,6 +42,9 @@ struct Person {
   Eigen::Vector3d position;
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   Eigen::Vector3d size = Eigen::Vector3d(0.5, 0.5, 1.8);
+  double position_error = 0.0;  // the tracker's own (0: none)
+  double velocity_error = 0.0;
+  bool velocity_known = true;
 };
 
 class Cell {
@@ -65,6 +68,9 @@ class Cell {
       b.position = p.position;
       b.dimensions = p.size;
       b.linear_velocity = p.velocity;
+      b.position_error = p.position_error;
+      b.velocity_error = p.velocity_error;
+      b.velocity_known = p.velocity_known;
       boxes.push_back(b);
     }
     monitor_.noteReceipt(0, now);
@@ -150,6 +156,50 @@ TEST(SsmCycle, WalkingAwayTheScaleComesFromTheDistanceAloneOrTheLabelsMinimum) {
   EXPECT_NEAR(r.ssm.raw_scale, (1.0 - 0.64 - 0.22) / 0.25, 1e-9);
   EXPECT_NEAR(r.ssm.approach_speed, 1.6, 1e-12);
   EXPECT_NEAR(r.ssm.required_separation, 1.11, 1e-12);
+}
+
+TEST(SsmCycle, AnUnknownVelocityApproachesAtTheLabelsMinimum) {
+  wp::MonitorParams p = params();
+  p.labels["unknown"] = p.labels["person"];
+  p.labels["unknown"].ssm_min_speed = 1.6;
+  // 1.0 m away, reported at 3 m/s straight at the robot but with velocity_known false: not a
+  // velocity; the label's 1.6 m/s: (1.0 - 0.64 - 0.22) / 0.25 = 0.56.
+  Cell cell(p, post());
+  Person u{"u", "unknown", {0.5 + 0.25 + 1.0, 0.0, 0.9}, {-3.0, 0.0, 0.0}};
+  u.velocity_known = false;
+  const wp::CycleReport& r = cell.cycle(at(0), {u});
+  EXPECT_NEAR(r.ssm.raw_scale, 0.56, 1e-9);
+  EXPECT_NEAR(r.ssm.approach_speed, 1.6, 1e-12);
+  // Known, the same 3 m/s: S_p(0) = 1.2 + 0.22 > 1.0, a stop.
+  Cell known(p, post());
+  u.velocity_known = true;
+  EXPECT_EQ(known.cycle(at(0), {u}).ssm.raw_scale, 0.0);
+}
+
+TEST(SsmCycle, ATracksOwnErrorsWidenTheSeparation) {
+  Cell cell(params(), post());
+  // Walking at 1 m/s at the robot from 1.0 m with its tracker's own velocity error 0.5 m/s:
+  // v_h = 1.5, (1.0 - 0.6 - 0.22) / 0.25 = 0.72 (without the error: (1 - 0.4 - 0.22) / 0.25 =
+  // 1.52, full speed).
+  Person walker{"w", "person", {0.5 + 0.25 + 1.0, 0.0, 0.9}, {-1.0, 0.0, 0.0}};
+  walker.velocity_error = 0.5;
+  const wp::CycleReport& r = cell.cycle(at(0), {walker});
+  EXPECT_NEAR(r.ssm.raw_scale, 0.72, 1e-9);
+  EXPECT_NEAR(r.ssm.approach_speed, 1.5, 1e-12);
+  // Standing 0.6 m away with its own position error 0.3 m, 0.2 m beyond Z_d = 0.1: the pair
+  // needs 0.2 m more, (0.6 - 0.2 - 0.22) / 0.25 = 0.72, S_p(v_max) = 0.47 + 0.2 = 0.67. The
+  // reach must hold the extra too (0.47 < 0.6: without it the pair would not be seen).
+  Cell standing(params(), post());
+  Person still{"s", "person", {0.5 + 0.25 + 0.6, 0.0, 0.9}};
+  still.position_error = 0.3;
+  const wp::CycleReport& rs = standing.cycle(at(0), {still});
+  ASSERT_TRUE(rs.ssm.limited);
+  EXPECT_NEAR(rs.ssm.raw_scale, 0.72, 1e-9);
+  EXPECT_NEAR(rs.ssm.required_separation, 0.67, 1e-12);
+  // An own error within Z_d changes nothing: (0.6 - 0.22) / 0.25 > 1.
+  Cell within(params(), post());
+  still.position_error = 0.05;
+  EXPECT_EQ(within.cycle(at(0), {still}).ssm.raw_scale, 1.0);
 }
 
 TEST(SsmCycle, StandingStillInsideTheProtectiveSeparationStopsWithoutAnyContact) {

@@ -53,13 +53,18 @@ struct Fixture {
   }
   // A 1 m cube whose near face is `gap` m from the wall's face at x = 0.5, moving at
   // (vx, vy), observed at `stamp`.
-  void object(double gap, double vx, double vy, wp::Stamp stamp, wp::Stamp now) {
+  // `own`: the tracker's own errors for the box (default: none, the label's settings).
+  void object(double gap, double vx, double vy, wp::Stamp stamp, wp::Stamp now,
+              const wp::TrackErrors& own = wp::TrackErrors()) {
     wp::BoxObservation b;
     b.id = "p1";
     b.label = label;
     b.position = {0.5 + gap + 0.5, 0, 0};
     b.dimensions = {1, 1, 1};
     b.linear_velocity = {vx, vy, 0};
+    b.position_error = own.position_error;
+    b.velocity_error = own.velocity_error;
+    b.velocity_known = own.velocity_known;
     monitor.noteReceipt(0, now);
     ASSERT_TRUE(monitor.ingest(0, stamp, now, Eigen::Isometry3d::Identity(), {b}));
   }
@@ -263,6 +268,137 @@ TEST(TrackGrowth, GrowthOfALabel) {
   EXPECT_NEAR(g.at(0.4), 0.525, 1e-12);
   l.max_speed = 0.0;  // no cap
   EXPECT_EQ(wp::trackGrowth(l, 1.2, 0.0).speed_cap, std::numeric_limits<double>::infinity());
+}
+
+wp::TrackErrors own(double position_error, double velocity_error, bool velocity_known = true) {
+  wp::TrackErrors e;
+  e.position_error = position_error;
+  e.velocity_error = velocity_error;
+  e.velocity_known = velocity_known;
+  return e;
+}
+
+TEST(TrackGrowth, ATracksOwnPositionErrorVisiblyWidensTheMargin) {
+  // Label: margin 0.1, position_error 0.05. Approaching at 1 m/s from a gap of 2 m, no growth
+  // terms: touching when the gap equals the margin, at (2 - margin) / 1 s.
+  wp::LabelSettings l = person(0.0, 0.0, 0.0);
+  l.margin = 0.1;
+  l.position_error = 0.05;
+  struct Case {
+    double own, margin;  // the box's own position_error, the margin it must get
+  } const cases[] = {
+      {0.0, 0.15},    // none: the label's
+      {0.02, 0.15},   // below the label's: the label is a floor
+      {0.30, 0.40},   // above: its own, 0.1 + 0.3
+      {0.123, 0.23},  // rounded up to the next centimetre, never below the error
+  };
+  for (const Case& c : cases) {
+    Fixture f(l);
+    f.object(2.0, -1.0, 0.0, kT0, kT0, own(c.own, 0.0));
+    const wp::PairEvent& e = f.only(kT0);
+    EXPECT_NEAR(f.monitor.world().desc(f.monitor.tracks().track(0).handle).margin, c.margin, 1e-12)
+        << "own " << c.own;
+    EXPECT_NEAR(e.time_to_contact, 2.0 - c.margin, 1e-6) << "own " << c.own;
+  }
+}
+
+TEST(TrackGrowth, AMarginFollowsTheTrackersErrorUpAtOnceAndDownWithSlack) {
+  wp::LabelSettings l = person(0.0, 0.0, 0.0);
+  l.margin = 0.1;
+  Fixture f(l);
+  auto margin = [&] { return f.monitor.world().desc(f.monitor.tracks().track(0).handle).margin; };
+  wp::Stamp t = kT0;
+  f.object(3.0, 0.0, 0.0, t, t, own(0.30, 0.0));
+  EXPECT_NEAR(margin(), 0.40, 1e-12);
+  t += kSecond / 20;
+  f.object(3.0, 0.0, 0.0, t, t, own(0.35, 0.0));  // larger: at once
+  EXPECT_NEAR(margin(), 0.45, 1e-12);
+  t += kSecond / 20;
+  f.object(3.0, 0.0, 0.0, t, t, own(0.34, 0.0));  // 1 cm smaller: kept (never too small)
+  EXPECT_NEAR(margin(), 0.45, 1e-12);
+  t += kSecond / 20;
+  f.object(3.0, 0.0, 0.0, t, t, own(0.20, 0.0));  // 15 cm smaller: shrinks
+  EXPECT_NEAR(margin(), 0.30, 1e-12);
+}
+
+TEST(TrackGrowth, ATracksOwnVelocityErrorGrowsItWhereLargerThanTheLabels) {
+  // Label e = 0.4 m/s, standing 1.6 m from the wall, no margins: R(s) = e s reaches the gap at
+  // 1.6 / e. The box's own e = 0.8 m/s: at 2.0 s; own 0.2 (below the label): at 4.0 s.
+  expectOnlyContactAt(person(0.4, 0.0, 0.0), 1.6, 0.0, 0.0, 4.0, "label only");
+  Fixture larger(person(0.4, 0.0, 0.0));
+  larger.object(1.6, 0.0, 0.0, kT0, kT0, own(0.0, 0.8));
+  expectFirstContact(larger.only(kT0), 2.0, "own 0.8 m/s");
+  Fixture smaller(person(0.4, 0.0, 0.0));
+  smaller.object(1.6, 0.0, 0.0, kT0, kT0, own(0.0, 0.2));
+  expectFirstContact(smaller.only(kT0), 4.0, "own 0.2 m/s: the label's floor");
+  // A label without any growth term: the box's own error alone grows it (1.6 / 0.8 = 2 s).
+  Fixture alone(person(0.0, 0.0, 0.0));
+  alone.object(1.6, 0.0, 0.0, kT0, kT0, own(0.0, 0.8));
+  expectFirstContact(alone.only(kT0), 2.0, "own 0.8 m/s, label none");
+}
+
+TEST(TrackGrowth, AnUnknownVelocityGrowsAtTheLabelsMaxSpeedFromStandingStill) {
+  // Label: e = 0.3, a = 4, v_max = 2 m/s. The box says it moves at 1 m/s away from the wall,
+  // but the velocity is not known: nominal 0, R(s) = 2 s, whatever e and a say. Gap 3 m:
+  // 1.5 s, the first contact of the same object running at v_max straight at the wall.
+  const wp::LabelSettings l = person(0.3, 4.0, 2.0);
+  Fixture away(l);
+  away.object(3.0, 1.0, 0.0, kT0, kT0, own(0.0, 0.0, false));
+  expectFirstContact(away.only(kT0), 1.5, "unknown velocity, reported moving away");
+  EXPECT_EQ(away.monitor.world().motion(away.monitor.tracks().track(0).handle).linear_velocity,
+            Eigen::Vector3d::Zero());
+  Fixture towards(l);
+  towards.object(3.0, -1.0, 0.0, kT0, kT0, own(0.0, 0.0, false));
+  expectFirstContact(towards.only(kT0), 1.5, "unknown velocity, reported moving towards");
+  // Measured 0.25 s ago: 0.5 m have grown already, 1.25 s left.
+  Fixture late(l);
+  late.object(3.0, 0.0, 0.0, kT0 - kSecond / 4, kT0, own(0.0, 0.0, false));
+  expectFirstContact(late.only(kT0), 1.25, "unknown velocity, measured 0.25 s ago");
+  // Once the velocity is known the label's model applies: standing, R = min(0.3 s + 2 s^2,
+  // 2 s) = 3 at s = 1.5 (the cap; uncapped it would be (-0.3 + sqrt(24.09)) / 4 = 1.152).
+  Fixture known(l);
+  known.object(3.0, 0.0, 0.0, kT0, kT0);
+  expectFirstContact(known.only(kT0), 1.5, "known, standing");
+}
+
+TEST(TrackGrowth, GrowthOfAnUnknownVelocity) {
+  wp::LabelSettings l;
+  l.max_speed = 2.5;
+  l.velocity_error = 0.3;
+  l.max_accel = 4.0;
+  wp::MarginGrowth g = wp::trackGrowth(l, 0.0, 0.1, own(0.0, 0.0, false));
+  ASSERT_TRUE(g.valid());
+  for (double t : {0.0, 0.3, 1.0, 4.0}) EXPECT_NEAR(g.at(t), 2.5 * (0.1 + t), 1e-12);
+  // No max_speed: the larger of ssm_min_speed and the 2 m/s fallback.
+  l.max_speed = 0.0;
+  EXPECT_EQ(wp::unknownVelocitySpeed(l), 2.0);
+  l.ssm_min_speed = 2.4;
+  EXPECT_EQ(wp::unknownVelocitySpeed(l), 2.4);
+  g = wp::trackGrowth(l, 0.0, 0.0, own(0.0, 0.0, false));
+  EXPECT_NEAR(g.at(2.0), 4.8, 1e-12);
+  // The box's own velocity error raises e, never lowers it.
+  l.max_speed = 2.0;
+  EXPECT_EQ(wp::trackGrowth(l, 1.0, 0.0, own(0.0, 0.9)).velocity_error, 0.9);
+  EXPECT_EQ(wp::trackGrowth(l, 1.0, 0.0, own(0.0, 0.1)).velocity_error, 0.3);
+  EXPECT_DOUBLE_EQ(wp::trackMargin(l, 0.5), l.margin + 0.5);
+}
+
+TEST(TrackGrowth, BadOwnErrorsAreRejectedByName) {
+  wp::BoxObservation b;
+  b.id = "p";
+  std::string why;
+  const wp::BoxLimits limits;
+  b.position_error = std::nan("");
+  EXPECT_EQ(wp::checkBox(b, limits, &why), wp::Drop::kNonFinite);
+  b.position_error = -0.1;
+  EXPECT_EQ(wp::checkBox(b, limits, &why), wp::Drop::kPosition);
+  EXPECT_NE(why.find("position_error"), std::string::npos) << why;
+  b.position_error = 0.1;
+  b.velocity_error = 1e9;
+  EXPECT_EQ(wp::checkBox(b, limits, &why), wp::Drop::kSpeed);
+  EXPECT_NE(why.find("velocity_error"), std::string::npos) << why;
+  b.velocity_error = 0.2;
+  EXPECT_EQ(wp::checkBox(b, limits, &why), wp::Drop::kCount);
 }
 
 int main(int argc, char** argv) {

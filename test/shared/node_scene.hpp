@@ -114,6 +114,9 @@ class SceneTrack {
     b.dimensions = size;
     b.linear_velocity = velocity(t);
     if (turning_) b.angular_velocity = Eigen::Vector3d(0.0, 0.0, yaw_rate_);
+    b.position_error = position_error;
+    b.velocity_error = velocity_error;
+    b.velocity_known = velocity_known;
     return b;
   }
 
@@ -121,6 +124,9 @@ class SceneTrack {
   std::string label;
   Eigen::Vector3d size;
   bool active = true;  ///< published (false: left out of the arrays from now on)
+  bool velocity_known = true;   ///< published as known (false: a tracker without it yet)
+  double position_error = 0.0;  ///< m, the tracker's own error it publishes (0: none)
+  double velocity_error = 0.0;  ///< m/s, likewise
 
  private:
   struct Segment {

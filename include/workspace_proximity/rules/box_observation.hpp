@@ -41,7 +41,8 @@ struct BoxLimits {
 
 /// Drop::kCount when the box is usable; otherwise the reason, with the explanation in
 /// `*detail` (built only then). Checks the id, finiteness of every number, dimensions
-/// (>= 2 Limits::kMinSize, <= max), coordinates, the quaternion's length and speeds.
+/// (>= 2 Limits::kMinSize, <= max), coordinates, the tracker's own errors (position_error in
+/// [0, max_dimension], velocity_error in [0, max_speed]), the quaternion's length and speeds.
 Drop checkBox(const BoxObservation& box, const BoxLimits& limits, std::string* detail);
 
 /// The box's shape (half extents from the full dimensions).

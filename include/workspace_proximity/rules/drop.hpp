@@ -13,7 +13,7 @@ namespace workspace_proximity {
 enum class Drop : std::uint8_t {
   // One box of an array.
   kEmptyId = 0,     ///< the box has no id
-  kNonFinite,       ///< NaN or infinity in the pose, dimensions or twist
+  kNonFinite,       ///< NaN or infinity in the pose, dimensions, twist or errors
   kDimensions,      ///< an edge too small or too large
   kPosition,        ///< coordinates beyond the box limits
   kOrientation,     ///< quaternion too far from unit length

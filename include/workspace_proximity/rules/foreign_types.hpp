@@ -27,6 +27,8 @@ enum class ForeignFormat : std::uint8_t {
   kDetection3DArray,                   ///< vision_msgs/Detection3DArray (ROS 1, 0.0.x)
   kJskBoxArrayV1,                      ///< jsk_recognition_msgs/BoundingBoxArray, no value/label
   kJskBoxArrayV2,                      ///< with value and label (2015-08 on)
+  kMarkerArray,                        ///< visualization_msgs/MarkerArray (CUBE, SPHERE, CYLINDER)
+  kPoseArray,                          ///< geometry_msgs/PoseArray
 };
 
 /// What a type carries: tracks with ids (and maybe velocities), or detections to be associated.

@@ -3,10 +3,16 @@
 /// scale of each (ssm_rule.hpp's formula), the limiting pair, and the output a controller acts on
 /// (capped while DEGRADED, with hysteresis). ROS-free; the monitor runs it every cycle.
 ///
+/// A track's own errors (BoxObservation's position_error, velocity_error) count when its
+/// tracker gave them: v_h = max(0, v . u + velocity_error, ssm_min_speed) for the direction u
+/// towards the robot, and the pair needs max(0, position_error - Z_d) more than S_p (its d is
+/// that much smaller). A track whose velocity is unknown has nominal velocity 0: v_h is its
+/// label's ssm_min_speed (the `unknown` label's 1.6 m/s, the standard's walking speed).
+///
 /// Every pair within reach is considered, not only pairs with a predicted contact. A pair
-/// allows full speed once d >= S_p(v_max) with its own approach speed, and v_h is at most
-/// max(|v|, ssm_min_speed) of the object, so no pair farther than
-///   R = max over monitored tracks of S_p(v_max) with v_h = max(|v|, ssm_min_speed)
+/// allows full speed once d >= S_p(v_max) + extra with its own approach speed, and v_h is at
+/// most max(|v| + velocity_error, ssm_min_speed) of the object, so no pair farther than
+///   R = max over monitored tracks of S_p(v_max) + extra, v_h = max(|v| + e, ssm_min_speed)
 /// can lower the scale. Before each predict, every robot body's reach in the world
 /// (ProximityWorld::setReach) is set to R: the broad phase then pairs every robot body with
 /// every object whose bare shape is within R of it now, and the world reports those pairs

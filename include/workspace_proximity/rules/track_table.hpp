@@ -14,6 +14,7 @@
 #include "workspace_proximity/rules/drop.hpp"
 #include "workspace_proximity/rules/level_policy.hpp"
 #include "workspace_proximity/rules/stamp.hpp"
+#include "workspace_proximity/rules/track_growth.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace workspace_proximity {
@@ -26,6 +27,10 @@ struct Track {
   Stamp stamp = 0;       ///< observation time of `motion`
   BodyMotion motion;     ///< in the fixed frame, at `stamp`
   Eigen::Vector3d half = Eigen::Vector3d::Zero();  ///< current shape's half extents, m
+  /// Its tracker's own errors from the last box (the label's settings stay a floor). With
+  /// velocity_known false, motion's linear velocity is 0 (nominal; track_growth.hpp).
+  TrackErrors errors;
+  double margin = 0.0;  ///< m, the margin its body has now (trackMargin, rounded up)
   std::uint64_t array_serial = 0;  ///< the last array that updated it
 };
 
@@ -59,7 +64,8 @@ class TrackTable {
   /// Removes every track (their pairs END at the next predict).
   void clear();
   /// The label table or the cap changed (live tuning): every track looks its settings up
-  /// again and takes its label's margin (+ position_error) now, its growth at advance(). A lower cap applies to arrays from now on.
+  /// again and takes its label's margin (+ position_error, or its own when larger) now, its
+  /// growth at advance(). A lower cap applies to arrays from now on.
   void refreshSettings(int max_tracks);
 
   int size() const { return static_cast<int>(tracks_.size()); }
@@ -81,6 +87,8 @@ class TrackTable {
   void add(const ArrayContext& array, const BoxObservation& box, const BodyMotion& motion);
   void remove(int index);
   void setTrackOfSlot(std::int32_t slot, int track);
+  // The margin track `t` needs for its label and own position error (see kErrorStep).
+  double wantedMargin(const Track& t) const;
 
   ProximityWorld* world_;
   const LabelTable* labels_;

@@ -1,0 +1,71 @@
+#include "workspace_proximity/rules/foreign_detections.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "workspace_proximity/body.hpp"
+
+namespace workspace_proximity {
+namespace {
+
+TrackerParams trackerParams(const ForeignDetectionParams& p) {
+  TrackerParams t = p.tracker;
+  t.labels.assign(1, TrackerLabel{p.label, p.max_accel, p.max_speed});
+  return t;
+}
+
+// m: the detection's 1 sigma. The largest variance of a given covariance: the tracker's noise
+// is isotropic, so the worst axis speaks for all.
+double sigmaOf(const ForeignTrack& t, double fallback) {
+  if (!t.has_position_covariance) return fallback;
+  const double largest = t.position_covariance.diagonal().maxCoeff();
+  return largest > 0.0 ? std::sqrt(largest) : fallback;
+}
+
+}  // namespace
+
+ForeignDetections::ForeignDetections(const ForeignDetectionParams& params)
+    : params_(params), tracker_(trackerParams(params)) {
+  detections_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
+}
+
+DetectionRefusal ForeignDetections::ingest(const ForeignTrackArray& array,
+                                           const Eigen::Isometry3d& fixed_from_frame) {
+  if (array.refusal != ForeignRefusal::kNone || array.version == nullptr ||
+      array.version->family != ForeignFamily::kDetections) {
+    return DetectionRefusal::kNotDetections;
+  }
+  const Eigen::Matrix3d rotation = fixed_from_frame.linear();
+  const Eigen::Quaterniond frame_rotation(rotation);
+  detections_.clear();
+  const std::size_t room = static_cast<std::size_t>(params_.tracker.max_detections);
+  for (const ForeignTrack& t : array.tracks) {
+    if (detections_.size() >= room) break;  // the tracker would drop them: counted there
+    Detection d;
+    d.position = fixed_from_frame * t.position;
+    for (int k = 0; k < 3; ++k) {
+      const bool given = (t.dimension_axes >> k) & 1;
+      const double size = t.dimensions[k];
+      // A flat or missing extent is no extent: the label's default holds an object there.
+      d.dimensions[k] = given && size >= 2.0 * Limits::kMinSize ? size
+                                                                : params_.default_dimensions[k];
+    }
+    Eigen::Quaterniond q = frame_rotation;
+    if (t.has_orientation) {
+      const Eigen::Vector4d& v = t.quaternion;
+      const Eigen::Quaterniond own(v.w(), v.x(), v.y(), v.z());
+      // A zero quaternion (unset) means no rotation. Any other keeps its length, so the
+      // tracker rejects one that is not of unit length (counted) rather than guess.
+      q = own.norm() > 0.0 ? frame_rotation * own : frame_rotation;
+    }
+    d.quaternion = Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
+    d.sigma = sigmaOf(t, params_.default_sigma);
+    d.label = 0;
+    detections_.push_back(d);
+  }
+  // The tracker counts what it drops or rejects; ids in the message are never read.
+  if (!tracker_.update(array.stamp, detections_)) return DetectionRefusal::kOutOfOrder;
+  return DetectionRefusal::kNone;
+}
+
+}  // namespace workspace_proximity
