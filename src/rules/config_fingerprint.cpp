@@ -45,6 +45,21 @@ void appendQuoted(std::string* out, const std::string& s) {
   *out += '"';
 }
 
+// A label's name inside a line's name: as it is, but with '\\', '=', '/' and control
+// characters as \xHH, so that no name can end the line's name early or start another line.
+void appendNamePart(std::string* out, const std::string& s) {
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\\' || c == '=' || c == '/' || u < 0x20 || u == 0x7f) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof buffer, "\\x%02x", u);
+      *out += buffer;
+    } else {
+      *out += c;
+    }
+  }
+}
+
 void appendNames(std::string* out, const std::vector<std::string>& names) {
   *out += '[';
   for (std::size_t i = 0; i < names.size(); ++i) {
@@ -118,7 +133,7 @@ void appendStructure(std::string* out, const ParamRow& row, const MonitorParams&
   if (name == "labels") {
     for (const auto& [label, settings] : p.labels) {  // std::map: sorted by name
       std::string prefix = "labels/";
-      prefix += label;
+      appendNamePart(&prefix, label);
       prefix += '/';
       appendLabel(out, prefix, settings, true);
     }

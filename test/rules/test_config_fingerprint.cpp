@@ -201,6 +201,17 @@ TEST(ConfigFingerprint, NoValueCanImitateAnotherConfiguration) {
   const std::string plain = wp::canonicalConfig(wp::MonitorParams());
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), std::count(plain.begin(), plain.end(), '\n'));
   EXPECT_NE(text.find("fixed_frame=\"world\\nrate=31\"\n"), std::string::npos) << text;
+  // Nor can a label's name: "a/margin=1\nlabels/b" stays one label's lines.
+  wp::MonitorParams e;
+  e.labels["a/margin=1\nlabels/b"] = wp::LabelSettings();
+  const std::string labelled = wp::canonicalConfig(e);
+  EXPECT_EQ(std::count(labelled.begin(), labelled.end(), '\n'),
+            std::count(plain.begin(), plain.end(), '\n') +
+                static_cast<long>(wp::labelTable().size))
+      << labelled;
+  EXPECT_NE(labelled.find("labels/a\\x2fmargin\\x3d1\\x0alabels\\x2fb/margin=0.1\n"),
+            std::string::npos)
+      << labelled;
   wp::MonitorParams d;
   d.fixed_frame = "a\"b\\c\td\x01";
   EXPECT_NE(wp::canonicalConfig(d).find("fixed_frame=\"a\\\"b\\\\c\\td\\x01\"\n"), std::string::npos);

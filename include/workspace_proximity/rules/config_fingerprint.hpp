@@ -13,7 +13,8 @@
 ///   lists        ["a","b"], pairs [["a","b"],["c","d"]]: in their order (a list given in
 ///                another order is another configuration: never a change hidden);
 ///   labels       labels/<label>/<key>=..., the labels sorted by name (a map: the order they
-///                were given in means nothing), every key of labelTable();
+///                were given in means nothing), every key of labelTable(); in a label's
+///                name \, =, / and control characters are written \xHH;
 ///   thresholds   robot_thresholds/<key>=..., the keys that are not track-only;
 ///   robot_bodies robot_bodies/<i>=name,frame,shape,dimensions,offset (in their order);
 ///   URDF         robot_description=<FNV-1a 64 of the text> while ~use_robot_description,
