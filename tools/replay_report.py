@@ -214,6 +214,7 @@ def main(argv):
         ("bag", "%s (%.2f s)" % (summary["bag"], duration)),
         ("configuration", ", ".join(summary["config_files"]) or "(the node's defaults)"),
         ("URDF", summary["urdf"] or "(none)"),
+        ("config fingerprint", summary.get("config_fingerprint", "(not recorded)")),
         ("prediction", "%s Hz, horizon %s s, fixed frame %s" % (
             summary.get("rate"), summary.get("horizon"), summary.get("fixed_frame"))),
         ("input", "%d arrays on %s; %d tf + %d tf_static messages" % (

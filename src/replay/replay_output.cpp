@@ -7,6 +7,8 @@
 
 #include <sys/stat.h>
 
+#include "workspace_proximity/rules/config_fingerprint.hpp"
+
 namespace workspace_proximity {
 namespace {
 
@@ -249,6 +251,9 @@ std::string summaryJson(const ReplayStats& s, const ReplayInfo& info) {
   j << "  \"urdf\": " << jsonString(info.urdf) << ",\n";
   if (info.setup != nullptr) {
     const MonitorParams& p = info.setup->params;
+    // The node's fingerprint of the same configuration and URDF (config_fingerprint.hpp).
+    j << "  \"config_fingerprint\": " << jsonString(configFingerprint(p, info.setup->urdf_xml))
+      << ",\n";
     j << "  \"fixed_frame\": " << jsonString(p.fixed_frame) << ",\n";
     j << "  \"rate\": " << jsonNumber(p.rate) << ",\n";
     j << "  \"horizon\": " << jsonNumber(p.horizon) << ",\n";
@@ -316,6 +321,10 @@ std::string summaryText(const ReplayStats& s, const ReplayInfo& info) {
     t.precision(2);
   }
   t << "\n";
+  if (info.setup != nullptr) {
+    t << "  config: fingerprint "
+      << configFingerprint(info.setup->params, info.setup->urdf_xml) << "\n";
+  }
   t << "  input:  " << s.arrays << " arrays, " << s.tf_messages << " tf + " << s.tf_static_messages
     << " tf_static messages\n";
   t << "  cycles: " << s.cycles << ", " << s.degraded_cycles << " DEGRADED";

@@ -6,7 +6,7 @@
 
 namespace workspace_proximity {
 
-void diagnose(const MonitorBridges& bridges, Stamp now,
+void diagnose(const MonitorBridges& bridges, Stamp now, const std::string& fingerprint,
               diagnostic_updater::DiagnosticStatusWrapper* status) {
   const Monitor& monitor = bridges.monitor();
   const CycleRunner& runner = bridges.runner();
@@ -24,6 +24,7 @@ void diagnose(const MonitorBridges& bridges, Stamp now,
   } else {
     status->summary(diagnostic_msgs::DiagnosticStatus::OK, "predicting");
   }
+  status->add("config fingerprint", fingerprint);
   status->add("cycles", counts.cycles);
   status->add("cycle time (ms)", runner.lastCycleMs());
   status->add("max cycle time (ms)", runner.maxCycleMs());

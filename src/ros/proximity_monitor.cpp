@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "workspace_proximity/rules/config_fingerprint.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
 #include "workspace_proximity/ros/diagnostics_bridge.hpp"
 #include "workspace_proximity/ros/reconfigure_bridge.hpp"
@@ -33,6 +34,13 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
       trigger_(params.rate),
       diagnostics_(nh_, private_nh) {
   const std::vector<std::string> topics = inputTopics(nh_, params_);
+  if (params_.use_robot_description) nh_.getParam(params_.robot_description_param, urdf_);
+  fingerprint_ = configFingerprint(params_, urdf_);
+  // First: a log that cannot be opened stops the node before it publishes anything.
+  if (!params_.audit_log.empty()) {
+    audit_log_ = std::make_unique<AuditLog>(params_.audit_log, fingerprint_);
+    audit_trail_ = std::make_unique<AuditTrail>(audit_log_.get());
+  }
   RobotDescription robot = loadRobotBodies(nh_, params_);
   if (params_.require_all_links && !robot.unmodelled.empty()) {
     // Asked not to run with part of the robot missing: refuse, naming every element.
@@ -54,6 +62,7 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   contacts_ = std::make_unique<ContactPublisher>(nh_, params_.fixed_frame);
   if (params_.ssm.enabled) {
     ssm_ = std::make_unique<SsmPublisher>(nh_, params_.fixed_frame, params_.ssm);
+    ssm_->setFingerprint(fingerprint_);
     if (!params_.ssm.cmd_vel_in.empty()) {
       twist_filter_ = std::make_unique<TwistFilter>(nh_, params_.ssm.cmd_vel_in,
                                                     params_.ssm.cmd_vel_out, params_.rate);
@@ -81,7 +90,11 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   }
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("proximity monitor", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
-    diagnose(*bridges_, toStamp(ros::Time::now()), &s);
+    diagnose(*bridges_, toStamp(ros::Time::now()), fingerprint_, &s);
+    s.add("audit log", params_.audit_log.empty() ? std::string("off") : params_.audit_log);
+    if (audit_log_ != nullptr && audit_log_->failed()) {
+      s.add("audit log lines lost", audit_log_->failures());
+    }
   });
   // Timer trigger: a cycle every period. Input trigger: arrays run the cycles, and a one-shot
   // timer, re-armed after every cycle, runs one when a period passes without (the floor: silence
@@ -109,11 +122,30 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   reconfigure_->setCallback(
       [this](ProximityMonitorConfig& config, std::uint32_t level) { reconfigure(config, level); });
   ROS_INFO("proximity_monitor: %d robot bodies, %zu input topics, fixed frame '%s', %.1f Hz "
-           "(%s), horizon %.2f s, speed and separation monitoring %s",
+           "(%s), horizon %.2f s, speed and separation monitoring %s, config fingerprint %s%s%s",
            bridges_->monitor().robot().size(), topics.size(), params_.fixed_frame.c_str(),
            params_.rate,
            input_trigger_ ? ("cycles on arrays of " + topics[trigger_source_]).c_str() : "timer",
-           params_.horizon, params_.ssm.enabled ? "on" : "off");
+           params_.horizon, params_.ssm.enabled ? "on" : "off", fingerprint_.c_str(),
+           audit_log_ ? ", audit log " : "", params_.audit_log.c_str());
+  audit(audit_kind::kStart,
+        "proximity_monitor started: " + std::to_string(bridges_->monitor().robot().size()) +
+            " robot bodies, " + std::to_string(topics.size()) + " input topics, speed and "
+            "separation monitoring " + (params_.ssm.enabled ? "on" : "off"));
+}
+
+void ProximityMonitor::audit(const char* kind, const std::string& reason) {
+  if (audit_log_ == nullptr) return;
+  audit_log_->write(toStamp(ros::Time::now()), kind, reason);
+  checkAudit();
+}
+
+void ProximityMonitor::checkAudit() {
+  if (audit_issue_ || !audit_log_->failed()) return;
+  audit_issue_ = true;
+  ROS_ERROR("proximity_monitor: %s; status DEGRADED while the node runs",
+            audit_log_->error().c_str());
+  if (bridges_ != nullptr) bridges_->addPermanentIssue(audit_log_->error());
 }
 
 void ProximityMonitor::enableJoints() {
@@ -145,6 +177,9 @@ void ProximityMonitor::enableJoints() {
 }
 
 ProximityMonitor::~ProximityMonitor() {
+  if (audit_log_ != nullptr) {
+    audit_log_->write(toStamp(ros::Time::now()), audit_kind::kShutdown, "proximity_monitor stops");
+  }
   const std::uint64_t cycles = bridges_ ? bridges_->monitor().status().cycles : 0;
   if (cycles > 0) {
     std::printf("proximity_monitor: %llu cycles; stage times over the last %zu: %s\n",
@@ -172,6 +207,11 @@ void ProximityMonitor::rest(const CycleReport& report, const ProximityWorld& wor
   // after a jump back publish now, which also restarts its period from the new clock.
   if (run.reset && !run.failed) diagnostics_.force_update();
   publishSsm(report, world);
+  if (audit_trail_ != nullptr) {
+    // Transitions only (two flags compared): nothing written on an ordinary cycle.
+    audit_trail_->cycle(report);
+    checkAudit();
+  }
   if (!run.failed) scheduleMarkers(toTime(report.stamp));
 }
 
@@ -200,11 +240,33 @@ void ProximityMonitor::reconfigure(ProximityMonitorConfig& config, std::uint32_t
   MonitorParams next;
   std::vector<std::string> errors;
   if (!checkConfig(params_, config, &next, &errors)) {
+    std::string why;
     for (const std::string& e : errors) {
       ROS_ERROR("proximity_monitor: reconfigure refused: %s", e.c_str());
+      why += (why.empty() ? "" : "; ") + e;
     }
+    audit(audit_kind::kParamsRefused, why);
     config = toConfig(params_);  // published back: the values in force
     return;
+  }
+  // What changed, for the audit trail (dynamic_reconfigure also calls with nothing changed).
+  const std::string fingerprint = configFingerprint(next, urdf_);
+  if (fingerprint != fingerprint_) {
+    std::string what;
+    if (audit_log_ != nullptr) {
+      for (const std::string& c : configChanges(params_, next, urdf_)) {
+        what += (what.empty() ? "" : "; ") + c;
+      }
+    }
+    ROS_INFO("proximity_monitor: parameters changed, config fingerprint %s -> %s",
+             fingerprint_.c_str(), fingerprint.c_str());
+    const std::string old = fingerprint_;
+    fingerprint_ = fingerprint;
+    if (ssm_ != nullptr) ssm_->setFingerprint(fingerprint_);
+    if (audit_log_ != nullptr) {
+      audit_log_->setFingerprint(fingerprint_);
+      audit(audit_kind::kParams, what + "; fingerprint " + old + " -> " + fingerprint_);
+    }
   }
   const bool rate_changed = next.rate != params_.rate;
   params_ = next;

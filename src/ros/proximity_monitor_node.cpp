@@ -2,12 +2,17 @@
 // Parameters are read and checked before anything is built; nonsense stops the node with a
 // message naming the parameter.
 
+#include <csignal>
+
 #include <ros/ros.h>
 
 #include "workspace_proximity/ros/proximity_monitor.hpp"
 #include "workspace_proximity/ros/ros_params.hpp"
 
 int main(int argc, char** argv) {
+  // A file size limit (ulimit -f) must make a write to ~audit_log fail (EFBIG: the status then
+  // stays DEGRADED, docs/node.md "Audit trail"), not kill the monitor.
+  std::signal(SIGXFSZ, SIG_IGN);
   ros::init(argc, argv, "proximity_monitor");
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");

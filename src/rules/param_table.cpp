@@ -71,6 +71,8 @@ constexpr ParamRow kParams[] = {
      "markers vanish this long after the last refresh"},
     {"marker_rate", WP_M(marker_rate), kLive, 0.1, 1000.0, nullptr, "Hz", "",
      "markers are published at most this often"},
+    {"audit_log", WP_M(audit_log), kWiring, 0, 0, nullptr, "", "",
+     "CSV file of the audit trail (stops, DEGRADED, parameter changes), appended; empty: none"},
     // ~ssm/: speed and separation monitoring (ssm_rule.hpp).
     {"ssm/enabled", WP_M(ssm.enabled), kWiring, 0, 0, nullptr, "", "",
      "compute and publish the speed scale"},

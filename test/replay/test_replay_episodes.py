@@ -13,7 +13,8 @@ replay_bag as a user runs it (configuration files, URDF, report), checked agains
      chain, interpolated to the cycle instant) to each tracked box (5 mm: the monitor
      extrapolates the newest transform with a finite-difference velocity instead);
   4. the bag itself read with the Python rosbag API: message counts and the cycle instants;
-  5. the report: report.html self-contained with its two plots, one table row per episode;
+  5. the report: report.html self-contained with its two plots, one table row per episode,
+     the configuration's fingerprint (also in the summary, another for another configuration);
   6. lz4- and bz2-compressed copies of the bag: the same events.csv, byte for byte.
 
     test_replay_episodes.py REPLAY_BAG [unittest args]
@@ -260,6 +261,11 @@ class ReplayEpisodesTest(unittest.TestCase):
         out = os.path.join(self.tmp.name, "growth")
         run = run_replay(out, report=False, configs=CONFIGS[:2])
         self.assertEqual(run.returncode, 0, run.stderr.decode(errors="replace"))
+        # Another configuration, another fingerprint (16 hex digits in both summaries).
+        fingerprint = replay_data.read_summary(out)["config_fingerprint"]
+        self.assertRegex(fingerprint, "^[0-9a-f]{16}$")
+        self.assertRegex(self.summary["config_fingerprint"], "^[0-9a-f]{16}$")
+        self.assertNotEqual(fingerprint, self.summary["config_fingerprint"])
         grown = {}
         for e in replay_data.read_events(os.path.join(out, "events.csv")):
             if e.state != "END":
@@ -321,8 +327,12 @@ class ReplayEpisodesTest(unittest.TestCase):
         stdout = self.replay.stdout.decode()
         self.assertIn("episodes (%d):" % len(self.episodes), stdout)
         self.assertIn("x real time", stdout)
+        # The configuration's fingerprint in the printed summary and the report.
+        fingerprint = self.summary["config_fingerprint"]
+        self.assertIn("config: fingerprint %s\n" % fingerprint, stdout)
         with open(os.path.join(self.out, "report.html")) as f:
             page = f.read()
+        self.assertIn(fingerprint, page)
         # min_ttc, speed_scale, timelines
         self.assertEqual(len(re.findall(r'src="data:image/png;base64,[A-Za-z0-9+/=]{1000,}"', page)), 3)
         self.assertNotIn('src="http', page)  # self-contained

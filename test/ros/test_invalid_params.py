@@ -51,6 +51,9 @@ CASES = [
     ("robot_body_frame_leading_slash", [],
      {"robot_bodies": [{"name": "g", "frame": "/tool0", "size": [0.1, 0.1, 0.1]}]},
      ["robot_bodies[0]/frame"]),
+    # The audit trail's file must be writable from the start (docs/node.md, "Audit trail").
+    ("audit_log_cannot_be_opened", ["_audit_log:=/nonexistent_wp_dir/audit.csv"], {},
+     ["~audit_log = '/nonexistent_wp_dir/audit.csv'"]),
 ]
 
 

@@ -1,7 +1,7 @@
 // The parameter table's rules: names unique, every default inside its row's range,
 // validate() applying each row's range with both ends included, and keepWiring() keeping
 // exactly the wiring that Monitor::setParams restored by hand before the table (its 12
-// fields) plus the three the node also fixes at start-up.
+// fields) plus the four the node also fixes at start-up.
 
 #include <gtest/gtest.h>
 
@@ -173,12 +173,13 @@ TEST(ParamTable, ValidateAppliesEachLabelRangeToLabelsAndTheRobotsThresholds) {
 
 TEST(ParamTable, KeepWiringKeepsWhatSetParamsRestoredByHand) {
   // Monitor::setParams restored these 12 by hand before the table; require_all_links,
-  // use_joint_states and trajectory_topic are fixed at start-up by the node too.
+  // use_joint_states and trajectory_topic are fixed at start-up by the node too, and so is
+  // audit_log (the file opened at start-up).
   const std::set<std::string> wiring = {
       "fixed_frame", "input_topics", "use_robot_description", "robot_description_param",
       "robot_bodies", "cycle_trigger", "trigger_source", "ssm/enabled",
       "ssm/stop_trajectory_topics", "ssm/stop_event_topics", "ssm/cmd_vel_in", "ssm/cmd_vel_out",
-      "require_all_links", "use_joint_states", "trajectory_topic"};
+      "require_all_links", "use_joint_states", "trajectory_topic", "audit_log"};
   std::set<std::string> wiring_rows;
   for (const wp::ParamRow& row : wp::paramTable()) {
     if (row.tuning == wp::Tuning::kWiring) wiring_rows.insert(row.name);

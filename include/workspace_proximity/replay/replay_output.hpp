@@ -9,7 +9,8 @@
 ///                 separation monitoring's speed_scale, raw_scale and limiting pair (ssm_robot,
 ///                 ssm_object, separation, required_separation, approach_speed; empty when
 ///                 nothing is within reach, all seven empty with ~ssm/enabled false);
-///   summary.json  the whole replay: bag, configuration, counts, drops by reason, speed.
+///   summary.json  the whole replay: bag, configuration (and its config_fingerprint, as the
+///                 node would publish it), counts, drops by reason, speed.
 /// `stamp` is the cycle's instant (bag time, s since the epoch, to the nanosecond) and `t` the
 /// same in seconds since the bag's first message. Columns are named in the first row and
 /// readers (tools/replay_report.py) address them by name: a column added later goes at the end

@@ -21,6 +21,8 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "workspace_proximity/rules/audit_log.hpp"
+#include "workspace_proximity/rules/audit_trail.hpp"
 #include "workspace_proximity/rules/cycle_runner.hpp"
 #include "workspace_proximity/rules/cycle_trigger.hpp"
 #include "workspace_proximity/rules/marker_schedule.hpp"
@@ -38,11 +40,11 @@ class ProximityMonitor : private CycleOutput {
  public:
   /// Builds the monitor, robot bodies, subscriptions, publishers and the cycle timer.
   /// `params` must have passed validate(). Throws std::runtime_error on a URDF that does
-  /// not parse.
+  /// not parse, AuditLogError on an ~audit_log that cannot be opened.
   ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh,
                    const MonitorParams& params);
 
-  /// Logs the stage timing summary of the last cycles.
+  /// Logs the stage timing summary of the last cycles (and "shutdown" in the audit log).
   ~ProximityMonitor();
 
   /// One prediction cycle at `now` (the timer calls this). Never throws.
@@ -67,9 +69,18 @@ class ProximityMonitor : private CycleOutput {
   // dynamic_reconfigure: a checked change applies from the next cycle; an invalid one is
   // refused (the config is set back to the values in force) with the reasons logged.
   void reconfigure(ProximityMonitorConfig& config, std::uint32_t level);
+  // ~audit_log: a line now (nothing without a log), and a lost line made a lasting DEGRADED
+  // reason (the trail has a gap: unknown is never clear).
+  void audit(const char* kind, const std::string& reason);
+  void checkAudit();
 
   ros::NodeHandle nh_;
   MonitorParams params_;
+  std::string urdf_;         // the URDF text the robot bodies came from ("" = none)
+  std::string fingerprint_;  // of params_ and urdf_ (config_fingerprint.hpp)
+  std::unique_ptr<AuditLog> audit_log_;      // null without ~audit_log
+  std::unique_ptr<AuditTrail> audit_trail_;  // the cycles' transitions into audit_log_
+  bool audit_issue_ = false;                 // a lost line is already a DEGRADED reason
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   RejectionLog rejection_log_;

@@ -34,6 +34,8 @@ class SsmPublisher {
   /// One cycle's outputs. Stop actions go out when the scale reaches 0 after having been above
   /// it (or at the first cycle), and again only after it has risen above 0.
   void publish(const CycleReport& report, const ProximityWorld& world);
+  /// The configuration's fingerprint on safety_status from the next cycle (config_fingerprint.hpp).
+  void setFingerprint(const std::string& fingerprint) { msg_.config_fingerprint = fingerprint; }
   /// Protective stops so far (transitions into a scale of 0).
   std::uint64_t stops() const { return stops_; }
 

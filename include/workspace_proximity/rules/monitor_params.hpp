@@ -97,6 +97,8 @@ struct MonitorParams {
   /// Hz, markers are published at most this often (every cycle when >= rate): RViz needs
   /// far fewer than the prediction, and 1 000 bodies' markers cost as much as a prediction.
   double marker_rate = 10.0;
+  /// The audit trail's CSV file (audit_log.hpp), appended; "" = none.
+  std::string audit_log;
 
   SsmParams ssm;  ///< speed and separation monitoring (~ssm/)
 
