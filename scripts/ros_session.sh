@@ -28,5 +28,6 @@ ros_session_stop() {
   pkill -KILL -P $$ 2>/dev/null || true
   [ -n "${WP_ROSCORE_PID:-}" ] && kill -INT "${WP_ROSCORE_PID}" 2>/dev/null || true
   wait 2>/dev/null || true
+  [ -n "${WP_KEEP_ROS_HOME:-}" ] && return 0
   rm -rf "${ROS_HOME}"
 }

@@ -191,22 +191,27 @@ ProximityMonitor::~ProximityMonitor() {
 }
 
 void ProximityMonitor::cycle(const ros::Time& now) {
-  // Reset, failure and timing are the runner's; the outputs are contacts() and rest().
+  // Reset, failure and timing are the runner's; the outputs are safety(), contacts(), rest().
   const CycleRun run = bridges_->run(toStamp(now), this);
   if (!run.failed) diagnostics_.update();
   if (input_trigger_) armFloor();
+}
+
+void ProximityMonitor::safety(const CycleReport& report, const ProximityWorld& world,
+                              const CycleRun& /*run*/) {
+  // First: what a controller acts on never waits for the contacts' message.
+  publishSsm(report, world);
 }
 
 void ProximityMonitor::contacts(const CycleReport& report, const ProximityWorld& world) {
   contacts_->publish(report, world);
 }
 
-void ProximityMonitor::rest(const CycleReport& report, const ProximityWorld& world,
+void ProximityMonitor::rest(const CycleReport& report, const ProximityWorld& /*world*/,
                             const CycleRun& run) {
   // diagnostic_updater publishes once its next time (set from the old clock) is reached:
   // after a jump back publish now, which also restarts its period from the new clock.
   if (run.reset && !run.failed) diagnostics_.force_update();
-  publishSsm(report, world);
   if (audit_trail_ != nullptr) {
     // Transitions only (two flags compared): nothing written on an ordinary cycle.
     audit_trail_->cycle(report);

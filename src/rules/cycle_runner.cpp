@@ -20,6 +20,9 @@ CycleRun CycleRunner::run(Stamp now, CycleFeed* feed, CycleOutput* out) {
     }
     if (feed != nullptr) feed->update(now);
     const CycleReport& report = monitor_->cycle(now, &clock);
+    // What a controller acts on goes out first: the contacts' message (thousands of events at
+    // high density) and everything after it must not delay the speed scale.
+    if (out != nullptr) out->safety(report, monitor_->world(), run);
     if (out != nullptr) out->contacts(report, monitor_->world());
     clock.lap(CycleStage::kContacts);
     if (out != nullptr) out->rest(report, monitor_->world(), run);
@@ -32,6 +35,7 @@ CycleRun CycleRunner::run(Stamp now, CycleFeed* feed, CycleOutput* out) {
     if (feed != nullptr) feed->failed(e.what());
     monitor_->cycleFailed(now, e.what());
     if (out != nullptr) {
+      out->safety(monitor_->report(), monitor_->world(), run);
       out->contacts(monitor_->report(), monitor_->world());
       out->rest(monitor_->report(), monitor_->world(), run);
     }

@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <random>
 
+#include <std_msgs/Float64.h>
 #include <visualization_msgs/MarkerArray.h>
+#include <workspace_proximity/SafetyStatus.h>
 
 namespace workspace_proximity {
 namespace {
@@ -28,6 +30,13 @@ void LoadGenerator::Stats::print(const char* tag) const {
       "work_ms median=%.3f p99=%.3f max=%.3f\n",
       tag, arrays, cycles, events, degraded, percentile(total_ms, 0.5), percentile(total_ms, 0.99),
       maxOf(total_ms), percentile(work_ms, 0.5), percentile(work_ms, 0.99), maxOf(work_ms));
+  if (!scale_ms.empty()) {
+    std::printf("%s scales=%zu scale_ms median=%.3f p99=%.3f max=%.3f scale_work_ms median=%.3f "
+                "p99=%.3f max=%.3f\n",
+                tag, scale_ms.size(), percentile(scale_ms, 0.5), percentile(scale_ms, 0.99),
+                maxOf(scale_ms), percentile(scale_work_ms, 0.5), percentile(scale_work_ms, 0.99),
+                maxOf(scale_work_ms));
+  }
   std::fflush(stdout);
 }
 
@@ -40,6 +49,7 @@ LoadGenerator::LoadGenerator(ros::NodeHandle nh, const ros::NodeHandle& pnh, boo
   pnh.param("report", report_, report_);
   pnh.param("cell", cell_, cell_);
   pnh.param("seed", seed_, seed_);
+  pnh.param("subscribe_ssm", subscribe_ssm_, subscribe_ssm_);
 
   std::mt19937 rng(static_cast<unsigned>(seed_));
   std::uniform_real_distribution<double> pos(-cell_ / 2, cell_ / 2), dir(0, 2 * M_PI),
@@ -65,6 +75,23 @@ LoadGenerator::LoadGenerator(ros::NodeHandle nh, const ros::NodeHandle& pnh, boo
       "contacts", 100, [this](const ContactEventArray::ConstPtr& msg) { onContacts(msg); },
       ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   pub_ = nh_.advertise<TrackedBoxArray>("tracked_objects", 1);
+  if (subscribe_ssm_) {
+    scale_sub_ = nh_.subscribe<std_msgs::Float64>(
+        "speed_scale", 100,
+        [this](const std_msgs::Float64::ConstPtr&) {
+          const ros::WallTime now = ros::WallTime::now();
+          std::lock_guard<std::mutex> lock(mutex_);
+          scale_receipts_.push_back(now);
+        },
+        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+    status_sub_ = nh_.subscribe<SafetyStatus>(
+        "safety_status", 100,
+        [this](const SafetyStatus::ConstPtr& msg) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          cycle_starts_.push_back(msg->header.stamp.toSec());
+        },
+        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+  }
   if (subscribe_markers_) {
     markers_sub_ = nh_.subscribe<visualization_msgs::MarkerArray>(
         "markers", 10, [this](const visualization_msgs::MarkerArray::ConstPtr&) {
@@ -134,6 +161,7 @@ void LoadGenerator::run() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       published_.push_back(ros::WallTime::now());
+      if (subscribe_ssm_) all_published_.push_back(published_.back());
       ++stats_.arrays;
       ++window_.arrays;
     }
@@ -153,7 +181,30 @@ void LoadGenerator::run() {
   ros::WallDuration(0.3).sleep();
   std::lock_guard<std::mutex> lock(mutex_);
   if (subscribe_markers_) std::printf("markers arrays=%zu\n", marker_arrays_);
+  if (subscribe_ssm_) matchScales();
   stats_.print("summary");
+}
+
+void LoadGenerator::matchScales() {
+  // Two subscriber threads: receipts may be appended slightly out of order.
+  std::sort(scale_receipts_.begin(), scale_receipts_.end());
+  std::sort(cycle_starts_.begin(), cycle_starts_.end());
+  std::size_t next_scale = 0, next_array = 0;
+  for (const double start_s : cycle_starts_) {
+    const ros::WallTime start(start_s);
+    // The cycle's speed_scale: the first received after it started (one per cycle, in order).
+    while (next_scale < scale_receipts_.size() && scale_receipts_[next_scale] < start) ++next_scale;
+    if (next_scale == scale_receipts_.size()) break;
+    const ros::WallTime received = scale_receipts_[next_scale++];
+    // As for the contacts: the newest array published before the cycle started, if no earlier
+    // cycle used it (a floor cycle without a new array measures nothing).
+    std::size_t used = next_array;
+    while (used < all_published_.size() && all_published_[used] <= start) ++used;
+    if (used == next_array) continue;
+    stats_.scale_ms.push_back((received - all_published_[used - 1]).toSec() * 1e3);
+    stats_.scale_work_ms.push_back((received - start).toSec() * 1e3);
+    next_array = used;
+  }
 }
 
 }  // namespace workspace_proximity

@@ -40,6 +40,13 @@ class Feed : public wp::CycleFeed {
 class Output : public wp::CycleOutput {
  public:
   explicit Output(std::vector<std::string>* log) : log_(log) {}
+  void safety(const wp::CycleReport& report, const wp::ProximityWorld&,
+              const wp::CycleRun& run) override {
+    // The verdict is complete when it goes out: the scale, and DEGRADED with its reason.
+    log_->push_back(std::string("safety") + (report.degraded ? " degraded" : "") +
+                    (run.failed ? " failed" : ""));
+    scales.push_back(report.ssm.speed_scale);
+  }
   void contacts(const wp::CycleReport& report, const wp::ProximityWorld&) override {
     log_->push_back(std::string("contacts") + (report.degraded ? " degraded" : ""));
     if (throw_in_contacts) {
@@ -55,6 +62,7 @@ class Output : public wp::CycleOutput {
   }
   bool throw_in_contacts = false;
   std::vector<wp::Stamp> stamps;
+  std::vector<double> scales;  // the speed scale each safety() saw
 
  private:
   std::vector<std::string>* log_;
@@ -78,14 +86,16 @@ struct Fixture {
 
 }  // namespace
 
-TEST(CycleRunner, ACycleIsTheFeedThenTheMonitorThenTheContactsThenTheRest) {
+TEST(CycleRunner, ACycleIsTheFeedThenTheMonitorThenTheSafetyOutputThenTheContactsThenTheRest) {
   Fixture f;
   f.emptyScene(kT0);
   const wp::CycleRun run = f.runner.run(kT0, &f.feed, &f.out);
   EXPECT_FALSE(run.reset);
   EXPECT_FALSE(run.failed);
-  EXPECT_EQ(f.feed.log, (std::vector<std::string>{"update", "contacts", "rest"}));
+  EXPECT_EQ(f.feed.log, (std::vector<std::string>{"update", "safety", "contacts", "rest"}));
   EXPECT_EQ(f.out.stamps, std::vector<wp::Stamp>{kT0});
+  // The safety output saw the cycle's finished verdict, not an earlier one.
+  EXPECT_EQ(f.out.scales, std::vector<double>{f.monitor.report().ssm.speed_scale});
   EXPECT_EQ(f.monitor.status().cycles, 1u);
   EXPECT_FALSE(f.monitor.report().degraded);
 }
@@ -100,7 +110,8 @@ TEST(CycleRunner, TheClockGoingBackResetsTheFeedAndTheMonitorFirst) {
   EXPECT_TRUE(run.reset);
   EXPECT_FALSE(run.failed);
   EXPECT_EQ(f.feed.log, (std::vector<std::string>{"reset " + std::to_string(back), "update",
-                                                  "contacts degraded", "rest reset"}));
+                                                  "safety degraded", "contacts degraded",
+                                                  "rest reset"}));
   EXPECT_EQ(f.monitor.status().resets, 1u);
   EXPECT_EQ(f.monitor.sources().source(0).last_receipt, 0);  // forgotten: no data yet
   EXPECT_EQ(f.monitor.status().last_cycle, back);
@@ -119,11 +130,15 @@ TEST(CycleRunner, AFailureStillReportsAndSaysWhy) {
   const wp::CycleRun run = f.runner.run(kT0 + kSecond / 10, &f.feed, &f.out);
   EXPECT_TRUE(run.failed);
   EXPECT_EQ(f.feed.log, (std::vector<std::string>{"update", "failed tf exploded",
-                                                  "contacts degraded", "rest failed"}));
+                                                  "safety degraded failed", "contacts degraded",
+                                                  "rest failed"}));
   const wp::CycleReport& r = f.monitor.report();
   EXPECT_EQ(r.stamp, kT0 + kSecond / 10);
   EXPECT_EQ(r.eventCount(), 0u);
   EXPECT_EQ(r.status_lines, std::vector<std::string>{"cycle failed: tf exploded"});
+  // The failed cycle's safety output is the failure's verdict: at most ~ssm/degraded_scale.
+  EXPECT_LE(f.out.scales.back(), f.monitor.params().ssm.degraded_scale);
+  EXPECT_EQ(f.out.scales.back(), r.ssm.speed_scale);
   EXPECT_EQ(f.monitor.drops().count(wp::Drop::kCycleFailure), 1u);
   EXPECT_EQ(f.monitor.status().cycles, 1u);  // the failed one is not counted
   EXPECT_EQ(f.runner.lastCycleMs(), last_ms);  // nor timed
@@ -135,8 +150,10 @@ TEST(CycleRunner, AnOutputThatThrowsFailsTheCycleWhichReportsAgain) {
   f.out.throw_in_contacts = true;
   const wp::CycleRun run = f.runner.run(kT0, &f.feed, &f.out);
   EXPECT_TRUE(run.failed);
-  EXPECT_EQ(f.feed.log, (std::vector<std::string>{"update", "contacts", "failed publisher gone",
-                                                  "contacts degraded", "rest failed"}));
+  EXPECT_EQ(f.feed.log, (std::vector<std::string>{"update", "safety", "contacts",
+                                                  "failed publisher gone",
+                                                  "safety degraded failed", "contacts degraded",
+                                                  "rest failed"}));
 }
 
 TEST(CycleRunner, TheStagesAreLappedWithinTheCycleAndOffCycleStagesNoted) {

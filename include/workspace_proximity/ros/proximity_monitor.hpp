@@ -5,8 +5,8 @@
 /// publisher, the speed and separation outputs, the marker builder and the diagnostics:
 ///   arrays -> InputBridge -> Monitor (TrackTable) ; tf -> RobotTfBridge -> Monitor (RobotBodies)
 ///   timer | array (CycleTrigger) -> MonitorBridges::run (CycleRunner) -> CycleReport
-///     -> {contacts, speed_scale + safety_status + speed_override (+ stops, Twist filter),
-///         markers (MarkerSchedule), /diagnostics}
+///     -> speed_scale + safety_status + speed_override (+ stops, Twist filter) first,
+///     -> then contacts, markers (MarkerSchedule), /diagnostics
 /// The rules below the wiring are ROS-free: CycleRunner (reset, failure, timing), CycleTrigger
 /// (~cycle_trigger: input), MarkerSchedule (~marker_rate).
 
@@ -53,8 +53,10 @@ class ProximityMonitor : private CycleOutput {
  private:
   // Robot links moved by URDF joints from joint_states (~use_joint_states with a URDF).
   void enableJoints();
-  // CycleOutput: the contacts first; then the speed and separation outputs and, unless the
-  // cycle failed, the markers' schedule.
+  // CycleOutput: the speed and separation outputs first (speed_scale, safety_status,
+  // speed_override, stop actions, the Twist filter); then the contacts; then, unless the cycle
+  // failed, the markers' schedule. /diagnostics comes after the cycle (cycle()).
+  void safety(const CycleReport& report, const ProximityWorld& world, const CycleRun& run) override;
   void contacts(const CycleReport& report, const ProximityWorld& world) override;
   void rest(const CycleReport& report, const ProximityWorld& world, const CycleRun& run) override;
   void publishSsm(const CycleReport& report, const ProximityWorld& world);

@@ -13,9 +13,11 @@
 ///
 /// One cycle at `now`:
 ///   clock went back? feed.reset + Monitor::reset -> feed.update (arrays, robot poses)
-///   -> Monitor::cycle (expire, extrapolate, predict, report) -> out.contacts  [lap kContacts]
-///   -> out.rest (speed and separation, markers) -> cycle time noted
-///   on an exception: feed.failed -> Monitor::cycleFailed -> out.contacts -> out.rest
+///   -> Monitor::cycle (expire, extrapolate, predict, report, SSM verdict)
+///   -> out.safety (speed_scale, speed_override, stop actions: before anything else is built)
+///   -> out.contacts  [lap kContacts] -> out.rest (markers' schedule) -> cycle time noted
+///   on an exception: feed.failed -> Monitor::cycleFailed -> out.safety -> out.contacts
+///   -> out.rest
 
 #include <string>
 
@@ -48,9 +50,16 @@ class CycleFeed {
 class CycleOutput {
  public:
   virtual ~CycleOutput() = default;
-  /// The contacts: the first output, timed with the report as CycleStage::kContacts.
+  /// The safety output (speed and separation: what a controller acts on): the first output,
+  /// before the contacts, markers and diagnostics are built, so that their cost never delays
+  /// it. Also for a failed cycle (then `run.failed`, and the verdict is the failure's).
+  virtual void safety(const CycleReport& report, const ProximityWorld& world, const CycleRun& run) {
+    (void)report, (void)world, (void)run;
+  }
+  /// The contacts: after the safety output; both are timed with the report as
+  /// CycleStage::kContacts.
   virtual void contacts(const CycleReport& report, const ProximityWorld& world) = 0;
-  /// Everything after the contacts (speed and separation, markers), in the cycle's time.
+  /// Everything after the contacts (the markers' schedule), in the cycle's time.
   virtual void rest(const CycleReport& report, const ProximityWorld& world, const CycleRun& run) {
     (void)report, (void)world, (void)run;
   }
