@@ -27,6 +27,9 @@ namespace workspace_proximity {
 class TrackTable;
 class RobotBodies;
 
+/// The latch's constants from the ~ssm/ parameters.
+LatchParams latchParams(const SsmParams& params);
+
 class SsmCycle {
  public:
   explicit SsmCycle(const SsmParams& params);
@@ -45,8 +48,16 @@ class SsmCycle {
                 const std::vector<std::string>& status_lines, SsmVerdict* out);
   /// A cycle failed: nothing is known, the scale goes to at most degraded_scale.
   void failed(Stamp now, const std::string& why, SsmVerdict* out);
-  /// Forgets the filter's history (clock went back): the output drops to 0.
-  void reset() { filter_.reset(); }
+  /// Forgets the filter's history (clock went back): the output drops to 0; the latch keeps
+  /// a stop (StopLatch::reset).
+  void reset() {
+    filter_.reset();
+    latch_.reset();
+  }
+  /// The stop latch: restart interlock, stop category, muting. Requests (reset, mute, joint
+  /// speeds) go to it between cycles.
+  StopLatch& latch() { return latch_; }
+  const StopLatch& latch() const { return latch_; }
 
   /// The largest reach set by the last prepare(), m.
   double reach() const { return reach_; }
@@ -56,6 +67,7 @@ class SsmCycle {
 
   SsmParams params_;
   SpeedScaleFilter filter_;
+  StopLatch latch_;
   std::vector<std::uint8_t> monitored_;  // per world body slot: a monitored track
   double reach_ = 0.0;
   char buffer_[256];  // reason text, formatted without allocating
