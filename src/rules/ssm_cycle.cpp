@@ -82,6 +82,7 @@ void SsmCycle::evaluate(Stamp now, const ProximityWorld& world, const TrackTable
     out->reason.assign("speed and separation monitoring is off (~ssm/enabled)");
     return;
   }
+  latch_.expireMute(now);  // a mute whose time is up lowers the scale in this very cycle
   double best_slack = std::numeric_limits<double>::infinity();
   for (const NearPair& near : world.nearPairs()) {
     // A robot body and a monitored track, in either order.

@@ -167,8 +167,18 @@ void StopLatch::endMute(const char* why) {
   state_.muted = false;
   state_.mute_left = 0.0;
   text_.assign("mute ended (").append(why).append("): ").append(state_.mute_scope);
-  events_.add(LatchEventKind::kMuteEnded, text_);
+  // Before begin() (the cycle's rule ends a mute whose time is up) it waits with the requests.
+  (in_cycle_ ? events_ : pending_).add(LatchEventKind::kMuteEnded, text_);
   state_.mute_scope.clear();
+}
+
+void StopLatch::expireMute(Stamp now) {
+  if (!state_.muted) return;
+  if (now >= mute_until_) {
+    endMute("time up");
+  } else {
+    state_.mute_left = secondsBetween(now, mute_until_);
+  }
 }
 
 bool StopLatch::begin(Stamp now) {
@@ -176,13 +186,8 @@ bool StopLatch::begin(Stamp now) {
   events_.clear();
   for (int i = 0; i < pending_.size(); ++i) events_.add(pending_[i].kind, pending_[i].reason);
   pending_.clear();
-  if (state_.muted) {
-    if (now >= mute_until_) {
-      endMute("time up");
-    } else {
-      state_.mute_left = secondsBetween(now, mute_until_);
-    }
-  }
+  in_cycle_ = true;
+  expireMute(now);
   if (state_.stopped && stop_since_ < 0) stop_since_ = now;  // after a clock jump
   const bool min_time = state_.stopped && now < stop_since_ + nanoseconds(params_.min_stop_time);
   const bool reset = state_.stopped && state_.reset_required;
@@ -225,8 +230,12 @@ void StopLatch::end(Stamp now, double scale, bool degraded, int within, const st
     state_.halt_requested = false;
     stop_since_ = -1;
   }
-  if (state_.stopped) updateHalt(now);
-  else halt_wait_.clear();
+  if (state_.stopped) {
+    updateHalt(now);
+  } else {
+    halt_wait_.clear();
+  }
+  in_cycle_ = false;
 }
 
 void StopLatch::updateHalt(Stamp now) {

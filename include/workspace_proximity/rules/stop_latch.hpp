@@ -103,6 +103,8 @@ class StopLatch {
   bool muted(const std::string& label, const std::string& id) const;
 
   // ---- the cycle ----
+  /// Ends a mute whose time is up at `now` (before the rule asks muted(); begin() does too).
+  void expireMute(Stamp now);
   /// Before the filter at `now`: ends a mute whose time is up. True when the filter's target
   /// must be 0 (held).
   bool begin(Stamp now);
@@ -132,7 +134,8 @@ class StopLatch {
   Stamp stop_since_ = -1;  // -1: the off time restarts at the next cycle
   // The last cycle, for requests.
   bool seen_cycle_ = false;
-  bool ran_ = false;  // the scale has been above 0 (the start is no stop)
+  bool ran_ = false;
+  bool in_cycle_ = false;  // between begin() and end(): events go to this cycle's list  // the scale has been above 0 (the start is no stop)
   double last_scale_ = 0.0;
   bool last_degraded_ = true;
   int last_within_ = 0;
