@@ -262,6 +262,15 @@ void MarkerBuilder::addStatus(const CycleReport& report, const ProximityWorld& w
     std::snprintf(buffer, sizeof buffer, " | speed scale %.2f%s", report.ssm.speed_scale,
                   report.ssm.speed_scale <= 0.0 ? " (STOP)" : "");
     line += buffer;
+    // The stop latch: a hold and a mute are shown where the operator looks.
+    const LatchState* latch = report.ssm.latch;
+    if (latch != nullptr && !latch->hold.empty()) {
+      line += latch->hold == "reset" ? " | HELD until reset" : " | HELD (minimum stop time)";
+    }
+    if (latch != nullptr && latch->muted) {
+      std::snprintf(buffer, sizeof buffer, " (%.0f s left)", latch->mute_left);
+      line += " | MUTED " + latch->mute_scope + buffer;
+    }
   }
   Marker& m = add("status", 0, Marker::ADD, out);
   m.type = Marker::TEXT_VIEW_FACING;
