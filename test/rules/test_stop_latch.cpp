@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "allocation_counter.hpp"  // test/shared
 #include "workspace_proximity/rules/ssm_rule.hpp"
 #include "workspace_proximity/rules/stop_latch.hpp"
 
@@ -31,7 +32,7 @@ struct Drive {
     double target = raw;
     if (latch.begin(now)) target = 0.0;
     const double out = filter.update(now, target);
-    latch.end(now, out, degraded, within, "person_1 too near");
+    latch.end(now, out, degraded, within, reason);
     return out;
   }
   // Cycles every 0.1 s from t0 up to (not including) t1 at `raw`; returns the last scale.
@@ -47,6 +48,7 @@ struct Drive {
   }
   wp::StopLatch latch;
   wp::SpeedScaleFilter filter;
+  const std::string reason = "person_1 too near";
 };
 
 wp::LatchParams manual() {
@@ -332,6 +334,25 @@ TEST(StopLatch, EventListIsBoundedAndSaysWhatItLost) {
   EXPECT_EQ(d.latch.events().size(), wp::LatchEvents::kCapacity);
   EXPECT_NE(d.latch.events()[wp::LatchEvents::kCapacity - 1].reason.find("not kept"),
             std::string::npos);
+}
+
+TEST(StopLatch, SteadyCyclesAllocateNothing) {
+  // Held in a manual stop with category 1 waiting for standstill and a mute check per pair:
+  // the cycles between transitions allocate nothing.
+  wp::LatchParams p = manual();
+  p.stop_category = 1;
+  p.max_mute_time = 10.0;
+  Drive d(p);
+  runThenStop(&d);
+  const std::string label = "person", id = "tracks/person_1";
+  d.run(1.1, 2.0, 0.0);
+  const long before = wp_test::allocationCount();
+  for (int i = 0; i < 50; ++i) {
+    d.latch.noteJointSpeed(wp::nanoseconds(2.0 + 0.1 * i), 0.5, true);  // moving: no halt
+    d.step(2.05 + 0.1 * i, 1.0);
+    EXPECT_FALSE(d.latch.muted(label, id));
+  }
+  EXPECT_EQ(wp_test::allocationCount() - before, 0);
 }
 
 int main(int argc, char** argv) {
