@@ -83,6 +83,18 @@ void SsmCycle::evaluate(Stamp now, const ProximityWorld& world, const TrackTable
     return;
   }
   latch_.expireMute(now);  // a mute whose time is up lowers the scale in this very cycle
+  // Which tracks are muted this cycle (the pairs below and the markers read it).
+  std::fill(muted_.begin(), muted_.end(), 0);
+  if (latch_.state().muted) {
+    for (int i = 0; i < tracks.size(); ++i) {
+      const Track& t = tracks.track(i);
+      const auto slot = static_cast<std::size_t>(t.handle.index);
+      if (!latch_.muted(t.label, world.desc(t.handle).id)) continue;
+      if (slot >= muted_.size()) muted_.resize(slot + 1, 0);  // grows with the slots only
+      muted_[slot] = 1;
+    }
+  }
+  out->muted_slots = &muted_;
   double best_slack = std::numeric_limits<double>::infinity();
   for (const NearPair& near : world.nearPairs()) {
     // A robot body and a monitored track, in either order.
@@ -111,7 +123,7 @@ void SsmCycle::evaluate(Stamp now, const ProximityWorld& world, const TrackTable
     const double required = protectiveSeparation(params_, v_h, params_.robot_max_speed);
     const double slack = near.distance - required;
     if (slack < 0.0) ++out->within;  // muted or not: resets and mutes are judged on every pair
-    if (latch_.muted(tracks.track(track).label, world.desc(o).id)) {
+    if (slot < muted_.size() && muted_[slot]) {
       ++out->muted_pairs;  // reported as contacts still, but not lowering the scale
       continue;
     }

@@ -354,6 +354,8 @@ TEST(SsmCycle, AMutedObjectDoesNotLowerTheScaleUntilTheMuteEnds) {
       ASSERT_NE(v.latch, nullptr);
       EXPECT_TRUE(v.latch->muted) << "t " << t;
       EXPECT_EQ(v.raw_scale, 1.0) << "t " << t;  // muted: the pair does not count
+      ASSERT_NE(v.muted_slots, nullptr);
+      EXPECT_EQ(std::count(v.muted_slots->begin(), v.muted_slots->end(), 1), 1) << "t " << t;
       if (within) {
         EXPECT_EQ(v.muted_pairs, 1);
         EXPECT_GT(v.speed_scale, 0.0) << "t " << t;
@@ -363,6 +365,7 @@ TEST(SsmCycle, AMutedObjectDoesNotLowerTheScaleUntilTheMuteEnds) {
     if (t >= 3.5 - 1e-9) {
       // The mute is over in the cycle at 3.5 itself: raw (0.5 - 0.62) / 0.25 < 0, a stop.
       EXPECT_FALSE(v.latch->muted) << "t " << t;
+      EXPECT_EQ(std::count(v.muted_slots->begin(), v.muted_slots->end(), 1), 0) << "t " << t;
       EXPECT_EQ(v.speed_scale, 0.0) << "t " << t;
     }
   }

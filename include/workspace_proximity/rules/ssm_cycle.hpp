@@ -69,6 +69,7 @@ class SsmCycle {
   SpeedScaleFilter filter_;
   StopLatch latch_;
   std::vector<std::uint8_t> monitored_;  // per world body slot: a monitored track
+  std::vector<std::uint8_t> muted_;      // per world body slot: a muted track (this cycle)
   double reach_ = 0.0;
   char buffer_[256];  // reason text, formatted without allocating
 };

@@ -85,6 +85,8 @@ struct SsmVerdict {
   /// null before the first or while disabled).
   const LatchState* latch = nullptr;
   const LatchEvents* latch_events = nullptr;
+  /// Per world body slot: 1 for a track muted this cycle (SsmCycle's; null before the first).
+  const std::vector<std::uint8_t>* muted_slots = nullptr;
 };
 
 /// S_p(v_r), m.
