@@ -11,7 +11,7 @@ The test publishes the person every 50 ms and joint_states (one joint) every 20 
       refused (a pair within S_p(v_max)); the joint still moves for 1 s: no halt
    C  joint speed 0: the halt is called once, no earlier than 0.5 s after the standstill began
    D  person 5 m away again for 2 s: the scale stays 0 (manual restart: no reset yet)
-   E  ~reset: accepted; the scale rises above 0 within 1 s, to 1
+   E  ~reset: accepted; the scale rises above 0, to 1
    F  ~mute of label "person" for 2 s while clear: accepted, safety_status says muted
 """
 import os
@@ -151,8 +151,8 @@ class SsmLatchTest(unittest.TestCase):
             r = reset()
             self.assertTrue(r.success, r.message)
             self.assertIn("accepted", r.message)
-            self.wait_for("the scale above 0 after the reset", lambda: last().speed_scale > 0.0, 1.0)
-            self.wait_for("the scale at 1", lambda: last().speed_scale == 1.0, 2.0)
+            self.wait_for("the scale above 0 after the reset", lambda: last().speed_scale > 0.0, 3.0)
+            self.wait_for("the scale at 1", lambda: last().speed_scale == 1.0, 3.0)
             self.assertFalse(last().reset_required)
             self.assertFalse(last().stopped)
             # F: a mute while clear is accepted and shown.
