@@ -101,7 +101,7 @@ constexpr ParamRow kParams[] = {
      "the scale stays 0 at least this long after a stop (both restart modes)"},
     {"ssm/stop_category", WP_M(ssm.stop_category), kStartup, 1, 2, nullptr, "", "(1 or 2)",
      "2: hold; 1: hold, then the halt once the robot stands still"},
-    {"ssm/standstill_speed", WP_M(ssm.standstill_speed), kStartup, 0.0, 100.0, nullptr,
+    {"ssm/standstill_speed", WP_M(ssm.standstill_speed), kStartup, 0.0001, 100.0, nullptr,
      "rad/s or m/s", "", "every joint slower than this stands still (category 1)"},
     {"ssm/standstill_time", WP_M(ssm.standstill_time), kStartup, 0.0, 60.0, nullptr, "s", "",
      "standstill this long after a stop before the halt (category 1)"},
