@@ -93,7 +93,7 @@ bool StopLatch::requestReset(Stamp /*now*/, std::string* why) {
   } else {
     state_.reset_required = false;
     why->assign("reset accepted: the scale rises after the hold");
-    if (stop_since_ >= 0) why->append(" and the minimum stop time");
+    if (params_.min_stop_time > 0.0) why->append(" and the minimum stop time");
     pending_.add(LatchEventKind::kResetAccepted, *why);
     return true;
   }
@@ -224,6 +224,15 @@ void StopLatch::end(Stamp now, double scale, bool degraded, int within, const st
     state_.hold.assign(state_.reset_required ? "reset" : state_.held ? "min_stop_time" : "");
   } else if (scale > 0.0) {
     ran_ = true;
+  }
+  // Manual restart: someone within reach again after an accepted reset, before the scale rose,
+  // is a new intrusion: the interlock is armed again.
+  if (state_.stopped && params_.manual && !state_.reset_required && scale <= 0.0 && within > 0) {
+    state_.reset_required = true;
+    state_.held = true;
+    state_.hold.assign("reset");
+    text_.assign("protective stop (again before the restart): ").append(reason);
+    events_.add(LatchEventKind::kStop, text_);
   }
   if (scale > 0.0 && state_.stopped) {
     state_.stopped = false;  // released and risen: running again

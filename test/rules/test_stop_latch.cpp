@@ -135,6 +135,21 @@ TEST(StopLatch, ResetRefusedWhilePersonWithinReachOrDegradedAcceptedOnceClear) {
   EXPECT_NEAR(d.run(1.5, 2.0, 1.0), 1.0, 1e-9);  // 0.5 at 1.7, 1 at 1.8
 }
 
+TEST(StopLatch, AnIntrusionAfterTheResetBeforeTheRiseArmsTheInterlockAgain) {
+  Drive d(manual());
+  runThenStop(&d);
+  std::string why;
+  d.step(1.1, 1.0);
+  EXPECT_TRUE(d.latch.requestReset(wp::nanoseconds(1.15), &why)) << why;
+  EXPECT_DOUBLE_EQ(d.step(1.2, 1.0), 0.0);  // released; the filter's hold runs to 1.4
+  EXPECT_DOUBLE_EQ(d.step(1.3, 0.0, false, 1), 0.0);  // back within reach before the rise
+  EXPECT_TRUE(d.latch.state().reset_required);
+  EXPECT_EQ(d.count(wp::LatchEventKind::kStop), 1);
+  EXPECT_EQ(d.run(1.4, 4.0, 1.0), 0.0);  // gone again: no rise without a second reset
+  EXPECT_TRUE(d.latch.requestReset(wp::nanoseconds(4.05), &why)) << why;
+  EXPECT_NEAR(d.run(4.1, 4.6, 1.0), 1.0, 1e-9);  // released at 4.1: 0.5 at 4.4, 1 at 4.5
+}
+
 TEST(StopLatch, TheStartIsNoStopAndAResetAfterAClockJumpWaitsForACycle) {
   wp::StopLatch latch(manual());
   latch.end(0, 0.0, false, 0, "first cycle");  // the filter starts at 0: no stop
