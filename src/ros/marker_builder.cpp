@@ -132,7 +132,11 @@ void MarkerBuilder::build(const CycleReport& report, const ProximityWorld& world
   std::fill(showing_.begin(), showing_.end(), 0);
   std::fill(pair_showing_.begin(), pair_showing_.end(), 0);
   for (const ReportedBody& b : report.bodies) {
-    if (world.contains(b.handle)) addBody(b, report.bodyLevel(b.handle.index), world, out);
+    if (!world.contains(b.handle)) continue;
+    const std::vector<std::uint8_t>* muted = report.ssm.muted_slots;
+    const auto slot = static_cast<std::size_t>(b.handle.index);
+    addBody(b, report.bodyLevel(b.handle.index),
+            muted != nullptr && slot < muted->size() && (*muted)[slot] != 0, world, out);
   }
   for (std::size_t i = 0; i < report.eventCount(); ++i) {
     const PairEvent& e = report.event(i);
@@ -144,8 +148,8 @@ void MarkerBuilder::build(const CycleReport& report, const ProximityWorld& world
   out->markers.resize(used_);
 }
 
-void MarkerBuilder::addBody(const ReportedBody& b, int level, const ProximityWorld& world,
-                            visualization_msgs::MarkerArray* out) {
+void MarkerBuilder::addBody(const ReportedBody& b, int level, bool muted,
+                            const ProximityWorld& world, visualization_msgs::MarkerArray* out) {
   const auto slot = static_cast<std::size_t>(b.handle.index);
   fit(&showing_, slot);
   const BodyMotion& motion = world.motion(b.handle);
@@ -176,6 +180,11 @@ void MarkerBuilder::addBody(const ReportedBody& b, int level, const ProximityWor
   id.text = desc.id;
   id.scale.z = 0.12;
   id.color = colour(0.85f, 0.85f, 0.85f, 0.9f);
+  // A muted object (~mute) says so where it stands: it does not lower the speed scale.
+  if (muted) {
+    id.text.append(" (MUTED)");
+    id.color = colour(1.0f, 0.6f, 0.0f, 1.0f);
+  }
   showing_[slot] |= kIds;
 
   if (motion.linear_velocity.norm() > 1e-3) {
@@ -262,6 +271,15 @@ void MarkerBuilder::addStatus(const CycleReport& report, const ProximityWorld& w
     std::snprintf(buffer, sizeof buffer, " | speed scale %.2f%s", report.ssm.speed_scale,
                   report.ssm.speed_scale <= 0.0 ? " (STOP)" : "");
     line += buffer;
+    // The stop latch: a hold and a mute are shown where the operator looks.
+    const LatchState* latch = report.ssm.latch;
+    if (latch != nullptr && !latch->hold.empty()) {
+      line += latch->hold == "reset" ? " | HELD until reset" : " | HELD (minimum stop time)";
+    }
+    if (latch != nullptr && latch->muted) {
+      std::snprintf(buffer, sizeof buffer, " (%.0f s left)", latch->mute_left);
+      line += " | MUTED " + latch->mute_scope + buffer;
+    }
   }
   Marker& m = add("status", 0, Marker::ADD, out);
   m.type = Marker::TEXT_VIEW_FACING;

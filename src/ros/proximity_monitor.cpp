@@ -63,6 +63,9 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   if (params_.ssm.enabled) {
     ssm_ = std::make_unique<SsmPublisher>(nh_, params_.fixed_frame, params_.ssm);
     ssm_->setFingerprint(fingerprint_);
+    ros::NodeHandle latch_nh(private_nh);
+    latch_ = std::make_unique<LatchBridge>(nh_, latch_nh, params_.ssm, &bridges_->latch(),
+                                           &latch_mutex_);
     if (!params_.ssm.cmd_vel_in.empty()) {
       twist_filter_ = std::make_unique<TwistFilter>(nh_, params_.ssm.cmd_vel_in,
                                                     params_.ssm.cmd_vel_out, params_.rate);
@@ -192,7 +195,10 @@ ProximityMonitor::~ProximityMonitor() {
 
 void ProximityMonitor::cycle(const ros::Time& now) {
   // Reset, failure and timing are the runner's; the outputs are safety(), contacts(), rest().
+  // The latch's requests wait for the cycle (and the cycle for them).
+  std::unique_lock<std::mutex> latch_lock(latch_mutex_);
   const CycleRun run = bridges_->run(toStamp(now), this);
+  latch_lock.unlock();
   if (!run.failed) diagnostics_.update();
   if (input_trigger_) armFloor();
 }

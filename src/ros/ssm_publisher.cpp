@@ -4,9 +4,11 @@
 #include <cmath>
 
 #include <ros/console.h>
+#include <std_msgs/Empty.h>
 #include <std_msgs/Float64.h>
 #include <std_msgs/Int64.h>
 #include <std_msgs/String.h>
+#include <std_srvs/Trigger.h>
 #include <trajectory_msgs/JointTrajectory.h>
 
 #include "workspace_proximity/ros/conversions.hpp"
@@ -33,6 +35,24 @@ void fillSafetyStatus(const CycleReport& report, const ProximityWorld& world,
   out->approach_speed = v.approach_speed;
   out->status = report.degraded ? SafetyStatus::DEGRADED : SafetyStatus::OK;
   out->reason = v.reason;
+  if (v.latch != nullptr) {
+    const LatchState& l = *v.latch;
+    out->stopped = l.stopped;
+    out->hold = l.hold;
+    out->reset_required = l.reset_required;
+    out->halt_requested = l.halt_requested;
+    out->muted = l.muted;
+    out->mute_scope = l.mute_scope;
+    out->mute_left = l.mute_left;
+  } else {
+    out->stopped = false;
+    out->hold.clear();
+    out->reset_required = false;
+    out->halt_requested = false;
+    out->muted = false;
+    out->mute_scope.clear();
+    out->mute_left = 0.0;
+  }
 }
 
 std::int64_t speedOverride(double scale) {
@@ -51,6 +71,48 @@ SsmPublisher::SsmPublisher(ros::NodeHandle& nh, const std::string& fixed_frame,
   for (const std::string& topic : params.stop_event_topics) {
     event_pubs_.push_back(nh.advertise<std_msgs::String>(topic, 1));
   }
+  nh_ = nh;
+  if (!params.halt_topic.empty()) halt_pub_ = nh.advertise<std_msgs::Empty>(params.halt_topic, 1);
+  if (!params.halt_service.empty()) {
+    halt_service_ = nh.resolveName(params.halt_service);
+    halt_thread_ = std::thread([this] { haltLoop(); });
+  }
+}
+
+SsmPublisher::~SsmPublisher() {
+  {
+    std::lock_guard<std::mutex> lock(halt_mutex_);
+    closing_ = true;
+  }
+  halt_wake_.notify_all();
+  if (halt_thread_.joinable()) halt_thread_.join();
+}
+
+void SsmPublisher::haltLoop() {
+  // Off the cycle: a slow or absent halt service never delays the scale.
+  for (;;) {
+    {
+      std::unique_lock<std::mutex> lock(halt_mutex_);
+      halt_wake_.wait(lock, [this] { return closing_ || halts_waiting_ > 0; });
+      if (closing_) return;
+      halts_waiting_ = 0;  // one call answers every request made while it waited
+    }
+    ros::ServiceClient client = nh_.serviceClient<std_srvs::Trigger>(halt_service_);
+    std_srvs::Trigger call;
+    if (!client.waitForExistence(ros::Duration(1.0))) {
+      ROS_ERROR("proximity_monitor: halt service %s not available; the robot stays held at "
+                "scale 0 but is NOT halted", halt_service_.c_str());
+    } else if (!client.call(call)) {
+      ROS_ERROR("proximity_monitor: halt service %s failed; the robot stays held at scale 0 but "
+                "is NOT halted", halt_service_.c_str());
+    } else if (!call.response.success) {
+      ROS_ERROR("proximity_monitor: halt service %s refused: %s", halt_service_.c_str(),
+                call.response.message.c_str());
+    } else {
+      ROS_WARN("proximity_monitor: halt service %s: %s", halt_service_.c_str(),
+               call.response.message.c_str());
+    }
+  }
 }
 
 void SsmPublisher::publish(const CycleReport& report, const ProximityWorld& world) {
@@ -63,6 +125,39 @@ void SsmPublisher::publish(const CycleReport& report, const ProximityWorld& worl
   percent.data = speedOverride(report.ssm.speed_scale);
   override_pub_.publish(percent);
   stopActions(report);
+  latchEvents(report);
+}
+
+void SsmPublisher::latchEvents(const CycleReport& report) {
+  const LatchEvents* events = report.ssm.latch_events;
+  if (events == nullptr) return;
+  for (int i = 0; i < events->size(); ++i) {
+    const LatchEvent& e = (*events)[i];
+    switch (e.kind) {
+      case LatchEventKind::kStop:
+        break;  // stopActions() logs the stop
+      case LatchEventKind::kHaltRequested:
+        ROS_WARN("proximity_monitor: %s", e.reason.c_str());
+        if (!halt_pub_.getTopic().empty()) halt_pub_.publish(std_msgs::Empty());
+        if (!halt_service_.empty()) {
+          {
+            std::lock_guard<std::mutex> lock(halt_mutex_);
+            ++halts_waiting_;
+          }
+          halt_wake_.notify_one();
+        }
+        break;
+      case LatchEventKind::kResetRefused:
+      case LatchEventKind::kMuteRefused:
+      case LatchEventKind::kMuteStarted:
+      case LatchEventKind::kMuteEnded:
+        ROS_WARN("proximity_monitor: %s", e.reason.c_str());
+        break;
+      default:
+        ROS_INFO("proximity_monitor: %s", e.reason.c_str());
+        break;
+    }
+  }
 }
 
 void SsmPublisher::stopActions(const CycleReport& report) {

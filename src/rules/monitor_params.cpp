@@ -76,6 +76,14 @@ void checkSsmOutputs(std::vector<std::string>* errors, const SsmParams& s) {
     errors->push_back("~ssm/cmd_vel_out = '" + s.cmd_vel_out +
                       "': must differ from ~ssm/cmd_vel_in (the filter would hear itself)");
   }
+  if (s.restart != "automatic" && s.restart != "manual") {
+    errors->push_back("~ssm/restart = '" + s.restart + "': must be 'automatic' or 'manual'");
+  }
+  // Category 1 exists to request the halt: without a way to send it, it would only hold.
+  if (s.stop_category == 1 && s.halt_service.empty() == s.halt_topic.empty()) {
+    errors->push_back("~ssm/stop_category = 1: set exactly one of ~ssm/halt_service and "
+                      "~ssm/halt_topic (where the halt goes)");
+  }
 }
 
 // tf2 refuses frame ids that are empty or start with '/' (a tf1 habit) in every lookup, so

@@ -96,6 +96,19 @@ constexpr ParamRow kParams[] = {
      "the raw scale must stay higher this long before the scale rises"},
     {"ssm/degraded_scale", WP_M(ssm.degraded_scale), kLive, 0.0, 1.0, nullptr, "",
      "(a speed scale)", "the speed scale at most while the prediction is DEGRADED"},
+    // After a stop (stop_latch.hpp).
+    {"ssm/restart", WP_M(ssm.restart), kStartup, 0, 0, nullptr, "", "",
+     "'automatic' or 'manual': after a stop the scale stays 0 until ~reset is accepted"},
+    {"ssm/min_stop_time", WP_M(ssm.min_stop_time), kStartup, 0.0, 3600.0, nullptr, "s", "",
+     "the scale stays 0 at least this long after a stop (both restart modes)"},
+    {"ssm/stop_category", WP_M(ssm.stop_category), kStartup, 1, 2, nullptr, "", "(1 or 2)",
+     "2: hold; 1: hold, then the halt once the robot stands still"},
+    {"ssm/standstill_speed", WP_M(ssm.standstill_speed), kStartup, 0.0001, 100.0, nullptr,
+     "rad/s or m/s", "", "every joint slower than this stands still (category 1)"},
+    {"ssm/standstill_time", WP_M(ssm.standstill_time), kStartup, 0.0, 60.0, nullptr, "s", "",
+     "standstill this long after a stop before the halt (category 1)"},
+    {"ssm/max_mute_time", WP_M(ssm.max_mute_time), kStartup, 0.0, 3600.0, nullptr, "s", "",
+     "a mute (~mute) lasts at most this long; 0: muting refused"},
     {"ssm/stop_trajectory_topics", WP_M(ssm.stop_trajectory_topics), kWiring, 0, 0, nullptr, "",
      "", "an empty JointTrajectory on each at a stop"},
     {"ssm/stop_event_topics", WP_M(ssm.stop_event_topics), kWiring, 0, 0, nullptr, "", "",
@@ -104,6 +117,10 @@ constexpr ParamRow kParams[] = {
      "Twist commands to scale; empty: no filter"},
     {"ssm/cmd_vel_out", WP_M(ssm.cmd_vel_out), kWiring, 0, 0, nullptr, "", "",
      "where the scaled commands go"},
+    {"ssm/halt_service", WP_M(ssm.halt_service), kWiring, 0, 0, nullptr, "", "",
+     "std_srvs/Trigger called for the halt (category 1); empty: none"},
+    {"ssm/halt_topic", WP_M(ssm.halt_topic), kWiring, 0, 0, nullptr, "", "",
+     "std_msgs/Empty published for the halt (category 1); empty: none"},
 };
 #undef WP_M
 

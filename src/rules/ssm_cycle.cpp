@@ -32,11 +32,24 @@ double extraUncertainty(const SsmParams& p, const TrackErrors& own) {
 
 }  // namespace
 
-SsmCycle::SsmCycle(const SsmParams& params) : params_(params), filter_(params) {}
+LatchParams latchParams(const SsmParams& p) {
+  LatchParams l;
+  l.manual = p.restart == "manual";
+  l.min_stop_time = p.min_stop_time;
+  l.stop_category = p.stop_category;
+  l.standstill_speed = p.standstill_speed;
+  l.standstill_time = p.standstill_time;
+  l.max_mute_time = p.max_mute_time;
+  return l;
+}
+
+SsmCycle::SsmCycle(const SsmParams& params)
+    : params_(params), filter_(params), latch_(latchParams(params)) {}
 
 void SsmCycle::setParams(const SsmParams& params) {
   params_ = params;
   filter_.setParams(params);
+  latch_.setParams(latchParams(params));
 }
 
 void SsmCycle::prepare(const TrackTable& tracks, const LabelTable& labels,
@@ -73,12 +86,27 @@ void SsmCycle::evaluate(Stamp now, const ProximityWorld& world, const TrackTable
   out->separation = std::numeric_limits<double>::infinity();
   out->required_separation = 0.0;
   out->approach_speed = 0.0;
+  out->within = 0;
+  out->muted_pairs = 0;
   if (!params_.enabled) {
     out->speed_scale = 1.0;
     out->degraded = degraded;
     out->reason.assign("speed and separation monitoring is off (~ssm/enabled)");
     return;
   }
+  latch_.expireMute(now);  // a mute whose time is up lowers the scale in this very cycle
+  // Which tracks are muted this cycle (the pairs below and the markers read it).
+  std::fill(muted_.begin(), muted_.end(), 0);
+  if (latch_.state().muted) {
+    for (int i = 0; i < tracks.size(); ++i) {
+      const Track& t = tracks.track(i);
+      const auto slot = static_cast<std::size_t>(t.handle.index);
+      if (!latch_.muted(t.label, world.desc(t.handle).id)) continue;
+      if (slot >= muted_.size()) muted_.resize(slot + 1, 0);  // grows with the slots only
+      muted_[slot] = 1;
+    }
+  }
+  out->muted_slots = &muted_;
   double best_slack = std::numeric_limits<double>::infinity();
   for (const NearPair& near : world.nearPairs()) {
     // A robot body and a monitored track, in either order.
@@ -113,6 +141,11 @@ void SsmCycle::evaluate(Stamp now, const ProximityWorld& world, const TrackTable
     const double extra = extraUncertainty(params_, own);
     const double required = protectiveSeparation(params_, v_h, params_.robot_max_speed) + extra;
     const double slack = near.distance - required;
+    if (slack < 0.0) ++out->within;  // muted or not: resets and mutes are judged on every pair
+    if (slot < muted_.size() && muted_[slot]) {
+      ++out->muted_pairs;  // reported as contacts still, but not lowering the scale
+      continue;
+    }
     out->raw_scale = std::min(out->raw_scale, pairScale(params_, near.distance - extra, v_h));
     if (slack < best_slack) {
       best_slack = slack;
@@ -154,6 +187,8 @@ void SsmCycle::failed(Stamp now, const std::string& why, SsmVerdict* out) {
   out->separation = std::numeric_limits<double>::infinity();
   out->required_separation = 0.0;
   out->approach_speed = 0.0;
+  out->within = 0;
+  out->muted_pairs = 0;
   out->degraded = true;
   if (!params_.enabled) {
     out->speed_scale = 1.0;
@@ -169,13 +204,31 @@ void SsmCycle::failed(Stamp now, const std::string& why, SsmVerdict* out) {
 void SsmCycle::output(Stamp now, bool degraded, SsmVerdict* out) {
   // While DEGRADED the prediction rests on data that may be missing or old: never more than
   // degraded_scale. The filter drops at once and rises slowly, also after a DEGRADED spell.
-  const double target = degraded ? std::min(out->raw_scale, params_.degraded_scale) : out->raw_scale;
+  double target = degraded ? std::min(out->raw_scale, params_.degraded_scale) : out->raw_scale;
+  // The latch holds the filter at 0 after a stop (minimum off time, restart interlock): once
+  // released, the filter rises from 0 by its usual hold and rate.
+  if (latch_.begin(now)) target = 0.0;
   out->speed_scale = filter_.update(now, target);
   if (out->speed_scale < target) {
     std::snprintf(buffer_, sizeof buffer_, "; rising to %.2f (after %.1f s, at most %.2f/s)",
                   target, params_.hold_time, params_.max_increase_rate);
     out->reason.append(buffer_);
   }
+  latch_.end(now, out->speed_scale, degraded, out->within, out->reason);
+  const LatchState& latch = latch_.state();
+  if (latch.hold == "reset") {
+    out->reason.append("; held at 0 until a reset is accepted (~reset)");
+  } else if (latch.hold == "min_stop_time") {
+    out->reason.append("; held at 0 for the minimum stop time (~ssm/min_stop_time)");
+  }
+  if (!latch_.haltWait().empty()) out->reason.append("; ").append(latch_.haltWait());
+  if (latch.muted) {
+    std::snprintf(buffer_, sizeof buffer_, "; muted for %.1f s more (%d pairs): ", latch.mute_left,
+                  out->muted_pairs);
+    out->reason.append(buffer_).append(latch.mute_scope);
+  }
+  out->latch = &latch;
+  out->latch_events = &latch_.events();
 }
 
 }  // namespace workspace_proximity

@@ -93,6 +93,16 @@ TEST(MonitorParams, EachBadValueIsNamed) {
       {"~ssm/cmd_vel_out = 'v'", [](wp::MonitorParams& p) {
          p.ssm.cmd_vel_in = "v";
          p.ssm.cmd_vel_out = "v"; }},
+      {"~ssm/restart = 'auto'", [](wp::MonitorParams& p) { p.ssm.restart = "auto"; }},
+      {"~ssm/stop_category", [](wp::MonitorParams& p) { p.ssm.stop_category = 0; }},
+      {"~ssm/stop_category = 1", [](wp::MonitorParams& p) { p.ssm.stop_category = 1; }},
+      {"~ssm/stop_category = 1", [](wp::MonitorParams& p) {
+         p.ssm.stop_category = 1;
+         p.ssm.halt_service = "/brakes";
+         p.ssm.halt_topic = "/halt"; }},
+      {"~ssm/min_stop_time", [](wp::MonitorParams& p) { p.ssm.min_stop_time = -1.0; }},
+      {"~ssm/standstill_speed", [](wp::MonitorParams& p) { p.ssm.standstill_speed = std::numeric_limits<double>::quiet_NaN(); }},
+      {"~ssm/max_mute_time", [](wp::MonitorParams& p) { p.ssm.max_mute_time = 3601.0; }},
   };
   for (const Case& c : cases) {
     wp::MonitorParams p;
@@ -116,6 +126,10 @@ TEST(MonitorParams, TheTriggerSourceIsAnInputTopicAsListed) {
   p.ssm.cmd_vel_in = "cmd_vel_raw";
   p.ssm.cmd_vel_out = "cmd_vel";
   p.ssm.labels = {"person", "forklift"};
+  EXPECT_TRUE(wp::validate(p).empty());
+  p.ssm.restart = "manual";
+  p.ssm.stop_category = 1;
+  p.ssm.halt_topic = "/halt";
   EXPECT_TRUE(wp::validate(p).empty());
 }
 

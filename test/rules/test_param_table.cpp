@@ -179,7 +179,8 @@ TEST(ParamTable, KeepWiringKeepsWhatSetParamsRestoredByHand) {
       "fixed_frame", "input_topics", "use_robot_description", "robot_description_param",
       "robot_bodies", "cycle_trigger", "trigger_source", "ssm/enabled",
       "ssm/stop_trajectory_topics", "ssm/stop_event_topics", "ssm/cmd_vel_in", "ssm/cmd_vel_out",
-      "require_all_links", "use_joint_states", "trajectory_topic", "audit_log"};
+      "ssm/halt_service", "ssm/halt_topic", "require_all_links", "use_joint_states", "trajectory_topic",
+      "audit_log"};
   std::set<std::string> wiring_rows;
   for (const wp::ParamRow& row : wp::paramTable()) {
     if (row.tuning == wp::Tuning::kWiring) wiring_rows.insert(row.name);

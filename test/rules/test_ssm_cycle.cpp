@@ -381,6 +381,47 @@ TEST(SsmCycle, TheScaleIsTheMinimumOverEveryPairAgainstBruteForce) {
   EXPECT_GT(partial, 10);
 }
 
+TEST(SsmCycle, AMutedObjectDoesNotLowerTheScaleUntilTheMuteEnds) {
+  wp::MonitorParams p = params();
+  p.ssm.max_mute_time = 2.5;
+  Cell cell(p, post());
+  // A forklift drives at the post at 1 m/s from a gap of 4 m: d(t) = 4 - t; S_p(v_max) = 0.87 m
+  // (as the walking person above), so it is within from t = 3.13 and at the stop (raw 0) from
+  // d <= 0.62, t >= 3.38. Muted from t = 1.0 for 2.5 s: until 3.5.
+  std::string why;
+  int muted_within = 0;
+  for (int k = 0; k <= 80; ++k) {
+    const double t = 0.05 * k;
+    if (k == 20) {
+      EXPECT_TRUE(cell.monitor().latch().requestMute(at(t), {"forklift"}, {}, 2.5, &why)) << why;
+    }
+    const double d = std::max(0.0, 4.0 - t);
+    Person forklift{"f1", "forklift", {0.5 + 0.25 + d, 0.0, 0.9}, {-1.0, 0.0, 0.0}};
+    const wp::SsmVerdict& v = cell.cycle(at(t), {forklift}).ssm;
+    const bool within = d < 0.87 - 1e-9;
+    EXPECT_EQ(v.within, within ? 1 : 0) << "t " << t;
+    if (t >= 1.0 - 1e-9 && t < 3.5 - 1e-9) {
+      ASSERT_NE(v.latch, nullptr);
+      EXPECT_TRUE(v.latch->muted) << "t " << t;
+      EXPECT_EQ(v.raw_scale, 1.0) << "t " << t;  // muted: the pair does not count
+      ASSERT_NE(v.muted_slots, nullptr);
+      EXPECT_EQ(std::count(v.muted_slots->begin(), v.muted_slots->end(), 1), 1) << "t " << t;
+      if (within) {
+        EXPECT_EQ(v.muted_pairs, 1);
+        EXPECT_GT(v.speed_scale, 0.0) << "t " << t;
+        ++muted_within;
+      }
+    }
+    if (t >= 3.5 - 1e-9) {
+      // The mute is over in the cycle at 3.5 itself: raw (0.5 - 0.62) / 0.25 < 0, a stop.
+      EXPECT_FALSE(v.latch->muted) << "t " << t;
+      EXPECT_EQ(std::count(v.muted_slots->begin(), v.muted_slots->end(), 1), 0) << "t " << t;
+      EXPECT_EQ(v.speed_scale, 0.0) << "t " << t;
+    }
+  }
+  EXPECT_GE(muted_within, 6);
+}
+
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

@@ -41,7 +41,8 @@ class MarkerBuilder {
   // Next marker of the output, every field reset (its vectors and strings keep capacity).
   visualization_msgs::Marker& add(const char* ns, std::int32_t id, std::uint8_t action,
                                   visualization_msgs::MarkerArray* out);
-  void addBody(const ReportedBody& body, int level, const ProximityWorld& world,
+  // `muted`: a track muted this cycle (~mute), shown by its id text.
+  void addBody(const ReportedBody& body, int level, bool muted, const ProximityWorld& world,
                visualization_msgs::MarkerArray* out);
   void addPair(const PairEvent& event, Level level, const ProximityWorld& world,
                visualization_msgs::MarkerArray* out);

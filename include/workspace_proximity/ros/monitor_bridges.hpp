@@ -83,6 +83,8 @@ class MonitorBridges : private CycleFeed {
   void addPermanentIssue(const std::string& line) { monitor_.addPermanentIssue(line); }
 
   const Monitor& monitor() const { return monitor_; }
+  /// The stop latch (reset, mute, joint speeds): Monitor::latch.
+  StopLatch& latch() { return monitor_.latch(); }
   const CycleRunner& runner() const { return runner_; }
   BridgeCounters counters() const {
     BridgeCounters out;

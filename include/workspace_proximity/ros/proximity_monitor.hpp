@@ -11,6 +11,7 @@
 /// (~cycle_trigger: input), MarkerSchedule (~marker_rate).
 
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -27,6 +28,7 @@
 #include "workspace_proximity/rules/cycle_trigger.hpp"
 #include "workspace_proximity/rules/marker_schedule.hpp"
 #include "workspace_proximity/ros/contact_publisher.hpp"
+#include "workspace_proximity/ros/latch_bridge.hpp"
 #include "workspace_proximity/ros/marker_builder.hpp"
 #include "workspace_proximity/ros/monitor_bridges.hpp"
 #include "workspace_proximity/ros/rejection_log.hpp"
@@ -90,6 +92,8 @@ class ProximityMonitor : private CycleOutput {
   std::unique_ptr<ContactPublisher> contacts_;
   std::unique_ptr<SsmPublisher> ssm_;        // null with ~ssm/enabled: false
   std::unique_ptr<TwistFilter> twist_filter_;  // null without ~ssm/cmd_vel_in
+  std::mutex latch_mutex_;                     // the cycle and the latch's requests
+  std::unique_ptr<LatchBridge> latch_;         // ~reset, ~mute; null with ~ssm/enabled: false
   MarkerBuilder markers_;
   visualization_msgs::MarkerArray markers_msg_;  // reused
   ros::Publisher markers_pub_;

@@ -116,6 +116,8 @@ class Monitor {
   const DropCounters& drops() const { return drops_; }
   const LabelTable& labels() const { return labels_; }
   const MonitorParams& params() const { return params_; }
+  /// The speed and separation stop latch: reset and mute requests, joint speeds (between cycles).
+  StopLatch& latch() { return ssm_.latch(); }
 
  private:
   void buildStatus(Stamp now);

@@ -33,6 +33,9 @@ namespace workspace_proximity {
 class TrackTable;
 class RobotBodies;
 
+/// The latch's constants from the ~ssm/ parameters.
+LatchParams latchParams(const SsmParams& params);
+
 class SsmCycle {
  public:
   explicit SsmCycle(const SsmParams& params);
@@ -51,8 +54,16 @@ class SsmCycle {
                 const std::vector<std::string>& status_lines, SsmVerdict* out);
   /// A cycle failed: nothing is known, the scale goes to at most degraded_scale.
   void failed(Stamp now, const std::string& why, SsmVerdict* out);
-  /// Forgets the filter's history (clock went back): the output drops to 0.
-  void reset() { filter_.reset(); }
+  /// Forgets the filter's history (clock went back): the output drops to 0; the latch keeps
+  /// a stop (StopLatch::reset).
+  void reset() {
+    filter_.reset();
+    latch_.reset();
+  }
+  /// The stop latch: restart interlock, stop category, muting. Requests (reset, mute, joint
+  /// speeds) go to it between cycles.
+  StopLatch& latch() { return latch_; }
+  const StopLatch& latch() const { return latch_; }
 
   /// The largest reach set by the last prepare(), m.
   double reach() const { return reach_; }
@@ -62,7 +73,9 @@ class SsmCycle {
 
   SsmParams params_;
   SpeedScaleFilter filter_;
+  StopLatch latch_;
   std::vector<std::uint8_t> monitored_;  // per world body slot: a monitored track
+  std::vector<std::uint8_t> muted_;      // per world body slot: a muted track (this cycle)
   double reach_ = 0.0;
   char buffer_[256];  // reason text, formatted without allocating
 };

@@ -21,6 +21,7 @@
 
 #include "workspace_proximity/body.hpp"
 #include "workspace_proximity/rules/stamp.hpp"
+#include "workspace_proximity/rules/stop_latch.hpp"
 
 namespace workspace_proximity {
 
@@ -37,11 +38,20 @@ struct SsmParams {
   double max_increase_rate = 0.5;    ///< 1/s: the output rises at most this much per second
   double hold_time = 0.5;            ///< s the raw scale must stay above the output before it rises
   double degraded_scale = 0.0;       ///< the scale at most while the prediction is DEGRADED
+  // After a stop (stop_latch.hpp).
+  std::string restart = "automatic";  ///< "automatic" | "manual": a stop holds until ~reset
+  double min_stop_time = 0.0;         ///< s the scale stays 0 after a stop (both modes)
+  int stop_category = 2;              ///< 2: hold; 1: hold, then the halt at standstill
+  double standstill_speed = 0.01;     ///< rad/s or m/s: every joint below this stands still
+  double standstill_time = 0.5;       ///< s of standstill before the halt (category 1)
+  double max_mute_time = 0.0;         ///< s a mute lasts at most; 0: ~mute is refused
   // Outputs wired by the ROS bridge (names only here).
   std::vector<std::string> stop_trajectory_topics;  ///< empty JointTrajectory on each at a stop
   std::vector<std::string> stop_event_topics;       ///< "stop" (std_msgs/String) on each at a stop
   std::string cmd_vel_in;   ///< Twist commands to scale ("" = no filter)
   std::string cmd_vel_out;  ///< the scaled commands
+  std::string halt_service;  ///< std_srvs/Trigger called for the halt (category 1), or ""
+  std::string halt_topic;    ///< std_msgs/Empty published for the halt (category 1), or ""
 };
 
 /// One cycle's verdict of the rule, read by every output (speed_scale, safety_status,
@@ -67,6 +77,16 @@ struct SsmVerdict {
   Eigen::Vector3d point_robot = Eigen::Vector3d::Zero();   ///< nearest points now, fixed frame
   Eigen::Vector3d point_object = Eigen::Vector3d::Zero();
   std::string reason;         ///< one line: why the scale is what it is
+  /// Monitored pairs within their S_p(v_max) this cycle, muted ones included (a reset or a
+  /// mute is refused while any is).
+  int within = 0;
+  int muted_pairs = 0;        ///< monitored pairs within reach left out of the scale: muted
+  /// The stop latch after this cycle and its events (SsmCycle's, valid until the next cycle;
+  /// null before the first or while disabled).
+  const LatchState* latch = nullptr;
+  const LatchEvents* latch_events = nullptr;
+  /// Per world body slot: 1 for a track muted this cycle (SsmCycle's; null before the first).
+  const std::vector<std::uint8_t>* muted_slots = nullptr;
 };
 
 /// S_p(v_r), m.
