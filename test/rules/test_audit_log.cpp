@@ -22,6 +22,7 @@
 
 #include "workspace_proximity/rules/audit_log.hpp"
 #include "workspace_proximity/rules/audit_trail.hpp"
+#include "workspace_proximity/rules/stop_latch.hpp"
 
 namespace wp = workspace_proximity;
 using Rows = std::vector<std::vector<std::string>>;
@@ -319,6 +320,42 @@ TEST(AuditTrail, WritesEachTransitionOnceAndNothingBetween) {
   EXPECT_EQ(rows[4][3], "speed scale 0.200: clear");
   EXPECT_EQ(rows[5][1], "1.000000000");
   EXPECT_EQ(rows[7][3], "source /a: no data for 1.00 s | robot body b stale: x");
+  for (std::size_t i = 1; i < rows.size(); ++i) EXPECT_EQ(rows[i][4], "abcdabcdabcdabcd");
+}
+
+TEST(AuditTrail, WritesTheStopLatchsTransitionsUnderTheirNames) {
+  TempDir tmp;
+  const std::string file = tmp.path("audit.csv");
+  {
+    wp::AuditLog log(file, "abcdabcdabcdabcd");
+    wp::AuditTrail trail(&log);
+    wp::LatchEvents events;
+    wp::CycleReport r = report(0.00, false, {}, 0.0);
+    r.ssm.latch_events = &events;
+    events.add(wp::LatchEventKind::kStop, "person_1 within 0.40 m");  // is stop_begin
+    trail.cycle(r);
+    events.clear();
+    events.add(wp::LatchEventKind::kResetRefused, "person_1 within S_p");
+    events.add(wp::LatchEventKind::kMuteRefused, "the scale is 0");
+    r.stamp = wp::nanoseconds(0.05);
+    trail.cycle(r);
+    events.clear();
+    r.stamp = wp::nanoseconds(0.10);
+    trail.cycle(r);  // no events, no transition: nothing
+    events.add(wp::LatchEventKind::kHaltRequested, "stood still 0.5 s");
+    events.add(wp::LatchEventKind::kResetAccepted, "clear");
+    events.add(wp::LatchEventKind::kReleased, "reset accepted");
+    r.stamp = wp::nanoseconds(0.15);
+    trail.cycle(r);
+  }
+  const Rows rows = parseCsv(readFile(file));
+  std::vector<std::string> kinds;
+  for (std::size_t i = 1; i < rows.size(); ++i) kinds.push_back(rows[i][2]);
+  EXPECT_EQ(kinds, (std::vector<std::string>{"stop_begin", "reset_refused", "mute_refused",
+                                             "halt_requested", "reset_accepted", "released"}));
+  ASSERT_EQ(rows.size(), 7u);
+  EXPECT_EQ(rows[2][3], "person_1 within S_p");
+  EXPECT_EQ(rows[4][1], "0.150000000");
   for (std::size_t i = 1; i < rows.size(); ++i) EXPECT_EQ(rows[i][4], "abcdabcdabcdabcd");
 }
 
