@@ -88,9 +88,14 @@ void enlarge(State& s, ProxyId id, double lead) {
     const double d_hi = beyond((hi[axis] - unsortable64(b[2 * axis + 1])) * per_update);
     double below, above;
     CoastPolicy::room(d_lo, d_hi, lead, cap, &below, &above);
-    // A slow drift under the jitter leads as a steady motion does.
-    below = std::max(below, std::min(cap, -lead * static_cast<double>(m.drift[axis])));
-    above = std::max(above, std::min(cap, lead * static_cast<double>(m.drift[axis])));
+    // A slow drift under the jitter leads as a steady motion does, and further, up to a whole
+    // run's drift (4 leads), by at most the jitter's room again: otherwise drifting boxes
+    // leave their bounds one by one all through each run, and each costs a search and swaps.
+    // (A steady motion has no jitter: its lead is as before.)
+    const double v = static_cast<double>(m.drift[axis]);
+    const double ahead = std::min(4.0 * lead * std::abs(v), lead * std::abs(v) + kJitterRoom * jitter);
+    below = std::max(below, std::min(cap, v < 0.0 ? ahead : 0.0));
+    above = std::max(above, std::min(cap, v > 0.0 ? ahead : 0.0));
     below = std::min(cap, (below > 0.0 ? below : 0.0) + kJitterRoom * jitter);
     above = std::min(cap, (above > 0.0 ? above : 0.0) + kJitterRoom * jitter);
     // Not a number: no room on that side. Finite: keys of infinities read back as NaN.
