@@ -12,7 +12,7 @@
 /// enlarge everybody again (step()). Each enlargement of everybody ends a run, which is judged
 /// with a cost model in work units against what the same updates would have cost without
 /// coasting; a run that cost more switches coasting off for 64 updates, twice as long after
-/// each failure in a row (up to 4 096), then it is tried again. The first two runs after
+/// each failure in a row (up to 4 096), then it is tried again. The first three runs after
 /// coasting starts are on probation (not judged): their leads were measured from an update or
 /// two.
 
@@ -40,7 +40,7 @@ class CoastPolicy {
   /// Runs after coasting starts that are not judged: their leads (and the bounds on tracker
   /// jitter) were measured from an update or two, and the waves of escapers that follow say
   /// nothing yet of what coasting costs.
-  static constexpr int kProbationRuns = 2;
+  static constexpr int kProbationRuns = 3;
 
   /// `coast_updates`: SweepAndPruneConfig::coast_updates (0: never coast).
   explicit CoastPolicy(double coast_updates) : coast_updates_(coast_updates), lead_(coast_updates) {}

@@ -66,6 +66,14 @@ void enlarge(State& s, ProxyId id, double lead) {
   // What the bound keeps at each enlargement that does not see it again: it forgets slowly,
   // so that it holds the largest of several samples (one is often small).
   constexpr double kJitterKeep = 0.875;
+  // Without a drift measured yet (the first enlargement since the proxy was created), a
+  // displacement may be a steady motion's: it is not taken for jitter.
+  if (!(m.memory > 0.0f)) seen = 0.0;
+  // Nor is a jump of more than an eighth of the box's size (a turn, a swept box flipping
+  // round): a tracker's noise is smaller, and a bound learnt from a manoeuvre would give the
+  // box room on every side for many runs.
+  constexpr double kLargestJitter = 0.125;
+  if (seen > kLargestJitter * extent) seen = 0.0;
   const double jitter = std::min(cap, std::max(seen, kJitterKeep * static_cast<double>(m.jitter)));
   m.jitter = static_cast<float>(jitter);
   const double explained = jitter * per_update;
