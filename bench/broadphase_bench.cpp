@@ -14,7 +14,8 @@
 // force up to 12 000 live boxes, an independent sort-and-sweep above).
 //
 // Scenes: uniform boxes moving 1, 5, 20 or 50 % of their size per cycle, walkers' swept bounds
-// (the node's use), a warehouse with track churn, a robot cell.
+// (the node's use), a warehouse with track churn, a robot cell, and tracker jitter (boxes at rest
+// or drifting slowly, reported with fresh per-axis noise of ±0.5, 1, 2 or 5 % every cycle).
 //
 // Heap allocations: global operator new/delete are replaced in this binary, and Bullet's
 // allocator hook is pointed at the same counters. Allocations are counted only inside the timed

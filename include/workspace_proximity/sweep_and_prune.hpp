@@ -38,7 +38,7 @@
 /// against what the same updates would have cost without coasting (estimated from the swaps of
 /// the jump); when coasting cost more (large motion, dense scenes), it switches itself off for
 /// 64 updates, twice as long after each failure in a row (up to 4 096), then tries again; the
-/// first two runs after it starts are not judged. Tracker jitter: each proxy also keeps a
+/// first three runs after it starts are not judged. Tracker jitter: each proxy also keeps a
 /// bound on the displacement that neither rest nor its drift (averaged over about 16 updates)
 /// explains, forgotten slowly; every side gets three times that bound on top of its lead, and
 /// the lead is sized from the displacement beyond it (or from the averaged drift), so a box
