@@ -42,22 +42,23 @@ void enlarge(State& s, ProxyId id, double lead) {
   const double per_update = s.recip;
   const double cap = s.config.max_lead_fraction * extent;
   // Tracker jitter: the part of the centre's displacement since the last enlargement that
-  // neither rest nor its drift over the run before explains. A steady motion leaves none; a box reported a
-  // few millimetres off in a random direction every frame leaves up to twice its noise (or
-  // four times, against a drift measured from noise). The bound keeps the largest seen, forgotten
-  // slowly at each enlargement that does not see it again; every side gets that much room on top of
-  // its lead, and the lead is sized from the displacement beyond it, so that a box that comes
-  // back inside the bounds it had costs nothing.
+  // neither rest nor its drift explains. A steady motion leaves none; a box reported a few
+  // millimetres off in a random direction every frame leaves up to twice its noise. The bound
+  // keeps the largest seen, forgotten slowly at each enlargement that does not see it again;
+  // every side gets kJitterRoom times it on top of its lead, and the lead is sized from the
+  // displacement beyond it, so that a box that comes back inside the bounds it had costs
+  // nothing.
   ProxyMotion& m = s.motion[static_cast<std::size_t>(id)];
   const double span = static_cast<double>(elapsed);
   double seen = 0.0, centre[3];
   for (int axis = 0; axis < 3; ++axis) {
-    centre[axis] = 0.5 * ((lo[axis] - unsortable64(b[2 * axis])) + (hi[axis] - unsortable64(b[2 * axis + 1])));
+    centre[axis] = 0.5 * ((lo[axis] - unsortable64(b[2 * axis])) +
+                          (hi[axis] - unsortable64(b[2 * axis + 1])));
     // The smaller of what rest and what the drift leave unexplained: a drift measured from
     // noise over a short run must not be extrapolated over a long one. (std::max keeps `seen`
     // when the residual is not a number.)
-    const double unexplained = std::min(std::abs(centre[axis]),
-                                        std::abs(centre[axis] - span * static_cast<double>(m.drift[axis])));
+    const double drifted = centre[axis] - span * static_cast<double>(m.drift[axis]);
+    const double unexplained = std::min(std::abs(centre[axis]), std::abs(drifted));
     seen = std::max(seen, unexplained);
   }
   // Room per unit of that bound: one sample of it is often below the largest displacement
@@ -101,7 +102,8 @@ void enlarge(State& s, ProxyId id, double lead) {
     // leave their bounds one by one all through each run, and each costs a search and swaps.
     // (A steady motion has no jitter: its lead is as before.)
     const double v = static_cast<double>(m.drift[axis]);
-    const double ahead = std::min(4.0 * lead * std::abs(v), lead * std::abs(v) + kJitterRoom * jitter);
+    const double ahead =
+        std::min(4.0 * lead * std::abs(v), lead * std::abs(v) + kJitterRoom * jitter);
     below = std::max(below, std::min(cap, v < 0.0 ? ahead : 0.0));
     above = std::max(above, std::min(cap, v > 0.0 ? ahead : 0.0));
     below = std::min(cap, (below > 0.0 ? below : 0.0) + kJitterRoom * jitter);

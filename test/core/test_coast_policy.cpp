@@ -181,7 +181,9 @@ TEST(CoastPolicy, BackOffDoublesAfterEachFailureInARowUpTo4096) {
   CoastPolicy p(8.0);
   std::uint32_t update = 1;
   // Coasting starts, then the probation runs end, unjudged.
-  for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p.enlargedAll(update, resort(100, 0, 640, 50));
+  for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) {
+    p.enlargedAll(update, resort(100, 0, 640, 50));
+  }
   const std::uint32_t expected_off[] = {64, 128, 256, 512, 1024, 2048, 4096, 4096, 4096};
   for (std::uint32_t off : expected_off) {
     p.scanned(1000000);  // far more than 1300 per update over any run below
@@ -192,7 +194,9 @@ TEST(CoastPolicy, BackOffDoublesAfterEachFailureInARowUpTo4096) {
     update = p.retryAt();
     ASSERT_EQ(p.step(update, 0, 100, false, true), Step::kEnlargeAll);
     // Starts the next run, then the probation runs end, unjudged.
-    for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p.enlargedAll(update, resort(100, 0, 640, 50));
+    for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) {
+    p.enlargedAll(update, resort(100, 0, 640, 50));
+  }
   }
 }
 

@@ -872,7 +872,9 @@ TEST(SweepAndPrune, TrackerJitterCoastsAndEqualsBruteForce) {
       if (i % 2 == 0) {
         scene.velocity[i].setZero();
       } else {
-        for (int k = 0; k < 3; ++k) scene.velocity[i][k] = (scene.velocity[i][k] > 0 ? 1 : -1) / 512.0;
+        for (int k = 0; k < 3; ++k) {
+          scene.velocity[i][k] = (scene.velocity[i][k] > 0 ? 1 : -1) / 512.0;
+        }
       }
     }
     h.updateAndCheck();
