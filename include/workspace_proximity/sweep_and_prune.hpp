@@ -37,7 +37,12 @@
 /// cost model (work units counted from the candidates scanned, swaps, searches and rebuilds)
 /// against what the same updates would have cost without coasting (estimated from the swaps of
 /// the jump); when coasting cost more (large motion, dense scenes), it switches itself off for
-/// 64 updates, twice as long after each failure in a row (up to 4 096), then tries again.
+/// 64 updates, twice as long after each failure in a row (up to 4 096), then tries again; the
+/// first three runs after it starts are not judged. Tracker jitter: each proxy also keeps a
+/// bound on the displacement that neither rest nor its drift (averaged over about 16 updates)
+/// explains, forgotten slowly; every side gets three times that bound on top of its lead, and
+/// the lead is sized from the displacement beyond it (or from the averaged drift), so a box
+/// reported a little off around where it was stays inside its bounds and costs no sort work.
 ///
 /// The state is private: flat arrays by proxy id behind one pointer, and one file pair per job
 /// in src/core/ (sweep_and_prune_state.hpp lists them).

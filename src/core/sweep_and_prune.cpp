@@ -225,6 +225,7 @@ void State::reserveSlots(std::size_t slots) {
   for (std::vector<std::uint64_t>& e : prev_ends) e.reserve(2 * slots);
   tight.reserve(6 * slots);
   base.reserve(6 * slots);
+  motion.reserve(slots);
   escapers.reserve(slots);
   escaper_old.reserve(6 * slots);
   sort.reserve(slots);
@@ -269,6 +270,7 @@ SweepAndPrune::ProxyId SweepAndPrune::createProxy(const Aabb& bounds) {
     for (std::vector<std::uint64_t>& e : s.ends) e.resize(e.size() + 2);
     s.tight.resize(s.tight.size() + 6);
     s.base.resize(s.base.size() + 6);
+    s.motion.emplace_back();
     s.sweep.active_pos.push_back(-1);
   }
   sap::writeTight(s, id, bounds);
@@ -279,6 +281,7 @@ SweepAndPrune::ProxyId SweepAndPrune::createProxy(const Aabb& bounds) {
   p.is_new = false;
   p.escaped = false;
   p.fat = false;
+  s.motion[static_cast<std::size_t>(id)] = sap::ProxyMotion{{0.0f, 0.0f, 0.0f}, 0.0f, 0.0f};
   sap::enlarge(s, id, 0.0);  // no motion seen yet: its given bounds
   p.enlarged_at = s.updates + 1;  // as of the update that inserts it
   s.pending_insert.push_back(id);

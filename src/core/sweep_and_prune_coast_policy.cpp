@@ -9,7 +9,9 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r) {
   double work = kEnlargeWork * r.live + kSwapWork * static_cast<double>(r.swaps);
   work += r.rebuilt ? rebuildWork(3.0, r.live, r.sweep_tests, static_cast<double>(r.candidates))
                     : kPassWork * 3.0 * endpoints;
-  if (judge_next_) {
+  if (unjudged_ > 0) {
+    --unjudged_;
+  } else {
     // The run that ends here, from the last enlargement of everybody to this one, against what
     // the same updates would have cost without coasting: one pass over every axis and the
     // swaps of its motion (this jump's estimated swaps, spread over the run), or a rebuild of
@@ -29,7 +31,6 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r) {
       backoff_ = kFirstBackoff;
     }
   }
-  judge_next_ = true;
   run_work_ = work;
   last_global_ = update;
 }

@@ -12,7 +12,9 @@
 /// enlarge everybody again (step()). Each enlargement of everybody ends a run, which is judged
 /// with a cost model in work units against what the same updates would have cost without
 /// coasting; a run that cost more switches coasting off for 64 updates, twice as long after
-/// each failure in a row (up to 4 096), then it is tried again.
+/// each failure in a row (up to 4 096), then it is tried again. The first three runs after
+/// coasting starts are on probation (not judged): their leads were measured from an update or
+/// two.
 
 #include <algorithm>
 #include <cstddef>
@@ -35,6 +37,10 @@ class CoastPolicy {
   static constexpr double kFoundWork = 25.0;   ///< one pair found (and stamped) by a rebuild
   static constexpr std::uint32_t kFirstBackoff = 64;   ///< updates off after a first failure
   static constexpr std::uint32_t kMaxBackoff = 4096;   ///< updates off at most
+  /// Runs after coasting starts that are not judged: their leads (and the bounds on tracker
+  /// jitter) were measured from an update or two, and the waves of escapers that follow say
+  /// nothing yet of what coasting costs.
+  static constexpr int kProbationRuns = 3;
 
   /// `coast_updates`: SweepAndPruneConfig::coast_updates (0: never coast).
   explicit CoastPolicy(double coast_updates) : coast_updates_(coast_updates), lead_(coast_updates) {}
@@ -69,7 +75,7 @@ class CoastPolicy {
       if (!moved) return Step::kNothing;
       if (!(coast_updates_ > 0.0 && update >= retry_at_)) return Step::kResort;
       lead_ = coast_updates_;
-      judge_next_ = false;  // the run starts here
+      unjudged_ = 1 + kProbationRuns;  // the run starts here, on probation
       return Step::kEnlargeAll;
     }
     // A run lasts at most 4 coast_updates updates: then everybody is enlarged again, with
@@ -125,7 +131,9 @@ class CoastPolicy {
   std::uint32_t retry_at_ = 0;               // coasting off: the update that tries it again
   std::uint32_t backoff_ = kFirstBackoff;    // updates it stays off after failing
   double run_work_ = 0.0;                    // work of the coasting run under way
-  bool judge_next_ = false;                  // a run is under way (judged when it ends)
+  // Enlargements of everybody before runs are judged: the first starts coasting's first run,
+  // the next kProbationRuns end runs on probation, unjudged.
+  int unjudged_ = 1 + kProbationRuns;
 };
 
 }  // namespace sap

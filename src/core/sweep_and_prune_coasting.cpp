@@ -1,6 +1,7 @@
 #include "sweep_and_prune_coasting.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace workspace_proximity {
@@ -40,13 +41,73 @@ void enlarge(State& s, ProxyId id, double lead) {
   }
   const double per_update = s.recip;
   const double cap = s.config.max_lead_fraction * extent;
+  // Tracker jitter: the part of the centre's displacement since the last enlargement that
+  // neither rest nor its drift explains. A steady motion leaves none; a box reported a few
+  // millimetres off in a random direction every frame leaves up to twice its noise. The bound
+  // keeps the largest seen, forgotten slowly at each enlargement that does not see it again;
+  // every side gets kJitterRoom times it on top of its lead, and the lead is sized from the
+  // displacement beyond it, so that a box that comes back inside the bounds it had costs
+  // nothing.
+  ProxyMotion& m = s.motion[static_cast<std::size_t>(id)];
+  const double span = static_cast<double>(elapsed);
+  double seen = 0.0, centre[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    centre[axis] = 0.5 * ((lo[axis] - unsortable64(b[2 * axis])) +
+                          (hi[axis] - unsortable64(b[2 * axis + 1])));
+    // The smaller of what rest and what the drift leave unexplained: a drift measured from
+    // noise over a short run must not be extrapolated over a long one. (std::max keeps `seen`
+    // when the residual is not a number.)
+    const double drifted = centre[axis] - span * static_cast<double>(m.drift[axis]);
+    const double unexplained = std::min(std::abs(centre[axis]), std::abs(drifted));
+    seen = std::max(seen, unexplained);
+  }
+  // Room per unit of that bound: one sample of it is often below the largest displacement
+  // noise gives (a uniform noise's differences reach twice its amplitude).
+  constexpr double kJitterRoom = 3.0;
+  // What the bound keeps at each enlargement that does not see it again: it forgets slowly,
+  // so that it holds the largest of several samples (one is often small).
+  constexpr double kJitterKeep = 0.875;
+  // Without a drift measured yet (the first enlargement since the proxy was created), a
+  // displacement may be a steady motion's: it is not taken for jitter.
+  if (!(m.memory > 0.0f)) seen = 0.0;
+  // Nor is a jump of more than an eighth of the box's size (a turn, a swept box flipping
+  // round): a tracker's noise is smaller, and a bound learnt from a manoeuvre would give the
+  // box room on every side for many runs.
+  constexpr double kLargestJitter = 0.125;
+  if (seen > kLargestJitter * extent) seen = 0.0;
+  const double jitter = std::min(cap, std::max(seen, kJitterKeep * static_cast<double>(m.jitter)));
+  m.jitter = static_cast<float>(jitter);
+  const double explained = jitter * per_update;
+  auto beyond = [explained](double d) {
+    return d > explained ? d - explained : d < -explained ? d + explained : 0.0;
+  };
+  // The drift: the centre's displacement per update averaged over about kDriftMemory updates
+  // (a few runs), so that one run's noise does not set it.
+  constexpr double kDriftMemory = 16.0;
+  const double memory = static_cast<double>(m.memory);
+  const double weight = 1.0 / std::max(1.0, span + memory);
+  m.memory = static_cast<float>(std::min(kDriftMemory, span + memory));
   bool fat = false;
   for (int axis = 0; axis < 3; ++axis) {
-    // Displacements per update of the lower and the upper side (positive: upward).
-    const double d_lo = (lo[axis] - unsortable64(b[2 * axis])) * per_update;
-    const double d_hi = (hi[axis] - unsortable64(b[2 * axis + 1])) * per_update;
+    const double drift = (centre[axis] + memory * static_cast<double>(m.drift[axis])) * weight;
+    m.drift[axis] = std::isfinite(drift) ? static_cast<float>(drift) : 0.0f;
+    // Displacements per update of the lower and the upper side beyond the jitter (positive:
+    // upward).
+    const double d_lo = beyond((lo[axis] - unsortable64(b[2 * axis])) * per_update);
+    const double d_hi = beyond((hi[axis] - unsortable64(b[2 * axis + 1])) * per_update);
     double below, above;
     CoastPolicy::room(d_lo, d_hi, lead, cap, &below, &above);
+    // A slow drift under the jitter leads as a steady motion does, and further, up to a whole
+    // run's drift (4 leads), by at most the jitter's room again: otherwise drifting boxes
+    // leave their bounds one by one all through each run, and each costs a search and swaps.
+    // (A steady motion has no jitter: its lead is as before.)
+    const double v = static_cast<double>(m.drift[axis]);
+    const double ahead =
+        std::min(4.0 * lead * std::abs(v), lead * std::abs(v) + kJitterRoom * jitter);
+    below = std::max(below, std::min(cap, v < 0.0 ? ahead : 0.0));
+    above = std::max(above, std::min(cap, v > 0.0 ? ahead : 0.0));
+    below = std::min(cap, (below > 0.0 ? below : 0.0) + kJitterRoom * jitter);
+    above = std::min(cap, (above > 0.0 ? above : 0.0) + kJitterRoom * jitter);
     // Not a number: no room on that side. Finite: keys of infinities read back as NaN.
     constexpr double kMax = std::numeric_limits<double>::max();
     const double lo_e = std::max(-kMax, lo[axis] - (below > 0.0 ? below : 0.0));

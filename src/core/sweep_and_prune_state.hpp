@@ -40,6 +40,15 @@ struct ProxyInfo {
   std::uint32_t enlarged_at;  // update count at its last enlargement
 };
 
+// What enlarge() learnt of a proxy's motion: its centre's displacement per update averaged
+// over its last `memory` updates (m, per axis), and a bound on the part of its displacements
+// that neither rest nor that drift explained (tracker jitter, m), forgotten slowly.
+struct ProxyMotion {
+  float drift[3];
+  float jitter;
+  float memory;
+};
+
 struct State {
   explicit State(const SweepAndPruneConfig& config);
   State(const State&) = delete;  // the output pointers point into it
@@ -136,6 +145,7 @@ struct State {
   // the proxy's last enlargement: base (its displacement since then sizes the next lead).
   std::vector<std::uint64_t> tight;
   std::vector<std::uint64_t> base;
+  std::vector<ProxyMotion> motion;          // by slot
   std::vector<ProxyId> escapers;            // proxies that left their enlarged bounds
   std::vector<std::uint64_t> escaper_old;   // their previous enlarged keys, six each
   std::uint32_t updates = 0;                // update() calls so far

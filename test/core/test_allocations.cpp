@@ -70,9 +70,19 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
     s.half.push_back(rng.vector(0.25, 0.75));
     s.ids.push_back(sap.createProxy(s.box(s.centre.size() - 1)));
   }
-  auto cycle = [&](double step, bool churn) {
+  // `noise`: a tracker's jitter, fresh per-axis offsets of up to that much (m) on every
+  // reported box (the per-proxy jitter bounds and drifts of coasting).
+  auto cycle = [&](double step, bool churn, double noise = 0.0) {
     s.advance(step);
-    for (std::size_t i = 0; i < s.centre.size(); ++i) sap.moveProxy(s.ids[i], s.box(i));
+    for (std::size_t i = 0; i < s.centre.size(); ++i) {
+      wp::Aabb b = s.box(i);
+      if (noise > 0.0) {
+        const Eigen::Vector3d n = rng.vector(-noise, noise);
+        b.lower += n;
+        b.upper += n;
+      }
+      sap.moveProxy(s.ids[i], b);
+    }
     if (churn) {
       // Tracks appear and disappear: remove and re-create a few per cycle.
       for (int k = 0; k < 5; ++k) {
@@ -87,11 +97,17 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
   for (int i = 0; i < 50; ++i) cycle(0.05, i % 2 == 0);
   for (int i = 0; i < 5; ++i) cycle(20.0, true);
   for (int i = 0; i < 50; ++i) cycle(0.05, true);
+  for (int i = 0; i < 50; ++i) cycle(i % 2 == 0 ? 0.0 : 0.002, i % 3 == 0, 0.01);
 
   const long before = wp_test::allocationCount();
   bool rebuilt = false, enlarged_all = false, moved_alone = false;
-  for (int i = 0; i < 200; ++i) {
-    cycle(i % 50 == 0 ? 20.0 : 0.05, i % 3 == 0);
+  for (int i = 0; i < 300; ++i) {
+    // 200 updates of motion, then 100 of jitter around rest and a slow drift.
+    if (i < 200) {
+      cycle(i % 50 == 0 ? 20.0 : 0.05, i % 3 == 0);
+    } else {
+      cycle(i % 2 == 0 ? 0.0 : 0.002, i % 3 == 0, i % 7 == 0 ? 0.05 : 0.01);
+    }
     const wp::SweepAndPruneStats& st = sap.stats();
     rebuilt |= st.rebuilt;
     enlarged_all |= st.enlarged_all;

@@ -118,7 +118,10 @@ TEST(CoastPolicy, WorkOfARunIsCountedInUnits) {
 
 TEST(CoastPolicy, ARunCheaperThanNotCoastingKeepsCoasting) {
   CoastPolicy p(8.0);
-  p.enlargedAll(1, resort(100, 200, 300, 50));  // 4900, not judged (the first run)
+  p.enlargedAll(0, resort(100, 0, 0, 0));       // coasting starts; three probation runs follow
+  p.enlargedAll(0, resort(100, 0, 0, 0));       // the first ends, unjudged
+  p.enlargedAll(0, resort(100, 0, 0, 0));       // the second
+  p.enlargedAll(1, resort(100, 200, 300, 50));  // 4900, not judged (the third ends)
   p.scanned(100);
   p.movedFew(2, 30);                            // 5800 in all
   // Judged at update 33 (a run of 32): 5800 / 32 = 181.25 per update, against, without
@@ -132,7 +135,12 @@ TEST(CoastPolicy, ARunCheaperThanNotCoastingKeepsCoasting) {
 
 TEST(CoastPolicy, ACostlyRunSwitchesCoastingOffThenRetries) {
   CoastPolicy p(8.0);
+  p.enlargedAll(1, resort(100, 0, 0, 0));      // coasting starts; three probation runs follow
+  p.enlargedAll(1, resort(100, 0, 0, 0));      // the first ends, unjudged
+  p.enlargedAll(1, resort(100, 0, 0, 0));      // the second
+  p.scanned(1000000);                          // a probation run is not judged, however costly
   p.enlargedAll(33, resort(100, 0, 640, 50));  // 2900, not judged
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
   p.scanned(20000);                            // + 80000 = 82900
   // 82900 / 32 = 2590.6 per update > 1300: off until update 65 + 64 = 129, 128 next time.
   p.enlargedAll(65, resort(100, 0, 640, 50));
@@ -155,8 +163,16 @@ TEST(CoastPolicy, ACostlyRunSwitchesCoastingOffThenRetries) {
   p.enlargedAll(129, resort(100, 0, 640, 50));
   EXPECT_DOUBLE_EQ(p.lead(), 8.0);
   EXPECT_EQ(p.backoff(), 128u);
-  // A cheap run after it resets the back-off to 64.
-  p.enlargedAll(161, resort(100, 0, 640, 50));  // 2900 / 32 < 1300
+  // Then the probation runs (not judged), and a cheap run after them resets the back-off to 64.
+  p.scanned(1000000);
+  p.enlargedAll(137, resort(100, 0, 640, 50));
+  p.scanned(1000000);
+  p.enlargedAll(145, resort(100, 0, 640, 50));
+  p.scanned(1000000);
+  p.enlargedAll(161, resort(100, 0, 640, 50));
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  EXPECT_EQ(p.backoff(), 128u);
+  p.enlargedAll(193, resort(100, 0, 640, 50));  // 2900 / 32 < 1300
   EXPECT_DOUBLE_EQ(p.lead(), 8.0);
   EXPECT_EQ(p.backoff(), 64u);
 }
@@ -164,7 +180,10 @@ TEST(CoastPolicy, ACostlyRunSwitchesCoastingOffThenRetries) {
 TEST(CoastPolicy, BackOffDoublesAfterEachFailureInARowUpTo4096) {
   CoastPolicy p(8.0);
   std::uint32_t update = 1;
-  p.enlargedAll(update, resort(100, 0, 640, 50));
+  // Coasting starts, then the probation runs end, unjudged.
+  for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) {
+    p.enlargedAll(update, resort(100, 0, 640, 50));
+  }
   const std::uint32_t expected_off[] = {64, 128, 256, 512, 1024, 2048, 4096, 4096, 4096};
   for (std::uint32_t off : expected_off) {
     p.scanned(1000000);  // far more than 1300 per update over any run below
@@ -174,7 +193,10 @@ TEST(CoastPolicy, BackOffDoublesAfterEachFailureInARowUpTo4096) {
     EXPECT_EQ(p.retryAt(), update + off);
     update = p.retryAt();
     ASSERT_EQ(p.step(update, 0, 100, false, true), Step::kEnlargeAll);
-    p.enlargedAll(update, resort(100, 0, 640, 50));  // starts the next run, unjudged
+    // Starts the next run, then the probation runs end, unjudged.
+    for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) {
+    p.enlargedAll(update, resort(100, 0, 640, 50));
+  }
   }
 }
 
@@ -183,7 +205,12 @@ TEST(CoastPolicy, WithoutAnEstimateTheSwapsOfTheReSortStandIn) {
   // 900 + 1000; with the 50 pairs' scan, 2100. A run of 2100 * 32 = 67200 is not more: kept;
   // one unit more per update is: off.
   CoastPolicy kept(8.0), off(8.0);
-  for (CoastPolicy* p : {&kept, &off}) p->enlargedAll(1, resort(100, 0, 0, 50));  // 2900 each
+  for (CoastPolicy* p : {&kept, &off}) {
+    p->enlargedAll(0, resort(100, 0, 0, 0));   // coasting starts; three probation runs follow
+    p->enlargedAll(0, resort(100, 0, 0, 0));
+    p->enlargedAll(0, resort(100, 0, 0, 0));
+    p->enlargedAll(1, resort(100, 0, 0, 50));  // 2900 each, the probation ends
+  }
   kept.scanned((67200 - 2900) / 4);
   off.scanned((67200 + 32 - 2900) / 4);
   kept.enlargedAll(33, resort(100, 3200, -1, 50));

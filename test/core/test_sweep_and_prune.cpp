@@ -856,6 +856,58 @@ TEST(SweepAndPrune, SteadyMotionCoastsBetweenEnlargementsAndEqualsBruteForce) {
   }
 }
 
+// Tracker jitter (issue 26): half the boxes at rest, half drifting 1/512 m per update, every
+// reported centre off by fresh per-axis noise of up to 1, 2, 4 or 8 / 256 m (0.4 to 3 % of the
+// mean box size) in every update; exact coordinates (multiples of 1/512 m). Pairs, began and
+// ended equal brute force in every update, the enlarged bounds contain the given ones, and
+// coasting copes: most updates sort nothing or move a few boxes alone, instead of re-sorting.
+TEST(SweepAndPrune, TrackerJitterCoastsAndEqualsBruteForce) {
+  for (int noise : {1, 2, 4, 8}) {
+    SCOPED_TRACE(testing::Message() << "noise " << noise << "/256 m");
+    Rng rng(260026 + noise);
+    std::uniform_int_distribution<int> offset(-2 * noise, 2 * noise);  // in 1/512 m
+    Harness h(SweepAndPruneConfig(), true);
+    DriftScene scene(600, rng, h);
+    for (std::size_t i = 0; i < scene.velocity.size(); ++i) {
+      if (i % 2 == 0) {
+        scene.velocity[i].setZero();
+      } else {
+        for (int k = 0; k < 3; ++k) {
+          scene.velocity[i][k] = (scene.velocity[i][k] > 0 ? 1 : -1) / 512.0;
+        }
+      }
+    }
+    h.updateAndCheck();
+    CoastCounts counts;
+    for (int cycle = 0; cycle < 160; ++cycle) {
+      for (std::size_t i = 0; i < scene.center.size(); ++i) {
+        Eigen::Vector3d& c = scene.center[i];
+        for (int k = 0; k < 3; ++k) {
+          c[k] += scene.velocity[i][k];
+          if (c[k] - scene.half[i][k] < 0.5 || c[k] + scene.half[i][k] > scene.side - 0.5) {
+            scene.velocity[i][k] = -scene.velocity[i][k];
+          }
+        }
+        Aabb b;
+        for (int k = 0; k < 3; ++k) {
+          const double n = offset(rng) / 512.0;
+          b.lower[k] = c[k] - scene.half[i][k] + n;
+          b.upper[k] = c[k] + scene.half[i][k] + n;
+        }
+        h.move(scene.obj_of[i], b);
+      }
+      h.updateAndCheck();
+      if (::testing::Test::HasFatalFailure()) return;
+      if (cycle >= 10) counts.add(h.sap());
+    }
+    std::printf("jitter %d/256: %d updates, %d coasted, %d moved a few alone, %d enlarged all, "
+                "%d rebuilt\n", noise, counts.updates, counts.coasted, counts.moved_alone,
+                counts.enlarged_all, counts.rebuilt);
+    EXPECT_GE(counts.coasted + counts.moved_alone, 120);
+    EXPECT_LE(counts.enlarged_all, 12);
+  }
+}
+
 // A resting scene in which a few boxes at a time start, stop, turn back or jump: they leave
 // their enlarged bounds alone and only their endpoints move (pairs between two of them
 // included); brute force in every update.

@@ -55,6 +55,7 @@ struct ModelProxy {
   wp::Aabb bounds;
   bool inserted = false;         // has been through an update()
   bool pending_remove = false;   // destroyed, update() not yet run
+  wp::Aabb rest;                 // where it was created or last moved to (tracker noise's centre)
 };
 
 class Harness {
@@ -165,7 +166,7 @@ class Harness {
     const ProxyId id = sap_.createProxy(b);
     if (id < 0) fail("createProxy returned a negative id", std::to_string(id));
     if (proxies_.count(id) != 0) fail("createProxy reused an id still in use", std::to_string(id));
-    proxies_[id] = ModelProxy{b, false, false};
+    proxies_[id] = ModelProxy{b, false, false, b};
   }
 
   void move() {
@@ -174,6 +175,7 @@ class Harness {
     const wp::Aabb b = bounds();
     sap_.moveProxy(id, b);
     proxies_[id].bounds = b;
+    proxies_[id].rest = b;
   }
 
   void destroy() {
@@ -187,12 +189,15 @@ class Harness {
     }
   }
 
-  // Small motion of every proxy: the incremental insertion-sort path.
+  // Small motion of every proxy: the incremental insertion-sort path. With the scale's top bit,
+  // a tracker's noise instead: fresh offsets from where each proxy was created or last moved
+  // to (coasting's per-proxy jitter bounds and drifts; issue 26).
   void jitter() {
     const std::uint8_t scale = in_.byte();
+    const bool noise = (scale & 128) != 0;
     for (auto& kv : proxies_) {
       if (kv.second.pending_remove) continue;
-      wp::Aabb b = kv.second.bounds;
+      wp::Aabb b = noise ? kv.second.rest : kv.second.bounds;
       for (int k = 0; k < 3; ++k) {
         double d;
         if (exact_) {
