@@ -57,10 +57,13 @@ bool InputBridge::onForeign(int source, std::string_view type, std::string_view 
     monitor_->refuseType(source, f.decoded.detail);
     return true;
   }
+  // Elements without ids (detections; obstacle_detector's circles) need the multi-object
+  // tracker to become tracks: refused by name, never taken as clear, until it reads them.
   if (refusal == ForeignRefusal::kNone &&
-      f.decoded.version->family == ForeignFamily::kDetections) {
+      (f.decoded.version->family == ForeignFamily::kDetections ||
+       f.decoded.version->format == ForeignFormat::kObstacles)) {
     monitor_->refuseType(source, std::string(type) +
-                                     ": detections (no ids) are not read yet; they need the "
+                                     ": elements without ids are not read yet; they need the "
                                      "multi-object tracker (issue 24 item 3)");
     return true;
   }
