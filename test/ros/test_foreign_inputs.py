@@ -196,6 +196,15 @@ class ForeignInputs(unittest.TestCase):
                 boxes_pub.get_num_connections() >= 1 and
                 all(len(r.contacts) > 0 for r in recorders.values())):
             rospy.sleep(0.05)
+        # Every monitor has the post posed (its tf listener has the static transform) before
+        # the scene starts.
+        def posed(r):
+            with r.lock:
+                return bool(r.contacts) and not any("robot body" in d
+                                                    for d in r.contacts[-1].status_details)
+        while rospy.Time.now() < deadline and not all(posed(r) for r in recorders.values()):
+            rospy.sleep(0.05)
+        self.assertTrue(all(posed(r) for r in recorders.values()), "the post is not posed")
         self.assertGreaterEqual(foreign_pub.get_num_connections(), 2, "monitors not subscribed")
         self.assertGreaterEqual(boxes_pub.get_num_connections(), 1)
         self.assertGreaterEqual(wrong_pub.get_num_connections(), 1,
