@@ -160,6 +160,12 @@ void BagReplay::onForeign(int source, const BagTopic& topic, const std::uint8_t*
   if (size > 0) std::copy(bytes, bytes + size, bridges_.foreignBytes(source, size));
   else bridges_.foreignBytes(source, 0);
   bridges_.onForeign(source, topic.type, topic.md5, topic.definition, received);
+  // Its frame must be on tf, as an array's (checkFrames).
+  const std::string_view frame = bridges_.foreignFrame(source);
+  if (!frame.empty() &&
+      std::find(array_frames_.begin(), array_frames_.end(), frame) == array_frames_.end()) {
+    array_frames_.emplace_back(frame);
+  }
   if (input_trigger_ && source == trigger_source_ && trigger_.onArray(received)) {
     runCycle(received);
     next_cycle_ = trigger_.floorAfter(received);

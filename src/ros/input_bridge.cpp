@@ -77,6 +77,13 @@ bool InputBridge::onForeign(int source, std::string_view type, std::string_view 
   return arrive(source, now);
 }
 
+std::string_view InputBridge::foreignFrame(int source) const {
+  const std::unique_ptr<Foreign>& f = foreign_[static_cast<std::size_t>(source)];
+  if (!f || f->decoded.refusal != ForeignRefusal::kNone) return {};
+  if (!f->decoded.frame_id.empty() || f->decoded.tracks.empty()) return f->decoded.frame_id;
+  return f->decoded.tracks.front().frame_id;
+}
+
 bool InputBridge::arrive(int source, Stamp now) {
   Waiting& w = waiting_[static_cast<std::size_t>(source)];
   // Work ahead while the cycle waits: at most one array per source between cycles (a flood

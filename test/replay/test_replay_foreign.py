@@ -17,6 +17,7 @@ sightings for a finite difference):
   analytic one (the faces meet 3.2 s after the start) within 1 ms;
 - at every cycle stamp both replays share (the same grid: the same bag start), status,
   separation, approach speed and raw scale equal the TrackedBoxArray replay's within 1e-6;
+- a foreign topic whose frame is never on tf ends the replay with exit status 5 naming it;
 - a bag of a known type with another md5 (one more field) is refused naming the field, and
   one of an unknown type name is refused naming it (exit status 4, a message, no crash).
 
@@ -42,7 +43,7 @@ from tf2_msgs.msg import TFMessage  # noqa: E402
 import make_fixtures  # noqa: E402
 
 REPLAY_BAG = None
-BAG_PROBLEM = 4
+BAG_PROBLEM, INCOMPLETE = 4, 5
 SPEED, START_X, HEIGHT = 0.25, 1.6, 0.9
 T0 = 100.0
 CONTACT = T0 + (START_X - 0.3 - 0.5) / SPEED
@@ -266,6 +267,24 @@ class ReplayForeign(unittest.TestCase):
             self.assertEqual(c["status"], "DEGRADED")
             self.assertIn("obstacle_detector/Obstacles", c["details"])
             self.assertIn("without ids", c["details"])
+
+    def test_a_frame_without_tf_is_reported(self):
+        # As for TrackedBoxArray: the replay ends with exit status 5 naming the frame.
+        package, versions, build = FAMILIES["leg_tracker"]
+
+        def elsewhere(m, s, p, v):
+            msg = build(m, s, p, v)
+            msg.header.frame_id = "tracker_frame"
+            return msg
+        root = make_fixtures.generate(versions)
+        try:
+            run = self.replay("no_tf", make_fixtures.load(root, package), elsewhere,
+                              expect_ok=False)
+        finally:
+            shutil.rmtree(root)
+        err = run.stderr.decode(errors="replace")
+        self.assertEqual(run.returncode, INCOMPLETE, err)
+        self.assertIn("tracker_frame", err)
 
     def test_wrong_md5_and_unknown_type_refused(self):
         package, versions, build = FAMILIES["people"]

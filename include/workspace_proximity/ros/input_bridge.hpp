@@ -44,6 +44,9 @@ class InputBridge {
   std::uint8_t* foreignBytes(int source, std::size_t size);
   bool onForeign(int source, std::string_view type, std::string_view md5,
                  std::string_view definition, Stamp now);
+  /// The frame of source `source`'s last decoded foreign message (its header's, or its first
+  /// element's): valid until its next message; empty when none was decoded.
+  std::string_view foreignFrame(int source) const;
   /// A message whose type cannot be read at all (an old TrackedBoxArray): refused by name.
   void refuseType(int source, const std::string& why) { monitor_->refuseType(source, why); }
   /// At the cycle: every waiting array is used (the newest per source).

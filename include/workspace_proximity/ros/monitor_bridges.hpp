@@ -66,6 +66,8 @@ class MonitorBridges : private CycleFeed {
   }
   void onForeign(int source, std::string_view type, std::string_view md5,
                  std::string_view definition, Stamp now);
+  /// InputBridge::foreignFrame.
+  std::string_view foreignFrame(int source) const { return input_.foreignFrame(source); }
   /// Input `source` sends a type that cannot be read at all: DEGRADED with `why` until it sends
   /// one that can.
   void refuseType(int source, const std::string& why) { input_.refuseType(source, why); }
