@@ -41,6 +41,7 @@ import geometry_msgs.msg as g  # noqa: E402
 from tf2_msgs.msg import TFMessage  # noqa: E402
 
 import make_fixtures  # noqa: E402
+from foreign_scene import FAMILIES, FAMILIES_WITHOUT_IDS  # noqa: E402
 
 REPLAY_BAG = None
 BAG_PROBLEM, INCOMPLETE = 4, 5
@@ -50,103 +51,6 @@ CONTACT = T0 + (START_X - 0.3 - 0.5) / SPEED
 SKIP = 0.5
 CONFIGS = [os.path.join(ROOT, "test", "ros", "fixtures", "common_params.yaml"),
            os.path.join(ROOT, "test", "ros", "fixtures", "foreign_params.yaml")]
-
-
-def header(msg, stamp):
-    msg.header.stamp = stamp
-    msg.header.frame_id = "world"
-    return msg
-
-
-def people(m, s, p, v):
-    msg = header(m.People(), s)
-    msg.people.append(m.Person(name="100", position=g.Point(*p), velocity=g.Point(*v),
-                               reliability=1.0))
-    return msg
-
-
-def position_measurements(m, s, p, v):
-    msg = header(m.PositionMeasurementArray(), s)
-    pm = header(m.PositionMeasurement(), s)
-    pm.name, pm.object_id, pm.pos, pm.reliability = "legs", "100", g.Point(*p), 1.0
-    msg.people.append(pm)
-    return msg
-
-
-def spencer(version):
-    def build(m, s, p, v):
-        msg = header(m.TrackedPersons(), s)
-        t = m.TrackedPerson(track_id=100, is_occluded=False, detection_id=1)
-        if version >= 2:
-            t.is_matched = True
-        t.pose.pose.position = g.Point(*p)
-        t.pose.pose.orientation.w = 1.0
-        t.twist.twist.linear = g.Vector3(*v)
-        msg.tracks.append(t)
-        return msg
-    return build
-
-
-def bayes(version):
-    def build(m, s, p, v):
-        msg = header(m.PeopleTracker(), s)
-        msg.uuids.append("100")
-        msg.poses.append(g.Pose(position=g.Point(*p), orientation=g.Quaternion(0, 0, 0, 1)))
-        if version == 2:
-            msg.velocities.append(g.Vector3(*v))
-        msg.distances.append(1.0)
-        msg.angles.append(0.0)
-        return msg
-    return build
-
-
-def leg_tracker(m, s, p, v):
-    msg = header(m.PersonArray(), s)
-    msg.people.append(m.Person(pose=g.Pose(position=g.Point(*p),
-                                           orientation=g.Quaternion(0, 0, 0, 1)), id=100))
-    return msg
-
-
-def derived(covariance):
-    def build(m, s, p, v):
-        msg = header(m.ObjectWithCovarianceArray() if covariance else m.ObjectArray(), s)
-        o = header(m.ObjectWithCovariance() if covariance else m.Object(), s)
-        o.id, o.detection_level, o.object_classified, o.classification = 100, 1, True, 4
-        pose = o.pose.pose if covariance else o.pose
-        twist = o.twist.twist if covariance else o.twist
-        pose.position = g.Point(*p)
-        pose.orientation.w = 1.0
-        twist.linear = g.Vector3(*v)
-        o.shape.type = 1
-        o.shape.dimensions = [0.6, 0.6, 1.8]
-        msg.objects.append(o)
-        return msg
-    return build
-
-
-def obstacles(m, s, p, v):
-    msg = header(m.Obstacles(), s)
-    msg.circles.append(m.CircleObstacle(center=g.Point(*p), velocity=g.Vector3(*v), radius=0.3,
-                                        true_radius=0.3))
-    return msg
-
-
-# name: (package, version folders, builder)
-FAMILIES = {
-    "people": ("people_msgs", {}, people),
-    "position_measurements": ("people_msgs", {}, position_measurements),
-    "spencer_v1": ("spencer_tracking_msgs", {"spencer_tracking_msgs": "v1"}, spencer(1)),
-    "spencer_v2": ("spencer_tracking_msgs", {}, spencer(2)),
-    "spencer_v3": ("spencer_tracking_msgs", {"spencer_tracking_msgs": "v3"}, spencer(3)),
-    "pedsim_v1": ("pedsim_msgs", {"pedsim_msgs": "v1"}, spencer(1)),
-    "pedsim_v2": ("pedsim_msgs", {}, spencer(2)),
-    "bayes_v1": ("bayes_people_tracker", {"bayes_people_tracker": "v1"}, bayes(1)),
-    "bayes_v2": ("bayes_people_tracker", {}, bayes(2)),
-    "leg_tracker": ("leg_tracker", {}, leg_tracker),
-    "derived_objects": ("derived_object_msgs", {}, derived(False)),
-    "derived_objects_covariance": ("derived_object_msgs", {}, derived(True)),
-}
-FAMILIES_WITHOUT_IDS = {"obstacles": ("obstacle_detector", {}, obstacles)}
 
 
 def boxes_builder():

@@ -1,8 +1,7 @@
 #!/usr/bin/env python3
 """A foreign tracker type through the node (issue 24): the same scene as TrackedBoxArray.
 
-The .test file names the family (~family: people, spencer_v1, spencer_v2, spencer_v3,
-leg_tracker, derived_objects) and starts three monitors with the same parameters (speed and
+The .test file names the family (~family: a name of test/foreign/foreign_scene.py) and starts three monitors with the same parameters (speed and
 separation on, a 1 m cube "post" at the origin of base_link = world):
   /boxes/proximity_monitor     reads /scene/boxes     (workspace_proximity/TrackedBoxArray)
   /foreign/proximity_monitor   reads /scene/foreign   (the family's type)
@@ -42,9 +41,9 @@ sys.path.insert(0, os.path.join(HERE, "..", "foreign"))
 
 import rospy  # noqa: E402
 import rostest  # noqa: E402
-import geometry_msgs.msg as g  # noqa: E402
 
 import make_fixtures  # noqa: E402  (genpy classes from foreign_msgs/)
+from foreign_scene import FAMILIES  # noqa: E402  (one person in each type)
 from wp_node_testlib import (ContactEventArray, SafetyStatus, Track, TrackedBoxArray,  # noqa: E402
                              SSM_DEFAULTS, broadcast_static, ssm_required, ssm_scale)
 
@@ -57,70 +56,6 @@ CONTACT_AFTER = GAP0 / SPEED                     # 3.2 s
 REACH = ssm_required(SPEED, SSM_DEFAULTS["robot_max_speed"])
 SCENE_S = 3.0
 SKIP_S = 0.5
-
-# family: (package, version folders, message builder(m, stamp, position, velocity))
-FAMILIES = {}
-
-
-def _header(msg, stamp):
-    msg.header.stamp = stamp
-    msg.header.frame_id = "world"
-    return msg
-
-
-def _people(m, stamp, p, v):
-    msg = _header(m.People(), stamp)
-    msg.people.append(m.Person(name="100", position=g.Point(*p), velocity=g.Point(*v),
-                               reliability=1.0))
-    return msg
-
-
-def _spencer(version):
-    def build(m, stamp, p, v):
-        msg = _header(m.TrackedPersons(), stamp)
-        t = m.TrackedPerson(track_id=100, is_occluded=False, detection_id=1)
-        if version >= 2:
-            t.is_matched = True
-        t.pose.pose.position = g.Point(*p)
-        t.pose.pose.orientation.w = 1.0
-        t.twist.twist.linear = g.Vector3(*v)
-        msg.tracks.append(t)
-        return msg
-    return build
-
-
-def _leg_tracker(m, stamp, p, v):
-    msg = _header(m.PersonArray(), stamp)
-    msg.people.append(m.Person(pose=g.Pose(position=g.Point(*p),
-                                           orientation=g.Quaternion(0, 0, 0, 1)), id=100))
-    return msg
-
-
-def _derived(m, stamp, p, v):
-    msg = _header(m.ObjectArray(), stamp)
-    o = _header(m.Object(), stamp)
-    o.id = 100
-    o.detection_level = 1       # OBJECT_TRACKED: its twist is valid
-    o.object_classified = True
-    o.classification = 4        # CLASSIFICATION_PEDESTRIAN
-    o.pose.position = g.Point(*p)
-    o.pose.orientation.w = 1.0
-    o.twist.linear = g.Vector3(*v)
-    o.shape.type = 1            # BOX
-    o.shape.dimensions = [0.6, 0.6, 1.8]
-    msg.objects.append(o)
-    return msg
-
-
-FAMILIES = {
-    "people": ("people_msgs", {}, _people),
-    "spencer_v1": ("spencer_tracking_msgs", {"spencer_tracking_msgs": "v1"}, _spencer(1)),
-    "spencer_v2": ("spencer_tracking_msgs", {}, _spencer(2)),
-    "spencer_v3": ("spencer_tracking_msgs", {"spencer_tracking_msgs": "v3"}, _spencer(3)),
-    "leg_tracker": ("leg_tracker", {}, _leg_tracker),
-    "derived_objects": ("derived_object_msgs", {}, _derived),
-}
-
 
 def top_class(msg):
     return type(msg)
