@@ -182,6 +182,11 @@ class InputBridge::ForeignPlacement final : public ArrayPlacement {
                    std::to_string(f.observations.skippedFrame()) +
                        " tracks in another frame than the message's '" + frame_ + "'");
     }
+    if (f.observations.skippedPosition() > 0) {
+      monitor.drop(Drop::kPosition, source_,
+                   std::to_string(f.observations.skippedPosition()) +
+                       " tracks without a valid x and y (spencer: variance above 99999)");
+    }
     *boxes = &bridge_->boxes_;
     return true;
   }

@@ -65,12 +65,17 @@ void ForeignObservations::convert(const ForeignTrackArray& in, std::string_view 
   out->clear();
   current_.clear();
   skipped_frame_ = 0;
+  skipped_position_ = 0;
   const std::size_t n = std::min(in.tracks.size(), max_tracks_);
   for (std::size_t i = 0; i < n; ++i) {
     const ForeignTrack& t = in.tracks[i];
     // One array, one transform: a track in another frame is not guessed into this one.
     if (t.frame_id != frame) {
       ++skipped_frame_;
+      continue;
+    }
+    if ((t.position_axes & kAxesXY) != kAxesXY) {
+      ++skipped_position_;
       continue;
     }
     BoxObservation& b = out->emplace_back();
@@ -96,6 +101,8 @@ void ForeignObservations::convert(const ForeignTrackArray& in, std::string_view 
     for (int a = 0; a < 3; ++a) {
       b.dimensions[a] = (t.dimension_axes >> a & 1) ? t.dimensions[a] : label_size[a];
     }
+    // A floor tracker's height is not a measurement: the box stands on the frame's z = 0.
+    if ((t.position_axes & 0b100) == 0) b.position.z() = 0.5 * b.dimensions.z();
     b.angular_velocity.setZero();
     if (t.has_position_covariance) b.position_error = threeSigma(t.position_covariance, t.position_axes);
 

@@ -94,6 +94,25 @@ TEST(ForeignObservations, LabelsSizesIdsAndErrors) {
   EXPECT_EQ(out[2].label, "person");
 }
 
+TEST(ForeignObservations, UnsetPositionAxes) {
+  // spencer's "unset" axes (variance above 99999) read 0 with their bit cleared.
+  wp::MonitorParams params;
+  wp::ForeignTrackArray in(4);
+  in.tracks.push_back(person(1, Eigen::Vector3d(2, 3, 0), kSecond));
+  in.tracks.back().position_axes = wp::kAxesXY;  // z unset: stands on z = 0
+  in.tracks.push_back(person(2, Eigen::Vector3d(2, 0, 0.5), kSecond));
+  in.tracks.back().position_axes = 0b101;  // y unset: where it is is unknown
+  in.tracks.push_back(person(3, Eigen::Vector3d(0, 0, 0), kSecond));
+  in.tracks.back().position_axes = wp::kAxesNone;
+  wp::ForeignObservations convert(4);
+  std::vector<wp::BoxObservation> out;
+  convert.convert(in, "map", params, &out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(convert.skippedPosition(), 2u);
+  EXPECT_EQ(out[0].id, "1");
+  EXPECT_EQ(out[0].position, Eigen::Vector3d(2, 3, 0.9));  // half the person's 1.8 m
+}
+
 TEST(ForeignObservations, FiniteDifferencesOverTheIdAndNoAllocation) {
   wp::MonitorParams params;
   params.track_timeout = 0.5;

@@ -42,6 +42,10 @@ class ForeignObservations {
                std::vector<BoxObservation>* out);
   /// Tracks of the last message skipped because their frame was not the array's.
   std::size_t skippedFrame() const { return skipped_frame_; }
+  /// Tracks of the last message skipped because their x or y is not valid (spencer: variance
+  /// above 99999): where they are is unknown, so they are dropped, never guessed. A track
+  /// whose z alone is not valid stands on z = 0 of its frame (its box's centre at size_z / 2).
+  std::size_t skippedPosition() const { return skipped_position_; }
   /// Forgets every sighting (after the clock went back).
   void reset() { previous_.clear(); }
 
@@ -61,6 +65,7 @@ class ForeignObservations {
   std::vector<Sighting> previous_;    // sorted by key: the last message's tracks
   std::vector<Sighting> current_;     // this message's, becomes previous_
   std::size_t skipped_frame_ = 0;
+  std::size_t skipped_position_ = 0;
 };
 
 }  // namespace workspace_proximity
