@@ -6,6 +6,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "workspace_proximity/rules/track_growth.hpp"
+
 namespace workspace_proximity {
 namespace {
 
@@ -120,11 +122,14 @@ void ForeignObservations::convert(const ForeignTrackArray& in, std::string_view 
     // No velocity in the message: the difference of the last two sightings of this id.
     const Sighting* last = b.id.empty() ? nullptr : findPrevious(key);
     const double dt = last ? secondsBetween(last->stamp, t.stamp) : 0.0;
-    if (last != nullptr && dt >= kMinDifferenceTime && dt <= params.track_timeout) {
+    // Two position errors over dt bound the difference's error (3 sigma each, added); a
+    // difference less certain than the label's unknown-velocity speed says nothing more.
+    const double error = dt > 0.0 ? 2.0 * b.position_error / dt : 0.0;
+    if (last != nullptr && dt >= kMinDifferenceTime && dt <= params.track_timeout &&
+        error <= unknownVelocitySpeed(label)) {
       b.linear_velocity = (t.position - last->position) / dt;
       b.velocity_known = true;
-      // Two position errors over dt bound the difference's error (3 sigma each, added).
-      if (b.position_error > 0.0) b.velocity_error = 2.0 * b.position_error / dt;
+      b.velocity_error = error;
     } else {
       b.linear_velocity.setZero();
       b.velocity_known = false;

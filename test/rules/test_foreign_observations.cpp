@@ -157,6 +157,7 @@ TEST(ForeignObservations, FiniteDifferencesOverTheIdAndNoAllocation) {
 TEST(ForeignObservations, DifferencedVelocityCarriesThePositionErrors) {
   // Two positions each within p of the truth: their difference over dt within 2 p / dt.
   wp::MonitorParams params;
+  params.labels["person"].max_speed = 5.0;  // the unknown-velocity speed: 3 m/s is better
   wp::ForeignObservations convert(2);
   wp::ForeignTrackArray in(2);
   std::vector<wp::BoxObservation> out;
@@ -171,6 +172,15 @@ TEST(ForeignObservations, DifferencedVelocityCarriesThePositionErrors) {
   EXPECT_TRUE(out[0].velocity_known);
   EXPECT_NEAR(out[0].position_error, 0.3, 1e-12);
   EXPECT_NEAR(out[0].velocity_error, 2.0 * 0.3 / 0.2, 1e-9);
+  // 50 ms later the difference's error is 12 m/s, worse than growing at max_speed: unknown.
+  in.tracks.clear();
+  in.tracks.push_back(person(3, Eigen::Vector3d::Zero(), kSecond + kSecond / 4));
+  in.tracks.back().has_position_covariance = true;
+  in.tracks.back().position_covariance = 0.01 * Eigen::Matrix3d::Identity();
+  convert.convert(in, "map", params, &out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(out[0].velocity_known);
+  EXPECT_EQ(out[0].linear_velocity, Eigen::Vector3d::Zero());
 }
 
 int main(int argc, char** argv) {

@@ -37,7 +37,8 @@ class ForeignObservations {
   /// observations in `*out` (resized; its ids and labels view `in`'s bytes and this object,
   /// valid until the next call). Sizes from `params`' label size where the message gives
   /// none; a track with no velocity gets the finite difference of its position since its last
-  /// sighting (within `params.track_timeout`), else velocity_known = false.
+  /// sighting (within `params.track_timeout`), with the error 2 position_error / dt, else (and
+  /// when that error exceeds the label's unknownVelocitySpeed) velocity_known = false.
   void convert(const ForeignTrackArray& in, std::string_view frame, const MonitorParams& params,
                std::vector<BoxObservation>* out);
   /// Tracks of the last message skipped because their frame was not the array's.
