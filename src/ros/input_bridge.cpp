@@ -57,14 +57,12 @@ bool InputBridge::onForeign(int source, std::string_view type, std::string_view 
     monitor_->refuseType(source, f.decoded.detail);
     return true;
   }
-  // Elements without ids (detections; obstacle_detector's circles) need the multi-object
-  // tracker to become tracks: refused by name, never taken as clear, until it reads them.
-  if (refusal == ForeignRefusal::kNone &&
-      (f.decoded.version->family == ForeignFamily::kDetections ||
-       f.decoded.version->format == ForeignFormat::kObstacles)) {
+  // obstacle_detector's circles have no ids and are not in the detections family the
+  // tracker reads: refused by name, never taken as clear.
+  if (refusal == ForeignRefusal::kNone && f.decoded.version->format == ForeignFormat::kObstacles) {
     monitor_->refuseType(source, std::string(type) +
-                                     ": elements without ids are not read yet; they need the "
-                                     "multi-object tracker (issue 24 item 3)");
+                                     ": circles without ids are not read yet (the multi-object "
+                                     "tracker reads the detection types only)");
     return true;
   }
   monitor_->acceptType(source);
@@ -72,6 +70,15 @@ bool InputBridge::onForeign(int source, std::string_view type, std::string_view 
     monitor_->drop(Drop::kMalformed, source,
                    std::string(type) + ": " + foreignRefusalName(refusal) + ": " + f.decoded.detail);
     return true;
+  }
+  f.waiting_detections = f.decoded.version->family == ForeignFamily::kDetections;
+  if (f.waiting_detections && !f.detections) {
+    // The `unknown` label's bounds drive the tracker (its defaults where the label has none).
+    const LabelSettings& unknown = monitor_->params().label("unknown");
+    ForeignDetectionParams p;
+    if (unknown.max_accel > 0.0) p.max_accel = unknown.max_accel;
+    if (unknown.max_speed > 0.0) p.max_speed = unknown.max_speed;
+    f.detections = std::make_unique<ForeignDetections>(p);
   }
   waiting_[static_cast<std::size_t>(source)].foreign = true;
   return arrive(source, now);
@@ -105,7 +112,9 @@ void InputBridge::takePending(Stamp now) {
 void InputBridge::reset() {
   for (Waiting& w : waiting_) w = Waiting();
   for (std::unique_ptr<Foreign>& f : foreign_) {
-    if (f) f->observations.reset();  // sightings from before the jump are no velocity
+    if (!f) continue;
+    f->observations.reset();  // sightings from before the jump are no velocity
+    f->detections.reset();    // nor tracks (made again at the next detections message)
   }
 }
 
@@ -176,6 +185,17 @@ class InputBridge::ForeignPlacement final : public ArrayPlacement {
     if (!bridge_->lookup(source_, frame_, stamp, at_cycle_, fixed_from_frame, &wait)) return false;
     Foreign& f = *bridge_->foreign_[static_cast<std::size_t>(source_)];
     Monitor& monitor = *bridge_->monitor_;
+    if (f.waiting_detections) {
+      // Detections: associated in the fixed frame; the tracker's confirmed tracks, with its
+      // ids, velocities and errors, are the boxes (already in the fixed frame).
+      if (f.detections->ingest(f.decoded, *fixed_from_frame) != DetectionRefusal::kNone) {
+        monitor.drop(Drop::kOutOfOrder, source_, "detections stamped before the previous message");
+        return false;
+      }
+      fixed_from_frame->setIdentity();
+      *boxes = &f.detections->tracks();
+      return true;
+    }
     f.observations.convert(f.decoded, frame_, monitor.params(), &bridge_->boxes_);
     if (f.observations.skippedFrame() > 0) {
       monitor.drop(Drop::kFrame, source_,

@@ -110,3 +110,65 @@ FAMILIES = {
 }
 # Elements without ids: refused by name until the multi-object tracker reads them.
 FAMILIES_WITHOUT_IDS = {"obstacles": ("obstacle_detector", {}, obstacles)}
+
+
+# Detections (no ids): through the multi-object tracker. Debian ships visualization_msgs and
+# geometry_msgs with Python: their package is given as "debian:<package>".
+def detections3d(m, s, p, v):
+    msg = header(m.Detection3DArray(), s)
+    d = header(m.Detection3D(), s)
+    d.results.append(m.ObjectHypothesisWithPose(id=7, score=0.9))  # a class id: never an id
+    d.bbox.center.position = g.Point(*p)
+    d.bbox.center.orientation.w = 1.0
+    d.bbox.size = g.Vector3(0.6, 0.6, 1.8)
+    msg.detections.append(d)
+    return msg
+
+
+def jsk(version):
+    def build(m, s, p, v):
+        msg = header(m.BoundingBoxArray(), s)
+        b = header(m.BoundingBox(), s)
+        b.pose.position = g.Point(*p)
+        b.pose.orientation.w = 1.0
+        b.dimensions = g.Vector3(0.6, 0.6, 1.8)
+        if version == 2:
+            b.value, b.label = 0.9, 1
+        msg.boxes.append(b)
+        return msg
+    return build
+
+
+def markers(m, s, p, v):
+    msg = m.MarkerArray()
+    mk = header(m.Marker(), s)
+    mk.ns, mk.id, mk.type, mk.action = "people", 1, m.Marker.CYLINDER, m.Marker.ADD
+    mk.pose.position = g.Point(*p)
+    mk.pose.orientation.w = 1.0
+    mk.scale = g.Vector3(0.6, 0.6, 1.8)
+    mk.color.a = 1.0
+    msg.markers.append(mk)
+    return msg
+
+
+def poses(m, s, p, v):
+    msg = header(m.PoseArray(), s)
+    msg.poses.append(g.Pose(position=g.Point(*p), orientation=g.Quaternion(0, 0, 0, 1)))
+    return msg
+
+
+DETECTION_FAMILIES = {
+    "detections3d": ("vision_msgs", {}, detections3d),
+    "jsk_v1": ("jsk_recognition_msgs", {"jsk_recognition_msgs": "v1"}, jsk(1)),
+    "jsk_v2": ("jsk_recognition_msgs", {}, jsk(2)),
+    "markers": ("debian:visualization_msgs", {}, markers),
+    "poses": ("debian:geometry_msgs", {}, poses),
+}
+
+
+def load_module(make_fixtures, root, package):
+    """The module of `package`'s messages: generated into `root`, or Debian's."""
+    if package.startswith("debian:"):
+        import importlib
+        return importlib.import_module(package.split(":", 1)[1] + ".msg")
+    return make_fixtures.load(root, package)

@@ -139,16 +139,26 @@ TEST_F(ForeignInput, AnUnknownMd5IsRefusedByNameForAsLongAsItLasts) {
   EXPECT_FALSE(report().degraded);
 }
 
-TEST_F(ForeignInput, UnknownTypesAndIdlessTypesAreRefusedByName) {
+TEST_F(ForeignInput, UnknownTypesAndObstacleCirclesAreRefusedByName) {
   const Fixture f = load("people");
   feed(f, 11 * kSecond, f.bytes.size(), "my_tracker/People", f.md5);
   EXPECT_TRUE(statusNames("my_tracker/People"));
-  const Fixture d = load("detections3d");  // stamped 17 s
-  feed(d, 17 * kSecond);
-  EXPECT_TRUE(statusNames("vision_msgs/Detection3DArray"));
+  const Fixture o = load("obstacles");  // stamped 16 s: circles without ids
+  feed(o, 16 * kSecond);
+  EXPECT_TRUE(statusNames("obstacle_detector/Obstacles"));
   EXPECT_TRUE(statusNames("without ids"));
   EXPECT_EQ(bridges_->monitor().tracks().size(), 0);
   EXPECT_EQ(drops(wp::Drop::kMessageType), 2u);
+}
+
+TEST_F(ForeignInput, DetectionsGoThroughTheTrackerAndAreNotRefused) {
+  // One Detection3DArray: read (no refusal), its detections tentative tracks of the
+  // multi-object tracker (confirmed at the second hit), so no track yet.
+  const Fixture d = load("detections3d");  // stamped 17 s, frame camera
+  feed(d, 17 * kSecond);
+  EXPECT_FALSE(report().degraded) << report().status_lines.front();
+  EXPECT_EQ(drops(wp::Drop::kMessageType), 0u);
+  EXPECT_EQ(bridges_->monitor().tracks().size(), 0);
 }
 
 TEST_F(ForeignInput, MalformedBytesAreDroppedAndTheNextMessageIsRead) {

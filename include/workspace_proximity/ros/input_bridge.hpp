@@ -12,7 +12,9 @@
 /// Foreign tracker types (foreign_types.hpp: people_msgs, spencer, leg_tracker, ...) arrive as
 /// their serialized bytes with type, md5 and the publisher's definition: they are decoded on
 /// arrival (a type or version it cannot read is refused by name, and the source is DEGRADED
-/// while it sends it), turned into boxes (ForeignObservations) and take the same path.
+/// while it sends it), turned into boxes (ForeignObservations) and take the same path. Types
+/// of detections without ids (vision_msgs, jsk, MarkerArray, PoseArray) go through a
+/// multi-object tracker per source (ForeignDetections, label `unknown`) in the fixed frame.
 
 #include <cstdint>
 #include <memory>
@@ -23,6 +25,7 @@
 #include <tf2/buffer_core.h>
 #include <workspace_proximity/TrackedBoxArray.h>
 
+#include "workspace_proximity/rules/foreign_detections.hpp"
 #include "workspace_proximity/rules/foreign_observations.hpp"
 #include "workspace_proximity/rules/foreign_tracks.hpp"
 #include "workspace_proximity/rules/monitor.hpp"
@@ -68,6 +71,10 @@ class InputBridge {
     explicit Foreign(std::size_t max_tracks) : decoded(max_tracks), observations(max_tracks) {}
     std::vector<std::uint8_t> bytes;  // the message waiting (decoded views it)
     std::string frame;                // its frame (reused)
+    // Detection types (no ids): the multi-object tracker, in the fixed frame, made at the
+    // source's first detections message.
+    std::unique_ptr<ForeignDetections> detections;
+    bool waiting_detections = false;  // the waiting message is of the detections family
     ForeignTrackArray decoded;
     ForeignObservations observations;
   };
