@@ -11,6 +11,7 @@
 #include <rosbag/view.h>
 
 #include "workspace_proximity/replay/bag_check.hpp"
+#include "workspace_proximity/rules/foreign_types.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
 
 namespace workspace_proximity {
@@ -109,6 +110,8 @@ BagInput::BagInput(const std::string& path, const std::vector<std::string>& inpu
       }
       t.name = c->topic;
       t.type = c->datatype;
+      t.md5 = c->md5sum;
+      t.definition = c->msg_def;
       md5_of[c->topic] = c->md5sum;
     }
     for (auto& kv : by_name) {
@@ -125,9 +128,22 @@ BagInput::BagInput(const std::string& path, const std::vector<std::string>& inpu
                                  " (the input topic: ~input_topics in the configuration, or "
                                  "--input-topic); its topics: " + topicList(topics_));
       }
-      const BagTopic& t = it->second;
+      BagTopic& t = it->second;
+      if (isKnownForeignType(t.type)) {
+        // A tracker's own type: read only in a version the decoder knows, never guessed.
+        if (findForeignVersion(t.type, t.md5) == nullptr) {
+          throw bagError(path, "topic " + input + ": " +
+                                   describeUnknownMd5(t.type, t.md5, t.definition));
+        }
+        for (BagTopic& listed : topics_) {
+          if (listed.name == input) listed.kind = BagTopicKind::kForeign;
+        }
+        continue;
+      }
       if (t.type != kArrayType) {
-        throw bagError(path, "topic " + input + " has type " + t.type + ", not " + kArrayType);
+        throw bagError(path, "topic " + input + " has type " + t.type + ", not " + kArrayType +
+                                 " nor a tracker type this build reads (" +
+                                 describeUnknownType(t.type) + ")");
       }
       const std::string expected = ros::message_traits::MD5Sum<TrackedBoxArray>::value();
       if (md5_of[input] != expected) {
@@ -145,7 +161,7 @@ BagInput::BagInput(const std::string& path, const std::vector<std::string>& inpu
     }
     for (const BagTopic& t : topics_) {
       if (t.kind == BagTopicKind::kTf || t.kind == BagTopicKind::kTfStatic ||
-          t.kind == BagTopicKind::kArray) {
+          t.kind == BagTopicKind::kArray || t.kind == BagTopicKind::kForeign) {
         replayed_.push_back(t.name);
         replayed_messages_ += t.messages;
       }
@@ -232,7 +248,7 @@ void BagInput::stream(BagVisitor* visitor) {
       // Joint messages: deserialised as they are (their lists are short; a damaged count is
       // caught by the deserialiser running out of bytes, after at most one large allocation).
       const bool plausible =
-          joints ? true
+          joints || topic->kind == BagTopicKind::kForeign ? true  // the decoder checks every length
           : topic->kind == BagTopicKind::kArray
               ? plausibleCount(buffer_, boxCountOffset(buffer_), min_box_bytes_, &why)
               : plausibleCount(buffer_, 0, min_transform_bytes_, &why);
@@ -241,6 +257,8 @@ void BagInput::stream(BagVisitor* visitor) {
         ros::serialization::deserialize(in, joint_state_);
       } else if (topic->kind == BagTopicKind::kTrajectory) {
         ros::serialization::deserialize(in, trajectory_);
+      } else if (topic->kind == BagTopicKind::kForeign) {
+        // Decoded by the input bridge from these bytes.
       } else if (topic->kind == BagTopicKind::kArray) {
         auto& pool = array_pool_[static_cast<std::size_t>(topic->source)];
         boost::shared_ptr<TrackedBoxArray>* free_slot = nullptr;
@@ -269,6 +287,8 @@ void BagInput::stream(BagVisitor* visitor) {
     } else if (topic->kind == BagTopicKind::kArray) {
       visitor->onArray(topic->source, array, last);
       array.reset();
+    } else if (topic->kind == BagTopicKind::kForeign) {
+      visitor->onForeign(topic->source, *topic, buffer_.data(), buffer_.size(), last);
     } else {
       visitor->onTf(tf_, topic->kind == BagTopicKind::kTfStatic, last);
     }

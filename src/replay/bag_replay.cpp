@@ -151,6 +151,27 @@ void BagReplay::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp 
   }
 }
 
+void BagReplay::onForeign(int source, const BagTopic& topic, const std::uint8_t* bytes,
+                          std::size_t size, Stamp received) {
+  cyclesBefore(received);
+  advanceClock(received);
+  last_input_ = received;
+  ++stats_.arrays;
+  if (size > 0) std::copy(bytes, bytes + size, bridges_.foreignBytes(source, size));
+  else bridges_.foreignBytes(source, 0);
+  bridges_.onForeign(source, topic.type, topic.md5, topic.definition, received);
+  // Its frame must be on tf, as an array's (checkFrames).
+  const std::string_view frame = bridges_.foreignFrame(source);
+  if (!frame.empty() &&
+      std::find(array_frames_.begin(), array_frames_.end(), frame) == array_frames_.end()) {
+    array_frames_.emplace_back(frame);
+  }
+  if (input_trigger_ && source == trigger_source_ && trigger_.onArray(received)) {
+    runCycle(received);
+    next_cycle_ = trigger_.floorAfter(received);
+  }
+}
+
 void BagReplay::cyclesBefore(Stamp t) {
   const bool long_gap = t - last_input_ > nanoseconds(kSkipGap);
   while (next_cycle_ < t) {

@@ -268,7 +268,7 @@ std::string summaryJson(const ReplayStats& s, const ReplayInfo& info) {
     for (std::size_t i = 0; i < topics.size(); ++i) {
       const BagTopic& t = topics[i];
       const bool replayed = t.kind == BagTopicKind::kTf || t.kind == BagTopicKind::kTfStatic ||
-                            t.kind == BagTopicKind::kArray;
+                            t.kind == BagTopicKind::kArray || t.kind == BagTopicKind::kForeign;
       j << (i ? ",\n    " : "\n    ") << "{\"name\": " << jsonString(t.name)
         << ", \"type\": " << jsonString(t.type) << ", \"messages\": " << t.messages
         << ", \"replayed\": " << (replayed ? "true" : "false") << "}";

@@ -1,5 +1,6 @@
 #include "workspace_proximity/ros/input_bridge.hpp"
 
+#include <algorithm>
 #include <exception>
 
 #include <ros/console.h>
@@ -14,15 +15,84 @@ InputBridge::InputBridge(Monitor* monitor, tf2::BufferCore* tf, const std::strin
     : monitor_(monitor),
       tf_(tf),
       fixed_frame_(fixed_frame),
-      waiting_(static_cast<std::size_t>(monitor->sources().size())) {}
+      waiting_(static_cast<std::size_t>(monitor->sources().size())),
+      foreign_(static_cast<std::size_t>(monitor->sources().size())) {}
 
 bool InputBridge::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp now) {
   monitor_->noteReceipt(source, now);
+  monitor_->acceptType(source);
   Waiting& w = waiting_[static_cast<std::size_t>(source)];
-  if (w.msg) {
+  if (waits(w)) {
     monitor_->drop(Drop::kSuperseded, source, "a newer array arrived before it was used");
   }
+  w.foreign = false;
   w.msg = msg;
+  return arrive(source, now);
+}
+
+std::uint8_t* InputBridge::foreignBytes(int source, std::size_t size) {
+  std::unique_ptr<Foreign>& f = foreign_[static_cast<std::size_t>(source)];
+  if (!f) {
+    f = std::make_unique<Foreign>(static_cast<std::size_t>(std::max(1, monitor_->params().max_tracks)));
+  }
+  // The waiting message's tracks view these bytes: it is superseded before they change.
+  Waiting& w = waiting_[static_cast<std::size_t>(source)];
+  if (waits(w)) {
+    monitor_->drop(Drop::kSuperseded, source, "a newer message arrived before it was used");
+    w.msg.reset();
+    w.foreign = false;
+  }
+  f->bytes.resize(size);  // keeps its capacity: no allocation once the largest message came
+  return f->bytes.data();
+}
+
+bool InputBridge::onForeign(int source, std::string_view type, std::string_view md5,
+                            std::string_view definition, Stamp now) {
+  monitor_->noteReceipt(source, now);
+  Foreign& f = *foreign_[static_cast<std::size_t>(source)];
+  const ForeignRefusal refusal = decodeForeignTracks(type, md5, f.bytes.data(), f.bytes.size(),
+                                                     &f.decoded, definition);
+  if (refusal == ForeignRefusal::kUnknownType || refusal == ForeignRefusal::kUnknownMd5) {
+    // Never guessed at: DEGRADED, naming the type (and the layout difference), while it lasts.
+    monitor_->refuseType(source, f.decoded.detail);
+    return true;
+  }
+  // obstacle_detector's circles have no ids and are not in the detections family the
+  // tracker reads: refused by name, never taken as clear.
+  if (refusal == ForeignRefusal::kNone && f.decoded.version->format == ForeignFormat::kObstacles) {
+    monitor_->refuseType(source, std::string(type) +
+                                     ": circles without ids are not read yet (the multi-object "
+                                     "tracker reads the detection types only)");
+    return true;
+  }
+  monitor_->acceptType(source);
+  if (refusal != ForeignRefusal::kNone) {
+    monitor_->drop(Drop::kMalformed, source,
+                   std::string(type) + ": " + foreignRefusalName(refusal) + ": " + f.decoded.detail);
+    return true;
+  }
+  f.waiting_detections = f.decoded.version->family == ForeignFamily::kDetections;
+  if (f.waiting_detections && !f.detections) {
+    // The `unknown` label's bounds drive the tracker (its defaults where the label has none).
+    const LabelSettings& unknown = monitor_->params().label("unknown");
+    ForeignDetectionParams p;
+    if (unknown.max_accel > 0.0) p.max_accel = unknown.max_accel;
+    if (unknown.max_speed > 0.0) p.max_speed = unknown.max_speed;
+    f.detections = std::make_unique<ForeignDetections>(p);
+  }
+  waiting_[static_cast<std::size_t>(source)].foreign = true;
+  return arrive(source, now);
+}
+
+std::string_view InputBridge::foreignFrame(int source) const {
+  const std::unique_ptr<Foreign>& f = foreign_[static_cast<std::size_t>(source)];
+  if (!f || f->decoded.refusal != ForeignRefusal::kNone) return {};
+  if (!f->decoded.frame_id.empty() || f->decoded.tracks.empty()) return f->decoded.frame_id;
+  return f->decoded.tracks.front().frame_id;
+}
+
+bool InputBridge::arrive(int source, Stamp now) {
+  Waiting& w = waiting_[static_cast<std::size_t>(source)];
   // Work ahead while the cycle waits: at most one array per source between cycles (a flood
   // supersedes the rest, and the cycle takes the newest), and never after the clock went back
   // (the cycle resets the history first).
@@ -35,23 +105,31 @@ bool InputBridge::onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stam
 void InputBridge::takePending(Stamp now) {
   for (std::size_t i = 0; i < waiting_.size(); ++i) {
     waiting_[i].taken_since_cycle = false;
-    if (waiting_[i].msg) take(static_cast<int>(i), now, true);
+    if (waits(waiting_[i])) take(static_cast<int>(i), now, true);
   }
 }
 
 void InputBridge::reset() {
   for (Waiting& w : waiting_) w = Waiting();
+  for (std::unique_ptr<Foreign>& f : foreign_) {
+    if (!f) continue;
+    f->observations.reset();  // sightings from before the jump are no velocity
+    f->detections.reset();    // nor tracks (made again at the next detections message)
+  }
 }
 
 bool InputBridge::take(int source, Stamp now, bool at_cycle) {
   Waiting& w = waiting_[static_cast<std::size_t>(source)];
   try {
-    if (!use(source, *w.msg, now, at_cycle)) return false;
+    if (!(w.foreign ? useForeign(source, now, at_cycle) : use(source, *w.msg, now, at_cycle))) {
+      return false;
+    }
   } catch (const std::exception& e) {
     // Never out of a callback or the cycle: the array is lost, counted and logged.
     monitor_->drop(Drop::kArrayFailure, source, e.what());
   }
   w.msg.reset();
+  w.foreign = false;
   return true;
 }
 
@@ -94,6 +172,75 @@ bool InputBridge::use(int source, const TrackedBoxArray& msg, Stamp now, bool at
   // The stamp is checked first, then the frame looked up (Placement); a bad stamp or frame is
   // dropped and counted, and the array is done with unless it waits for tf.
   Placement placement(this, source, msg, at_cycle);
+  monitor_->ingest(source, stamp, now, &placement);
+  return !placement.wait;
+}
+
+class InputBridge::ForeignPlacement final : public ArrayPlacement {
+ public:
+  ForeignPlacement(InputBridge* bridge, int source, const std::string& frame, bool at_cycle)
+      : bridge_(bridge), source_(source), frame_(frame), at_cycle_(at_cycle) {}
+  bool place(Stamp stamp, Eigen::Isometry3d* fixed_from_frame,
+             const std::vector<BoxObservation>** boxes) override {
+    if (!bridge_->lookup(source_, frame_, stamp, at_cycle_, fixed_from_frame, &wait)) return false;
+    Foreign& f = *bridge_->foreign_[static_cast<std::size_t>(source_)];
+    Monitor& monitor = *bridge_->monitor_;
+    if (f.waiting_detections) {
+      // Detections: associated in the fixed frame; the tracker's confirmed tracks, with its
+      // ids, velocities and errors, are the boxes (already in the fixed frame).
+      if (f.detections->ingest(f.decoded, *fixed_from_frame) != DetectionRefusal::kNone) {
+        monitor.drop(Drop::kOutOfOrder, source_, "detections stamped before the previous message");
+        return false;
+      }
+      fixed_from_frame->setIdentity();
+      *boxes = &f.detections->tracks();
+      return true;
+    }
+    f.observations.convert(f.decoded, frame_, monitor.params(), &bridge_->boxes_);
+    if (f.observations.skippedFrame() > 0) {
+      monitor.drop(Drop::kFrame, source_,
+                   std::to_string(f.observations.skippedFrame()) +
+                       " tracks in another frame than the message's '" + frame_ + "'");
+    }
+    if (f.observations.skippedPosition() > 0) {
+      monitor.drop(Drop::kPosition, source_,
+                   std::to_string(f.observations.skippedPosition()) +
+                       " tracks without a valid x and y (spencer: variance above 99999)");
+    }
+    *boxes = &bridge_->boxes_;
+    return true;
+  }
+  bool wait = false;
+
+ private:
+  InputBridge* bridge_;
+  int source_;
+  const std::string& frame_;
+  bool at_cycle_;
+};
+
+bool InputBridge::useForeign(int source, Stamp now, bool at_cycle) {
+  Foreign& f = *foreign_[static_cast<std::size_t>(source)];
+  const ForeignTrackArray& a = f.decoded;
+  // The message's header; people_msgs/PositionMeasurementArray's may be empty where every
+  // element has its own: then the first element's.
+  std::string_view frame = a.frame_id;
+  Stamp stamp = a.stamp;
+  if (!a.tracks.empty()) {
+    if (frame.empty()) frame = a.tracks.front().frame_id;
+    if (stamp == 0) stamp = a.tracks.front().stamp;
+  }
+  if (frame.empty()) {
+    monitor_->drop(Drop::kFrame, source, "the message has an empty frame_id");
+    return true;
+  }
+  f.frame.assign(frame.data(), frame.size());
+  if (stamp == 0) {
+    ROS_WARN_THROTTLE(5.0, "proximity_monitor: message on %s has stamp 0; using the receive time",
+                      monitor_->sources().source(source).name.c_str());
+    stamp = monitor_->sources().source(source).last_receipt;
+  }
+  ForeignPlacement placement(this, source, f.frame, at_cycle);
   monitor_->ingest(source, stamp, now, &placement);
   return !placement.wait;
 }

@@ -50,6 +50,16 @@ void MonitorBridges::onArray(int source, const TrackedBoxArray::ConstPtr& msg, S
   }
 }
 
+void MonitorBridges::onForeign(int source, std::string_view type, std::string_view md5,
+                               std::string_view definition, Stamp now) {
+  const auto start = std::chrono::steady_clock::now();
+  if (input_.onForeign(source, type, md5, definition, now)) {
+    runner_.noteTime(CycleStage::kArrival, std::chrono::duration<double, std::milli>(
+                                               std::chrono::steady_clock::now() - start)
+                                               .count());
+  }
+}
+
 int MonitorBridges::enableJoints(std::shared_ptr<const KinematicModel> model) {
   joints_ = std::make_unique<RobotJointBridge>(&monitor_, &robot_, std::move(model));
   return joints_->bodyCount();

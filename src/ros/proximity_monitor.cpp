@@ -80,16 +80,17 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
   }
   // Advertised even when ~publish_markers is false, so live tuning can turn markers on.
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("markers", 10);
+  topics_ = topics;
+  inputs_.resize(topics.size());
   for (std::size_t i = 0; i < topics.size(); ++i) {
-    // Queue of 1: only the newest array of each source is worth predicting from.
-    subscribers_.push_back(nh_.subscribe<TrackedBoxArray>(
+    // Any type: learnt from the publisher at connection, dispatched per message. Queue of 1:
+    // only the newest array of each source is worth predicting from.
+    inputs_[i].any = nh_.subscribe<topic_tools::ShapeShifter>(
         topics[i], 1,
-        [this, i](const TrackedBoxArray::ConstPtr& msg) {
-          const ros::Time now = ros::Time::now();
-          bridges_->onArray(static_cast<int>(i), msg, toStamp(now));
-          if (input_trigger_ && static_cast<int>(i) == trigger_source_) onTriggerArray(now);
+        [this, i](const topic_tools::ShapeShifter::ConstPtr& msg) {
+          onAnyMessage(static_cast<int>(i), *msg);
         },
-        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
+        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("proximity monitor", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
@@ -151,6 +152,56 @@ void ProximityMonitor::checkAudit() {
   if (bridges_ != nullptr) bridges_->addPermanentIssue(audit_log_->error());
 }
 
+void ProximityMonitor::onAnyMessage(int i, const topic_tools::ShapeShifter& msg) {
+  Input& input = inputs_[static_cast<std::size_t>(i)];
+  const ros::Time now = ros::Time::now();
+  const std::string& type = msg.getDataType();
+  if (type == ros::message_traits::datatype<TrackedBoxArray>()) {
+    if (msg.getMD5Sum() != ros::message_traits::md5sum<TrackedBoxArray>()) {
+      // Another version of this package's own message: never read with this one's layout.
+      bridges_->refuseType(i, type + " with md5 " + msg.getMD5Sum() + ": this monitor reads md5 " +
+                                  ros::message_traits::md5sum<TrackedBoxArray>() +
+                                  " (another version of the package); refused");
+    } else if (input.typed) {
+      return;  // the typed subscription has it (both hear the topic until the switch ends)
+    } else {
+      // This one copied; the typed subscription takes every later one as the publisher sent it.
+      bridges_->onArray(i, msg.instantiate<TrackedBoxArray>(), toStamp(now));
+      subscribeTyped(i);
+    }
+  } else {
+    ros::serialization::OStream stream(bridges_->foreignBytes(i, msg.size()), msg.size());
+    msg.write(stream);
+    bridges_->onForeign(i, type, msg.getMD5Sum(), msg.getMessageDefinition(), toStamp(now));
+  }
+  if (input_trigger_ && i == trigger_source_) onTriggerArray(now);
+}
+
+void ProximityMonitor::onArray(int i, const TrackedBoxArray::ConstPtr& msg) {
+  const ros::Time now = ros::Time::now();
+  bridges_->onArray(i, msg, toStamp(now));
+  if (input_trigger_ && i == trigger_source_) onTriggerArray(now);
+}
+
+void ProximityMonitor::subscribeTyped(int i) {
+  Input& input = inputs_[static_cast<std::size_t>(i)];
+  input.typed = nh_.subscribe<TrackedBoxArray>(
+      topics_[static_cast<std::size_t>(i)], 1,
+      [this, i](const TrackedBoxArray::ConstPtr& msg) { onArray(i, msg); }, ros::VoidConstPtr(),
+      ros::TransportHints().tcpNoDelay());
+  input.retire_any = true;
+  ROS_INFO("proximity_monitor: %s carries %s", topics_[static_cast<std::size_t>(i)].c_str(),
+           ros::message_traits::datatype<TrackedBoxArray>());
+}
+
+void ProximityMonitor::retireAnySubscribers() {
+  for (Input& input : inputs_) {
+    if (!input.retire_any) continue;
+    input.any.shutdown();
+    input.retire_any = false;
+  }
+}
+
 void ProximityMonitor::enableJoints() {
   std::string urdf;
   if (params_.use_joint_states && params_.use_robot_description) {
@@ -194,6 +245,7 @@ ProximityMonitor::~ProximityMonitor() {
 }
 
 void ProximityMonitor::cycle(const ros::Time& now) {
+  retireAnySubscribers();  // the any-type subscriptions a typed one replaced
   // Reset, failure and timing are the runner's; the outputs are safety(), contacts(), rest().
   // The latch's requests wait for the cycle (and the cycle for them).
   std::unique_lock<std::mutex> latch_lock(latch_mutex_);

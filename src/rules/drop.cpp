@@ -7,7 +7,8 @@ namespace {
 constexpr const char* kNames[] = {
     "empty id", "non-finite", "dimensions", "position",   "orientation",  "speed",
     "angular speed", "duplicate id", "cap", "core limits", "relabelled",  "frame",
-    "future", "old", "out-of-order", "superseded", "array failure", "cycle failure"};
+    "future", "old", "out-of-order", "superseded", "array failure", "cycle failure",
+    "message type", "malformed"};
 static_assert(sizeof(kNames) / sizeof(kNames[0]) == static_cast<std::size_t>(Drop::kCount),
               "one name per Drop reason");
 

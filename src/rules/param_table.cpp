@@ -146,6 +146,12 @@ constexpr LabelRow kLabels[] = {
      "(0: no speed cap)", "the largest speed v_max: the growth stays within (v_max + |v|) s"},
     {"ssm_min_speed", &LabelSettings::ssm_min_speed, kLive, true, 0.0, 20.0, nullptr, "m/s", "",
      "speed and separation: the approach speed assumed at least (1.6: walking)"},
+    {"size_x", &LabelSettings::size_x, kStartup, true, 0.01, 100.0, nullptr, "m", "",
+     "x extent of a track whose message gives no size (foreign people tracks)"},
+    {"size_y", &LabelSettings::size_y, kStartup, true, 0.01, 100.0, nullptr, "m", "",
+     "y extent of a track whose message gives no size"},
+    {"size_z", &LabelSettings::size_z, kStartup, true, 0.01, 100.0, nullptr, "m", "",
+     "z extent (height) of a track whose message gives no size"},
 };
 
 }  // namespace

@@ -46,6 +46,8 @@ Drop SourceTable::checkStamp(int i, Stamp stamp, Stamp now, double max_future,
 void SourceTable::silentLines(Stamp now, double silent_after, double track_timeout,
                               std::vector<std::string>* lines) const {
   for (const Source& s : sources_) {
+    // A type it cannot read: DEGRADED for as long as the messages keep coming in it.
+    if (!s.refused_type.empty()) lines->push_back("source " + s.name + ": " + s.refused_type);
     if (s.last_receipt == 0) {
       lines->push_back("source " + s.name + ": no data yet");
     } else if (secondsBetween(s.last_receipt, now) > silent_after) {

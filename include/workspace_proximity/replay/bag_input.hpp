@@ -4,7 +4,8 @@
 /// the order the recorder received the messages, one message at a time (memory does not grow
 /// with the bag's length).
 ///
-/// Replayed topics: /tf, /tf_static and the input topics (TrackedBoxArray); and, when the
+/// Replayed topics: /tf, /tf_static and the input topics (TrackedBoxArray, or a foreign
+/// tracker type of a known version: foreign_types.hpp); and, when the
 /// replay poses the robot from its joints (replayJoints), the joint states and the planned
 /// trajectories topic.
 
@@ -47,6 +48,7 @@ enum class BagTopicKind : std::uint8_t {
   kTf,          ///< /tf: tf2_msgs/TFMessage
   kTfStatic,    ///< /tf_static: tf2_msgs/TFMessage, inserted as static transforms
   kArray,       ///< an input topic: workspace_proximity/TrackedBoxArray
+  kForeign,     ///< an input topic of a foreign tracker type (a version foreign_types.hpp knows)
   kJointState,  ///< sensor_msgs/JointState: replayed when replayJoints() names it
   kTrajectory,  ///< trajectory_msgs/JointTrajectory: replayed when replayJoints() names it
   kOther,       ///< not used by the monitor
@@ -57,7 +59,9 @@ struct BagTopic {
   std::string type;
   std::uint64_t messages = 0;
   BagTopicKind kind = BagTopicKind::kOther;
-  int source = -1;  ///< kArray: index of the input topic
+  int source = -1;  ///< kArray, kForeign: index of the input topic
+  std::string md5;         ///< as recorded
+  std::string definition;  ///< the publisher's full message definition, as recorded
 };
 
 /// Receives the replayed messages in order. The references are valid during the call only.
@@ -66,6 +70,10 @@ class BagVisitor {
   virtual ~BagVisitor() = default;
   virtual void onTf(const tf2_msgs::TFMessage& msg, bool is_static, Stamp received) = 0;
   virtual void onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp received) = 0;
+  /// A foreign tracker message of input `source`: its serialized bytes and its topic (type,
+  /// md5, definition).
+  virtual void onForeign(int source, const BagTopic& topic, const std::uint8_t* bytes,
+                         std::size_t size, Stamp received) = 0;
   virtual void onJointState(const sensor_msgs::JointState& msg, Stamp received) {}
   virtual void onTrajectory(const trajectory_msgs::JointTrajectory& msg, Stamp received) {}
 };
@@ -75,7 +83,8 @@ class BagInput {
   /// Opens `path` and checks it; `input_topics` are resolved names ("/tracked_objects").
   /// Throws ReplayError (kBag) naming the problem: no such file, not a ROS bag, not indexed
   /// (an interrupted recording: `rosbag reindex`), truncated or damaged (checkBagStructure,
-  /// before rosbag reads it), an input topic missing or of another type or definition.
+  /// before rosbag reads it), an input topic missing or of another type or definition (a
+  /// foreign type's unknown md5 names its layout difference, as the node does).
   BagInput(const std::string& path, const std::vector<std::string>& input_topics);
   ~BagInput();
   BagInput(const BagInput&) = delete;

@@ -111,6 +111,8 @@ class BagReplay : private BagVisitor, private CycleOutput {
  private:
   void onTf(const tf2_msgs::TFMessage& msg, bool is_static, Stamp received) override;
   void onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp received) override;
+  void onForeign(int source, const BagTopic& topic, const std::uint8_t* bytes, std::size_t size,
+                 Stamp received) override;
   void onJointState(const sensor_msgs::JointState& msg, Stamp received) override;
   void onTrajectory(const trajectory_msgs::JointTrajectory& msg, Stamp received) override;
   void onInput(Stamp received);  // cycles due before it, the clock, the last input

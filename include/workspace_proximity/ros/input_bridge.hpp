@@ -8,14 +8,26 @@
 /// the next cycle replace the waiting one (counted as superseded) and the cycle uses the
 /// newest. An array whose transform tf does not have yet at its stamp waits for the cycle,
 /// which then falls back to the newest transform.
+///
+/// Foreign tracker types (foreign_types.hpp: people_msgs, spencer, leg_tracker, ...) arrive as
+/// their serialized bytes with type, md5 and the publisher's definition: they are decoded on
+/// arrival (a type or version it cannot read is refused by name, and the source is DEGRADED
+/// while it sends it), turned into boxes (ForeignObservations) and take the same path. Types
+/// of detections without ids (vision_msgs, jsk, MarkerArray, PoseArray) go through a
+/// multi-object tracker per source (ForeignDetections, label `unknown`) in the fixed frame.
 
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <tf2/buffer_core.h>
 #include <workspace_proximity/TrackedBoxArray.h>
 
+#include "workspace_proximity/rules/foreign_detections.hpp"
+#include "workspace_proximity/rules/foreign_observations.hpp"
+#include "workspace_proximity/rules/foreign_tracks.hpp"
 #include "workspace_proximity/rules/monitor.hpp"
 
 namespace workspace_proximity {
@@ -28,6 +40,18 @@ class InputBridge {
   /// An array of source `source` arrived at `now` (the subscription callback). True when it
   /// was taken on arrival (used, or dropped with a reason), false when it waits for the cycle.
   bool onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp now);
+  /// A foreign message of source `source`: first foreignBytes(source, size) to hold its
+  /// serialized form (filled by the caller), then onForeign with its type, md5 and the
+  /// publisher's full definition (may be empty; it names the layout difference of an unknown
+  /// md5). Returns as onArray.
+  std::uint8_t* foreignBytes(int source, std::size_t size);
+  bool onForeign(int source, std::string_view type, std::string_view md5,
+                 std::string_view definition, Stamp now);
+  /// The frame of source `source`'s last decoded foreign message (its header's, or its first
+  /// element's): valid until its next message; empty when none was decoded.
+  std::string_view foreignFrame(int source) const;
+  /// A message whose type cannot be read at all (an old TrackedBoxArray): refused by name.
+  void refuseType(int source, const std::string& why) { monitor_->refuseType(source, why); }
   /// At the cycle: every waiting array is used (the newest per source).
   void takePending(Stamp now);
   /// Forgets waiting arrays (after the clock went back).
@@ -39,8 +63,25 @@ class InputBridge {
  private:
   struct Waiting {
     TrackedBoxArray::ConstPtr msg;
+    bool foreign = false;            // a decoded foreign message waits (Foreign::decoded)
     bool taken_since_cycle = false;  // an array was used on arrival since the last cycle
   };
+  // A source's foreign messages: made at its first one. Sized by ~max_tracks up front.
+  struct Foreign {
+    explicit Foreign(std::size_t max_tracks) : decoded(max_tracks), observations(max_tracks) {}
+    std::vector<std::uint8_t> bytes;  // the message waiting (decoded views it)
+    std::string frame;                // its frame (reused)
+    // Detection types (no ids): the multi-object tracker, in the fixed frame, made at the
+    // source's first detections message.
+    std::unique_ptr<ForeignDetections> detections;
+    bool waiting_detections = false;  // the waiting message is of the detections family
+    ForeignTrackArray decoded;
+    ForeignObservations observations;
+  };
+  bool waits(const Waiting& w) const { return w.msg || w.foreign; }
+  bool arrive(int source, Stamp now);  // the common arrival of a TrackedBoxArray or foreign
+  bool useForeign(int source, Stamp now, bool at_cycle);
+  class ForeignPlacement;
   // The one path of an array. `at_cycle`: tf's newest transform is acceptable when it has none
   // at the stamp; otherwise the array keeps waiting. Returns false when it keeps waiting.
   bool take(int source, Stamp now, bool at_cycle);
@@ -55,6 +96,7 @@ class InputBridge {
   std::string fixed_frame_;
   std::vector<Waiting> waiting_;
   std::vector<BoxObservation> boxes_;  // reused by every array
+  std::vector<std::unique_ptr<Foreign>> foreign_;  // per source; null until a foreign message
   std::uint64_t tf_failures_ = 0;
 };
 

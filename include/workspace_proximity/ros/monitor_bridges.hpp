@@ -59,6 +59,18 @@ class MonitorBridges : private CycleFeed {
 
   /// An array of input `source` arrived at `now`.
   void onArray(int source, const TrackedBoxArray::ConstPtr& msg, Stamp now);
+  /// A foreign tracker message of input `source` (InputBridge::foreignBytes, onForeign): its
+  /// serialized bytes written to foreignBytes(source, size), then onForeign at `now`.
+  std::uint8_t* foreignBytes(int source, std::size_t size) {
+    return input_.foreignBytes(source, size);
+  }
+  void onForeign(int source, std::string_view type, std::string_view md5,
+                 std::string_view definition, Stamp now);
+  /// InputBridge::foreignFrame.
+  std::string_view foreignFrame(int source) const { return input_.foreignFrame(source); }
+  /// Input `source` sends a type that cannot be read at all: DEGRADED with `why` until it sends
+  /// one that can.
+  void refuseType(int source, const std::string& why) { input_.refuseType(source, why); }
   /// Poses the robot bodies on links that `model`'s joints move from the joint states (and a
   /// planned trajectory) instead of tf. Returns how many bodies that is.
   int enableJoints(std::shared_ptr<const KinematicModel> model);

@@ -20,6 +20,7 @@
 #include <ros/ros.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
+#include <topic_tools/shape_shifter.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "workspace_proximity/rules/audit_log.hpp"
@@ -55,6 +56,15 @@ class ProximityMonitor : private CycleOutput {
  private:
   // Robot links moved by URDF joints from joint_states (~use_joint_states with a URDF).
   void enableJoints();
+  // Input topic i: any type (topic_tools::ShapeShifter), dispatched on its type name and md5.
+  // A TrackedBoxArray switches the topic to a typed subscription, so a nodelet publisher in
+  // the same manager hands its arrays over without serialisation as before; foreign types
+  // are decoded from their bytes (InputBridge::onForeign).
+  void onAnyMessage(int i, const topic_tools::ShapeShifter& msg);
+  void subscribeTyped(int i);
+  void onArray(int i, const TrackedBoxArray::ConstPtr& msg);
+  // Ends the any-type subscriptions that a typed one replaced (outside their own callbacks).
+  void retireAnySubscribers();
   // CycleOutput: the speed and separation outputs first (speed_scale, safety_status,
   // speed_override, stop actions, the Twist filter); then the contacts; then, unless the cycle
   // failed, the markers' schedule. /diagnostics comes after the cycle (cycle()).
@@ -98,6 +108,13 @@ class ProximityMonitor : private CycleOutput {
   visualization_msgs::MarkerArray markers_msg_;  // reused
   ros::Publisher markers_pub_;
   std::vector<ros::Subscriber> subscribers_;
+  struct Input {
+    ros::Subscriber any;    // ShapeShifter: until a TrackedBoxArray makes it typed
+    ros::Subscriber typed;  // TrackedBoxArray
+    bool retire_any = false;
+  };
+  std::vector<Input> inputs_;  // one per input topic
+  std::vector<std::string> topics_;
   ros::Timer timer_;       // timer trigger: every period; input trigger: one-shot floor
   bool input_trigger_ = false;
   int trigger_source_ = 0;  // index of the trigger topic

@@ -31,6 +31,8 @@ enum class Drop : std::uint8_t {
   kSuperseded,      ///< a newer array of the same source arrived before it was used
   kArrayFailure,    ///< processing the array threw (a bug; logged as an error)
   kCycleFailure,    ///< a prediction cycle threw (a bug; logged as an error)
+  kMessageType,     ///< a message type (or version: md5) the monitor cannot read
+  kMalformed,       ///< a foreign message whose bytes do not hold its type (truncated, ...)
   kCount
 };
 

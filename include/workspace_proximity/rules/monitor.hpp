@@ -73,6 +73,16 @@ class Monitor {
   /// Counts (and reports) a drop of source `source`'s data decided outside the monitor (frame,
   /// superseded, failures).
   void drop(Drop reason, int source, std::string detail);
+  /// Source `source`'s message is of a type or version it cannot read (foreign_types.hpp):
+  /// dropped as kMessageType, and every status is DEGRADED with `detail` until acceptType().
+  void refuseType(int source, const std::string& detail) {
+    sources_.setRefusedType(source, detail);
+    drop(Drop::kMessageType, source, detail);
+  }
+  /// Source `source`'s message is of a type it reads (ends refuseType's DEGRADED line).
+  void acceptType(int source) {
+    if (!sources_.source(source).refused_type.empty()) sources_.setRefusedType(source, {});
+  }
   /// Robot body i this cycle (RobotBodies::pose, posePath, markUnknown): the robot bridges.
   bool poseRobot(int i, const BodyMotion& motion, const std::string& stale_reason = std::string()) {
     return robot_.pose(i, motion, stale_reason);

@@ -38,6 +38,12 @@ struct LabelSettings {
   double velocity_error = 0.0;  ///< e, m/s, tracker velocity error
   double max_accel = 0.0;       ///< a, m/s^2, largest acceleration of an object of this label
   double max_speed = 0.0;       ///< v_max, m/s, largest speed of such an object; 0: no speed cap
+
+  // The box of a track whose message gives no size (a foreign people tracker's point): full
+  // extents in the message's frame, a person upright by default. TrackedBoxArray gives its own.
+  double size_x = 0.6;  ///< m
+  double size_y = 0.6;  ///< m
+  double size_z = 1.8;  ///< m
 };
 
 /// A robot body declared in ~robot_bodies or taken from the URDF.

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "workspace_proximity/rules/drop.hpp"
@@ -23,6 +24,9 @@ struct Source {
   /// sends nothing.
   Stamp last_used = 0;
   Drop last_drop = Drop::kCount;  ///< why its last dropped array or box was dropped
+  /// Why its last message's type was refused (an unknown type or md5); empty when its last
+  /// message was of a type the monitor reads.
+  std::string refused_type;
 };
 
 class SourceTable {
@@ -47,8 +51,13 @@ class SourceTable {
   void markUsed(int i, Stamp when) { sources_[static_cast<std::size_t>(i)].last_used = when; }
   /// Something of source i was dropped for `reason`.
   void noteDrop(int i, Drop reason) { sources_[static_cast<std::size_t>(i)].last_drop = reason; }
+  /// Source i's messages are of a type refused for `why` ("" : of a readable type again).
+  void setRefusedType(int i, std::string why) {
+    sources_[static_cast<std::size_t>(i)].refused_type = std::move(why);
+  }
 
-  /// One status line per source that never sent anything, has been silent for more than
+  /// One status line per source whose messages are of a refused type, and one per source
+  /// that never sent anything, has been silent for more than
   /// `silent_after` seconds at `now`, or whose arrays have all been dropped for that long,
   /// appended to `lines`.
   /// `track_timeout` (s): a source whose newest used array is stamped longer ago than this is
