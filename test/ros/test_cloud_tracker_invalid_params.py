@@ -16,6 +16,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
+from wp_node_testlib import startup_refusals  # noqa: E402
+
 TOPICS = {"cloud_topics": ["/cam/points"], "scan_topics": ["/scan"]}
 
 # (case name, params set on the server, words one of which the error must contain)
@@ -75,23 +77,8 @@ class CloudTrackerInvalidParamsTest(unittest.TestCase):
 
     def test_invalid_parameters_exit(self):
         self.assertTrue(binary(), "cloud_tracker binary not found")
-        procs = [(case, start("bad_" + case[0], case[1])) for case in CASES]
-        failures = []
-        for (name, params, words), proc in procs:
-            try:
-                out, err = proc.communicate(timeout=8)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                out, err = proc.communicate()
-                failures.append("%s: still running after 8 s" % name)
-                continue
-            err = err.decode(errors="replace")
-            if proc.returncode == 0:
-                failures.append("%s: exit status 0" % name)
-            elif proc.returncode < 0:
-                failures.append("%s: killed by signal %d: %s" % (name, -proc.returncode, err[-500:]))
-            if not any(w in err for w in words):
-                failures.append("%s: stderr names none of %r: %r" % (name, words, err[-500:]))
+        started = [(name, words, start("bad_" + name, params)) for name, params, words in CASES]
+        failures = startup_refusals(started)
         self.assertEqual(failures, [], "\n".join(failures))
 
 

@@ -16,7 +16,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import find_node_binary  # noqa: E402
+from wp_node_testlib import find_node_binary, startup_refusals  # noqa: E402
 
 LABEL_OK = {"margin": 0.1, "warning_time": 1.0, "critical_time": 0.4,
             "warning_distance": 0.5, "critical_distance": 0.2}
@@ -99,25 +99,9 @@ class InvalidParamsTest(unittest.TestCase):
                       text)
 
     def test_invalid_parameters_exit(self):
-        procs = [(case, start(self.binary, "bad_" + case[0], case[1], case[2]))
-                 for case in CASES]
-        failures = []
-        for (name, args, params, words), proc in procs:
-            try:
-                out, err = proc.communicate(timeout=8)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                out, err = proc.communicate()
-                failures.append("%s: still running after 8 s" % name)
-                continue
-            err = err.decode(errors="replace")
-            if proc.returncode == 0:
-                failures.append("%s: exit status 0" % name)
-            elif proc.returncode < 0:
-                failures.append("%s: killed by signal %d: %s" % (name, -proc.returncode,
-                                                                 err[-500:]))
-            if not any(w in err for w in words):
-                failures.append("%s: stderr names none of %r: %r" % (name, words, err[-500:]))
+        started = [(name, words, start(self.binary, "bad_" + name, args, params))
+                   for name, args, params, words in CASES]
+        failures = startup_refusals(started)
         self.assertEqual(failures, [], "\n".join(failures))
 
 

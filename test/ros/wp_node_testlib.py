@@ -787,3 +787,28 @@ def aligned(a, b, same, max_shift=5, min_overlap=20):
         if len(pairs) >= min_overlap and all(same(x, y) for x, y in pairs):
             return k
     return None
+
+
+def startup_refusals(started, timeout=8.0):
+    """For nodes started with bad parameters: `started` holds (name, words, proc) for each
+    case; every proc must exit within `timeout` s with a non-zero status (not by a signal), and
+    its stderr must contain one of `words` (the parameter it names). Returns the failures as
+    lines (empty: every case refused as it should)."""
+    import subprocess
+    failures = []
+    for name, words, proc in started:
+        try:
+            _, err = proc.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            _, err = proc.communicate()
+            failures.append("%s: still running after %g s" % (name, timeout))
+            continue
+        err = err.decode(errors="replace")
+        if proc.returncode == 0:
+            failures.append("%s: exit status 0" % name)
+        elif proc.returncode < 0:
+            failures.append("%s: killed by signal %d: %s" % (name, -proc.returncode, err[-500:]))
+        if not any(w in err for w in words):
+            failures.append("%s: stderr names none of %r: %r" % (name, words, err[-500:]))
+    return failures
