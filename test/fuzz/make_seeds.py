@@ -294,7 +294,35 @@ def message_seeds():
     p.write("fuzz_messages", "params")
 
 
+# fuzz_foreign: byte 0 is the index of the type's version in the catalogue (kVersions of
+# src/rules/foreign_types.cpp, in its order), the rest one serialized message: the genpy
+# fixtures of test/foreign/fixtures/ (the walk_* files: their first frame).
+def foreign_seeds():
+    import re
+    root = os.path.dirname(os.path.dirname(HERE))
+    with open(os.path.join(root, "src", "rules", "foreign_types.cpp")) as f:
+        table = f.read().split("kVersions[] = {", 1)[1].split("};", 1)[0]
+    versions = re.findall(r'known\("([^"]+)",\s*"[^"]+",\s*"([0-9a-f]{32})"', table)
+    fixtures = os.path.join(root, "test", "foreign", "fixtures")
+    for name in sorted(os.listdir(fixtures)):
+        if not name.endswith(".txt"):
+            continue
+        stem = name[:-4]
+        with open(os.path.join(fixtures, name)) as f:
+            _, type_name, md5 = f.readline().split()
+        with open(os.path.join(fixtures, stem + ".bin"), "rb") as f:
+            data = f.read()
+        if stem.startswith("walk_"):
+            (length,) = struct.unpack_from("<I", data, 0)
+            data = data[4:4 + length]
+        p = Program()
+        p.byte(versions.index((type_name, md5)))
+        p.data += data
+        p.write("fuzz_foreign", stem)
+
+
 if __name__ == "__main__":
     world_seeds()
     sap_seeds()
     message_seeds()
+    foreign_seeds()
