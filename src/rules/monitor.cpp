@@ -141,6 +141,7 @@ void Monitor::buildStatus(Stamp now) {
   sources_.silentLines(now, std::min(params_.source_timeout, params_.track_timeout),
                        params_.track_timeout, &report_.status_lines);
   robot_.statusLines(&report_.status_lines);
+  tracks_.unboundedLines(&report_.status_lines);
   for (const std::string& line : permanent_issues_) report_.status_lines.push_back(line);
   report_.degraded = !report_.status_lines.empty();
 }

@@ -257,4 +257,28 @@ void TrackTable::setTrackOfSlot(std::int32_t slot, int track) {
   track_of_slot_[s] = track;
 }
 
+void TrackTable::unboundedLines(std::vector<std::string>* lines) const {
+  // Walks the dense table each cycle; the common case (every velocity known, or every label
+  // with a max_speed) touches no string.
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    const Track& t = tracks_[i];
+    if (t.errors.velocity_known || labels_->settings(t.settings).max_speed > 0.0) continue;
+    bool counted = false;  // one line per label: an earlier track of the same label had it
+    for (std::size_t j = 0; j < i && !counted; ++j) {
+      const Track& u = tracks_[j];
+      counted = !u.errors.velocity_known && u.settings == t.settings;
+    }
+    if (counted) continue;
+    int count = 0;
+    for (std::size_t j = i; j < tracks_.size(); ++j) {
+      const Track& u = tracks_[j];
+      if (!u.errors.velocity_known && u.settings == t.settings) ++count;
+    }
+    lines->push_back("velocity unknown for " + std::to_string(count) + " track" +
+                     (count == 1 ? "" : "s") + " of label '" + t.label + "' (first: " + t.key +
+                     ") whose label has no max_speed: their reach is not bounded by any stated "
+                     "motion model (set labels/" + t.label + "/max_speed)");
+  }
+}
+
 }  // namespace workspace_proximity

@@ -118,6 +118,83 @@ TEST(SceneUnknownVelocity, NeverPredictedLaterThanTheSameObjectAtMaxSpeed) {
   EXPECT_GT(ssm_checked, 10);
 }
 
+// A label that states no max_speed says nothing about how fast its objects move: a track of it
+// whose velocity is unknown has no stated motion model to be conservative against, so the cycle
+// is DEGRADED, by name, for as long as such a track lives (and not because of a label that has
+// a max_speed, or a track whose velocity is known).
+TEST(SceneUnknownVelocity, DegradedWhileALabelWithoutMaxSpeedHasAnUnknownVelocity) {
+  wp::MonitorParams p = sceneParams();
+  wp::LabelSettings truck = p.labels["default"];
+  truck.max_speed = 0.0;  // no cap stated
+  p.labels["truck"] = truck;
+  p.track_timeout = 0.5;
+  SceneNode node(p, {wp_test::robotBox("post", kPostHalf, kPostCentre)}, {"/tracked_objects"},
+                 false);
+  std::vector<SceneTrack> tracks{
+      SceneTrack("t1", "truck", {-5.0, 3.0, 1.0}, kCube, {0.5, 0.0, 0.0}),
+      SceneTrack("t2", "truck", {-5.0, -3.0, 1.0}, kCube, {0.5, 0.0, 0.0}),
+      SceneTrack("u", "unknown", {-5.0, 0.0, 1.0}, kCube, {0.5, 0.0, 0.0}),
+      SceneTrack("k", "truck", {5.0, 0.0, 1.0}, kCube, {-0.5, 0.0, 0.0})};
+  tracks[0].velocity_known = false;
+  tracks[1].velocity_known = false;
+  tracks[2].velocity_known = false;  // has max_speed: bounded, not a reason
+  wp_test::ScenePublisher pub;
+  pub.tracks = &tracks;
+  pub.latency = 0.05;
+  pub.stop = 2.0;  // then silent: the tracks time out (and the source is silent, another reason)
+  node.publishers.push_back(pub);
+
+  int degraded_by_truck = 0, lines_checked = 0, after = 0;
+  node.run(0.0, 3.0, [&](double t, const wp::CycleReport& r) {
+    if (node.publishers[0].stamps.empty()) return;
+    int truck_lines = 0;
+    for (const std::string& line : r.status_lines) {
+      if (line.find("max_speed") == std::string::npos) continue;
+      ++truck_lines;
+      EXPECT_NE(line.find("label 'truck'"), std::string::npos) << line;
+      EXPECT_NE(line.find("2 tracks"), std::string::npos) << line;
+      EXPECT_EQ(line.find("'unknown'"), std::string::npos) << line;
+      ++lines_checked;
+    }
+    EXPECT_TRUE(r.degraded) << "t=" << t;
+    if (t <= 2.0) {
+      EXPECT_EQ(truck_lines, 1) << "t=" << t;
+      if (truck_lines == 1 && r.degraded) ++degraded_by_truck;
+    } else if (t > 2.0 + p.track_timeout + 0.1) {
+      EXPECT_EQ(truck_lines, 0) << "t=" << t << ": the tracks are gone";  // only while they live
+      ++after;
+    }
+  });
+  EXPECT_GT(degraded_by_truck, 20);
+  EXPECT_GT(after, 5);
+  EXPECT_GT(lines_checked, 20);
+}
+
+// The same label with every velocity known is not a reason.
+TEST(SceneUnknownVelocity, LabelWithoutMaxSpeedIsFineWhileVelocitiesAreKnown) {
+  wp::MonitorParams p = sceneParams();
+  wp::LabelSettings truck = p.labels["default"];
+  truck.max_speed = 0.0;
+  p.labels["truck"] = truck;
+  SceneNode node(p, {wp_test::robotBox("post", kPostHalf, kPostCentre)}, {"/tracked_objects"},
+                 false);
+  std::vector<SceneTrack> tracks{
+      SceneTrack("t1", "truck", {-5.0, 3.0, 1.0}, kCube, {0.5, 0.0, 0.0})};
+  wp_test::ScenePublisher pub;
+  pub.tracks = &tracks;
+  pub.latency = 0.05;
+  node.publishers.push_back(pub);
+  int checked = 0;
+  node.run(0.0, 1.0, [&](double, const wp::CycleReport& r) {
+    if (node.publishers[0].stamps.empty()) return;
+    for (const std::string& line : r.status_lines) {
+      EXPECT_EQ(line.find("max_speed"), std::string::npos) << line;
+    }
+    ++checked;
+  });
+  EXPECT_GT(checked, 10);
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

@@ -30,7 +30,8 @@ struct TrackErrors {
 /// m/s, v_u: how fast a track of this label whose velocity is unknown may move: the label's
 /// max_speed, or when it states none, the larger of its ssm_min_speed and
 /// kUnknownVelocityFallbackSpeed (a label without max_speed says nothing about its speed; the
-/// fallback is ISO 13855's hand speed: set max_speed for anything faster, e.g. vehicles).
+/// fallback is ISO 13855's hand speed, and no stated model: the monitor is DEGRADED while such
+/// a track lives, TrackTable::unboundedLines).
 double unknownVelocitySpeed(const LabelSettings& label);
 constexpr double kUnknownVelocityFallbackSpeed = 2.0;  ///< m/s
 

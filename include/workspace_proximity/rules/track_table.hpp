@@ -68,6 +68,12 @@ class TrackTable {
   /// growth at advance(). A lower cap applies to arrays from now on.
   void refreshSettings(int max_tracks);
 
+  /// Appends one line per label for tracks whose velocity is unknown while their label states
+  /// no max_speed: their growth uses a fallback speed (unknownVelocitySpeed), not a motion
+  /// model anyone stated, so the monitor must not call the scene clear (DEGRADED while such a
+  /// track lives). Nothing is appended, and nothing allocated, when there is none.
+  void unboundedLines(std::vector<std::string>* lines) const;
+
   int size() const { return static_cast<int>(tracks_.size()); }
   const Track& track(int i) const { return tracks_[static_cast<std::size_t>(i)]; }
   /// Index of the track owning world body slot `slot`, or -1.
