@@ -38,9 +38,12 @@
 /// against what the same updates would have cost without coasting (estimated from the swaps of
 /// the jump); when coasting cost more (large motion, dense scenes), it switches itself off for
 /// 64 updates, twice as long after each failure in a row (up to 4 096), then tries again; the
-/// first three runs after it starts are not judged. Tracker jitter: each proxy also keeps a
+/// first three runs after it starts are not judged (and last coast_updates updates each, not 4
+/// coast_updates, so that the leads are measured again soon). Tracker jitter: each proxy also keeps a
 /// bound on the displacement that neither rest nor its drift (averaged over about 16 updates)
-/// explains, forgotten slowly; every side gets three times that bound on top of its lead, and
+/// explains (learnt only when more than one axis shows it: a one-axis residual is a bounce or a
+/// change of speed, not noise), forgotten slowly; every side gets three times that bound on top
+/// of its lead, and
 /// the lead is sized from the displacement beyond it (or from the averaged drift), so a box
 /// reported a little off around where it was stays inside its bounds and costs no sort work.
 ///

@@ -28,6 +28,12 @@ void keepHeadroom(State& s) {
   if (4 * static_cast<std::size_t>(s.cands.size()) > 3 * s.cands.capacity()) {
     s.cands.reserve(2 * s.cands.capacity());
   }
+  // And room for two candidates per live proxy from the start: coasting's first long run,
+  // after the short ones on probation, gives everybody its full room at once, and the count
+  // then jumps to a level it never had (jitter +-1 %, N = 10 000: over three quarters of the
+  // table at update 43, well past any warm-up).
+  const std::size_t per_proxy = 2 * static_cast<std::size_t>(s.live_count);
+  if (s.cands.capacity() < per_proxy) s.cands.reserve(per_proxy);
   // Every list holds candidates of this update or the last: with the table's capacity they
   // never grow unless the table does.
   const std::size_t cap = s.cands.capacity();

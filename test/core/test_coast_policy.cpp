@@ -86,16 +86,26 @@ TEST(CoastPolicy, EscapersMoveAloneUpToOnePlusAThirtySecondOfTheLiveProxies) {
 
 TEST(CoastPolicy, ARunEndsAfterFourCoastUpdatesUpdates) {
   CoastPolicy p(8.0);
-  p.enlargedAll(10, resort(100, 0, 0, 0));  // the run starts at update 10
+  p.enlargedAll(10, resort(100, 0, 0, 0));  // coasting starts at update 10: on probation
+  // A run on probation lasts coast_updates = 8 updates, escapers or not.
+  EXPECT_EQ(p.step(17, 0, 100, false, false), Step::kNothing);
+  EXPECT_EQ(p.step(17, 1, 100, false, false), Step::kMoveFew);
+  EXPECT_EQ(p.step(18, 0, 100, false, false), Step::kEnlargeAll);
+  p.enlargedAll(18, resort(100, 0, 0, 0));
+  p.enlargedAll(26, resort(100, 0, 0, 0));
+  p.enlargedAll(34, resort(100, 0, 0, 0));  // the last probation run ends: runs are judged
   // 4 * 8 = 32 updates later everybody is enlarged again, escapers or not.
-  EXPECT_EQ(p.step(41, 0, 100, false, false), Step::kNothing);
-  EXPECT_EQ(p.step(41, 1, 100, false, false), Step::kMoveFew);
-  EXPECT_EQ(p.step(42, 0, 100, false, false), Step::kEnlargeAll);
-  EXPECT_EQ(p.step(42, 1, 100, false, false), Step::kEnlargeAll);
-  // coast_updates 2.5: 10 updates.
+  EXPECT_EQ(p.step(65, 0, 100, false, false), Step::kNothing);
+  EXPECT_EQ(p.step(65, 1, 100, false, false), Step::kMoveFew);
+  EXPECT_EQ(p.step(66, 0, 100, false, false), Step::kEnlargeAll);
+  EXPECT_EQ(p.step(66, 1, 100, false, false), Step::kEnlargeAll);
+  // coast_updates 2.5: 2.5 updates on probation, then 10.
   CoastPolicy q(2.5);
-  EXPECT_EQ(q.step(9, 0, 100, false, false), Step::kNothing);
-  EXPECT_EQ(q.step(10, 0, 100, false, false), Step::kEnlargeAll);
+  EXPECT_EQ(q.step(2, 0, 100, false, false), Step::kNothing);
+  EXPECT_EQ(q.step(3, 0, 100, false, false), Step::kEnlargeAll);
+  for (int i = 0; i < 4; ++i) q.enlargedAll(10, resort(100, 0, 0, 0));
+  EXPECT_EQ(q.step(19, 0, 100, false, false), Step::kNothing);
+  EXPECT_EQ(q.step(20, 0, 100, false, false), Step::kEnlargeAll);
 }
 
 TEST(CoastPolicy, WorkOfARunIsCountedInUnits) {
