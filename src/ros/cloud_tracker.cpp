@@ -193,6 +193,10 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
     view_.push_back(it == params_.views.end() ? nullptr : &it->second);
   }
   markers_ = pnh_.advertise<visualization_msgs::MarkerArray>("clusters", 2);
+  // A track is gone when it missed one frame of every sensor in a row (a round of frames):
+  // a person who leaves is free within one frame per sensor, and a person only one sensor
+  // sees is not deleted at each of the others' frames.
+  params_.tracks.tracker.max_misses = static_cast<int>(names.size());
   tracks_ = std::make_unique<pc::ClusterTracks>(params_.tracks);
   objects_ = nh_.advertise<TrackedBoxArray>("perceived_objects", 2);
   diagnostics_.setHardwareID("workspace_proximity");
