@@ -86,6 +86,10 @@ ReplayStats BagReplay::run(BagInput* bag, ReplaySink* sink, double rate_factor) 
       ROS_WARN("replay: the bag has no %s: every robot link from the recorded tf", joint_topic.c_str());
     }
   }
+  // The perception front ends' statuses as recorded (a topic missing: DEGRADED, as live).
+  std::vector<std::string> perception;
+  for (const std::string& t : setup_.params.perception_status_topics) perception.push_back(resolveTopic(t));
+  for (const std::string& w : bag->replayPerception(perception)) ROS_WARN("replay: %s", w.c_str());
   bag->stream(this);
   // Cycles up to the last message, inclusive.
   while (next_cycle_ <= stats_.end) {
@@ -126,6 +130,11 @@ void BagReplay::onInput(Stamp received) {
 void BagReplay::onJointState(const sensor_msgs::JointState& msg, Stamp received) {
   onInput(received);
   bridges_.onJointState(msg, received);
+}
+
+void BagReplay::onPerceptionStatus(int index, const PerceptionStatus& msg, Stamp received) {
+  onInput(received);
+  bridges_.onPerceptionStatus(index, received, msg.degraded, msg.reasons, msg.unseen_share);
 }
 
 void BagReplay::onTrajectory(const trajectory_msgs::JointTrajectory& msg, Stamp received) {

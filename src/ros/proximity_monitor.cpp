@@ -6,6 +6,8 @@
 #include <stdexcept>
 
 #include "workspace_proximity/rules/config_fingerprint.hpp"
+#include <workspace_proximity/PerceptionStatus.h>
+
 #include "workspace_proximity/ros/conversions.hpp"
 #include "workspace_proximity/ros/diagnostics_bridge.hpp"
 #include "workspace_proximity/ros/reconfigure_bridge.hpp"
@@ -92,6 +94,16 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
+  // Perception front ends' health (issue 23): a degraded or silent one makes the status
+  // DEGRADED (Monitor::perception, perception_health.hpp).
+  for (std::size_t i = 0; i < params_.perception_status_topics.size(); ++i) {
+    subscribers_.push_back(nh_.subscribe<PerceptionStatus>(
+        params_.perception_status_topics[i], 2,
+        [this, i](const PerceptionStatus::ConstPtr& msg) {
+          bridges_->onPerceptionStatus(static_cast<int>(i), toStamp(ros::Time::now()),
+                                       msg->degraded, msg->reasons, msg->unseen_share);
+        }));
+  }
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("proximity monitor", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
     diagnose(*bridges_, toStamp(ros::Time::now()), fingerprint_, &s);
@@ -156,13 +168,12 @@ void ProximityMonitor::onAnyMessage(int i, const topic_tools::ShapeShifter& msg)
   Input& input = inputs_[static_cast<std::size_t>(i)];
   const ros::Time now = ros::Time::now();
   const std::string& type = msg.getDataType();
-  if (type == ros::message_traits::datatype<TrackedBoxArray>()) {
-    if (msg.getMD5Sum() != ros::message_traits::md5sum<TrackedBoxArray>()) {
-      // Another version of this package's own message: never read with this one's layout.
-      bridges_->refuseType(i, type + " with md5 " + msg.getMD5Sum() + ": this monitor reads md5 " +
-                                  ros::message_traits::md5sum<TrackedBoxArray>() +
-                                  " (another version of the package); refused");
-    } else if (input.typed) {
+  // Only this build's TrackedBoxArray switches to the typed subscription; an older version of
+  // it (v1, before the per-box errors) goes through the foreign decoder like any tracker's
+  // type, and an md5 the catalogue does not know is refused there by name.
+  if (type == ros::message_traits::datatype<TrackedBoxArray>() &&
+      msg.getMD5Sum() == ros::message_traits::md5sum<TrackedBoxArray>()) {
+    if (input.typed) {
       return;  // the typed subscription has it (both hear the topic until the switch ends)
     } else {
       // This one copied; the typed subscription takes every later one as the publisher sent it.

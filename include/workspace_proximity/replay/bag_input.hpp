@@ -7,7 +7,7 @@
 /// Replayed topics: /tf, /tf_static and the input topics (TrackedBoxArray, or a foreign
 /// tracker type of a known version: foreign_types.hpp); and, when the
 /// replay poses the robot from its joints (replayJoints), the joint states and the planned
-/// trajectories topic.
+/// trajectories topic; and the perception front ends' status topics (replayPerception).
 
 #include <cstdint>
 #include <memory>
@@ -19,6 +19,7 @@
 #include <sensor_msgs/JointState.h>
 #include <trajectory_msgs/JointTrajectory.h>
 #include <tf2_msgs/TFMessage.h>
+#include <workspace_proximity/PerceptionStatus.h>
 #include <workspace_proximity/TrackedBoxArray.h>
 
 #include "workspace_proximity/rules/stamp.hpp"
@@ -51,6 +52,7 @@ enum class BagTopicKind : std::uint8_t {
   kForeign,     ///< an input topic of a foreign tracker type (a version foreign_types.hpp knows)
   kJointState,  ///< sensor_msgs/JointState: replayed when replayJoints() names it
   kTrajectory,  ///< trajectory_msgs/JointTrajectory: replayed when replayJoints() names it
+  kPerceptionStatus,  ///< workspace_proximity/PerceptionStatus: when replayPerception() names it
   kOther,       ///< not used by the monitor
 };
 
@@ -76,6 +78,8 @@ class BagVisitor {
                          std::size_t size, Stamp received) = 0;
   virtual void onJointState(const sensor_msgs::JointState& msg, Stamp received) {}
   virtual void onTrajectory(const trajectory_msgs::JointTrajectory& msg, Stamp received) {}
+  /// A perception front end's status on ~perception_status_topics[index].
+  virtual void onPerceptionStatus(int index, const PerceptionStatus& msg, Stamp received) {}
 };
 
 class BagInput {
@@ -104,6 +108,10 @@ class BagInput {
   /// those types. Returns the lines to warn about (a topic missing or of another type).
   std::vector<std::string> replayJoints(const std::string& joint_topic,
                                         const std::string& trajectory_topic);
+  /// Also replays the perception front ends' status topics (resolved names, in
+  /// ~perception_status_topics' order) the bag has as workspace_proximity/PerceptionStatus.
+  /// Returns the lines to warn about (a topic missing: the replay is DEGRADED for it).
+  std::vector<std::string> replayPerception(const std::vector<std::string>& topics);
 
   /// Streams the replayed topics to `visitor` in receive-time order. Throws ReplayError (kBag)
   /// when the bag turns out damaged midway (the messages before it were delivered).
@@ -123,6 +131,7 @@ class BagInput {
   // Reused for every message: the serialised bytes and the decoded tf message, and a small
   // pool of arrays per source recycled once the monitor has let go of them.
   std::vector<std::uint8_t> buffer_;
+  PerceptionStatus perception_;
   tf2_msgs::TFMessage tf_;
   sensor_msgs::JointState joint_state_;
   trajectory_msgs::JointTrajectory trajectory_;

@@ -115,6 +115,7 @@ class BagReplay : private BagVisitor, private CycleOutput {
                  Stamp received) override;
   void onJointState(const sensor_msgs::JointState& msg, Stamp received) override;
   void onTrajectory(const trajectory_msgs::JointTrajectory& msg, Stamp received) override;
+  void onPerceptionStatus(int index, const PerceptionStatus& msg, Stamp received) override;
   void onInput(Stamp received);  // cycles due before it, the clock, the last input
   void cyclesBefore(Stamp t);  // every cycle due before t (skipping a long stretch without input)
   void runCycle(Stamp now);

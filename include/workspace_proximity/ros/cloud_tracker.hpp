@@ -4,9 +4,9 @@
 ///   PointCloud2 (~cloud_topics) | LaserScan (~scan_topics)
 ///     -> fields and frame checked (rejected by name) -> tf2: sensor -> ~fixed_frame at the stamp
 ///     -> robot links posed from tf at the stamp (self-filter) -> CloudFrame -> clusters
-///     -> ~clusters (markers), /diagnostics (SensorHealth: DEGRADED reasons by sensor, figures)
-/// The clusters are per frame: no ids kept, no velocity. Feeding them to the monitor needs the
-/// multi-object tracker between (issue 23): not wired here yet.
+///     -> ClusterTracks (one MultiObjectTracker for every sensor's frames, cluster_tracks.hpp)
+///     -> perceived_objects (TrackedBoxArray: label `unknown`, ids, velocities once known,
+///        the filter's 3 sigma errors), ~clusters (markers), /diagnostics (SensorHealth)
 
 #include <map>
 #include <memory>
@@ -21,8 +21,13 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <workspace_proximity/PerceptionStatus.h>
+#include <workspace_proximity/TrackedBoxArray.h>
+
 #include "workspace_proximity/perception/cloud_frame.hpp"
+#include "workspace_proximity/perception/cluster_tracks.hpp"
 #include "workspace_proximity/perception/sensor_health.hpp"
+#include "workspace_proximity/perception/unseen_boxes.hpp"
 #include "workspace_proximity/perception/unseen_share.hpp"
 #include "workspace_proximity/rules/monitor_params.hpp"
 
@@ -48,11 +53,20 @@ struct CloudTrackerParams {
   double ssm_reach = 1.5;
   double unseen_limit = 0.3;     ///< share above which the status is DEGRADED
   double unseen_rate = 5.0;      ///< Hz
+  double status_rate = 10.0;     ///< Hz, perception_status (PerceptionStatus) for the monitor
+  /// ~unseen: "ignore", or "occupied": the unseen protective voxels go to the monitor as boxes
+  /// (label `unseen`, velocity unknown) beside the tracks, at most `unseen_max_boxes`.
+  bool unseen_occupied = false;
+  int unseen_max_boxes = 64;
   struct View {
     perception::SensorFov fov;   ///< pose unused: the sensor's frame at its frame's stamp
     bool optical = false;
   };
   std::map<std::string, View> views;
+  /// The clusters' tracker: label `unknown`, its max_speed and max_accel (the monitor's
+  /// `unknown` label: 2.0 m/s, 4.0 m/s^2), a cluster centre's noise (default: one voxel),
+  /// the largest stamp gap at which a late sensor's frame is still merged.
+  perception::ClusterTrackParams tracks;
 };
 
 /// Reads the private parameters; throws std::runtime_error naming a bad one.
@@ -72,7 +86,13 @@ class CloudTracker {
   std::string poseRobot(const ros::Time& stamp, perception::CloudFrame* frame);
   void finish(int sensor, const std_msgs::Header& header, const std::string& robot_problem);
   void publishMarkers(int sensor, const std_msgs::Header& header);
+  // The frame's clusters into the tracker, its tracks on perceived_objects.
+  void publishTracks(int sensor, const std_msgs::Header& header);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+  // Every reason the front end is DEGRADED now (each naming its sensor or the unseen share).
+  void degradedReasons(std::vector<std::string>* reasons);
+  // perception_status: the reasons and the unseen share, for the monitor.
+  void publishStatus();
   // The unseen share of the protective volume from every sensor's latest frame.
   void updateUnseen();
   std::int64_t nowNs() const { return static_cast<std::int64_t>(ros::Time::now().toNSec()); }
@@ -87,9 +107,13 @@ class CloudTracker {
   std::unique_ptr<perception::SensorHealth> health_;
   std::vector<ros::Subscriber> subs_;
   ros::Publisher markers_;
+  ros::Publisher objects_;  // perceived_objects
+  std::unique_ptr<perception::ClusterTracks> tracks_;
   diagnostic_updater::Updater diagnostics_;
   ros::Timer diag_timer_;
   ros::Timer unseen_timer_;
+  ros::Timer status_timer_;
+  ros::Publisher status_;  // perception_status
   perception::UnseenShare unseen_{64};  // sensors beyond 64 see nothing there (counted unseen)
   std::vector<perception::SensorSight> sights_;
   std::vector<Eigen::Isometry3d> sensor_pose_;      // per sensor: its frame at its last frame
@@ -97,6 +121,10 @@ class CloudTracker {
   std::vector<const CloudTrackerParams::View*> view_;  // per sensor, or null
   std::string unseen_problem_ = "not computed yet";  // "" when the share below is current
   perception::UnseenResult unseen_result_;
+  std::unique_ptr<perception::UnseenBoxes> unseen_boxes_;  // ~unseen: occupied
+  std::vector<std::string> unseen_ids_;                    // "unseen_<k>", made once
+  std::vector<ros::Time> last_stamp_;  // per sensor: the stamp of its last used frame
+  ros::Time unseen_stamp_;             // the oldest frame stamp the unseen share was made from
   visualization_msgs::MarkerArray marker_msg_;
 };
 
