@@ -1,0 +1,189 @@
+#!/usr/bin/env python3
+"""The simulated sensors into cloud_tracker, through the topics (sensors_front_end.test).
+
+Scene: the demo arm (config/demo_arm.urdf) swinging at full speed (scene_simulator, joints on
+tf); sensor_simulator's default depth camera (at 160 x 120 here, at (3.6, 2.4, 2.4) looking at the arm)
+and floor scanner (1 000 beams at (3.6, -1.0, 0.2)); the true boxes are what this test
+publishes on /true_objects; cloud_tracker with config/demo_cloud_tracker.yaml. Clusters are
+read from /cloud_tracker/clusters (a MarkerArray per sensor frame, stamped with the frame).
+
+1. The arm's own points never make a cluster: 4 s of the empty cell, every camera and scanner
+   frame without a cluster, while the camera does see the arm (robot points counted).
+2. A person (a 0.5 x 0.5 x 1.8 m box) is a camera cluster overlapping their footprint; after they leave at T,
+   every camera frame stamped from T + 0.05 s on is free of them. The sensor simulator stamps a
+   frame with the robot's newest tf stamp, which is never later than when it rendered the frame,
+   and it heard of the departure within 0.05 s: so "free within one frame" is exact here: only
+   the frame being rendered as the person left may still show them.
+3. The camera silenced: DEGRADED naming it within source_timeout (1 s) and a diagnostic period;
+   meanwhile the scanner alone sees a person standing in its plane (in every scan frame a
+   cluster overlapping their footprint); the camera back: its name leaves the status.
+"""
+import os
+import sys
+import threading
+import time
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import rospy  # noqa: E402
+import rostest  # noqa: E402
+from std_msgs.msg import Bool  # noqa: E402
+from visualization_msgs.msg import MarkerArray  # noqa: E402
+
+from wp_node_testlib import (DiagnosticsCollector, TrackedBox, TrackedBoxArray,  # noqa: E402
+                             diag_values)
+
+STATUS = "cloud_tracker: cloud_tracker"
+CAMERA = "/sim_camera/depth/points"
+SCAN = "/sim_scan"
+PERSON = (0.5, 0.5, 1.8)
+
+
+class Frames(object):
+    """Every sensor frame's clusters: (receipt wall time, stamp s, [(centre, size)]) per sensor."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.frames = {CAMERA: [], SCAN: []}
+        self.sub = rospy.Subscriber("/cloud_tracker/clusters", MarkerArray, self.on_markers, queue_size=50)
+
+    def on_markers(self, msg):
+        now = time.monotonic()
+        per = {}
+        for m in msg.markers:
+            for name in (CAMERA, SCAN):
+                if m.ns == "voxels " + name:
+                    per.setdefault(name, (m.header.stamp.to_sec(), []))
+                elif m.ns == "clusters " + name:
+                    per.setdefault(name, (m.header.stamp.to_sec(), []))[1].append(
+                        ((m.pose.position.x, m.pose.position.y, m.pose.position.z),
+                         (m.scale.x, m.scale.y, m.scale.z)))
+        with self.lock:
+            for name, (stamp, clusters) in per.items():
+                self.frames[name].append((now, stamp, clusters))
+
+    def since(self, name, wall):
+        with self.lock:
+            return [f for f in self.frames[name] if f[0] >= wall]
+
+    def wait(self, name, wall, count, timeout=20.0):
+        """The frames received since `wall`, once there are `count` (a loaded machine slows the
+        sensors down: the test waits for frames, not for seconds)."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline and len(self.since(name, wall)) < count:
+            time.sleep(0.05)
+        return self.since(name, wall)
+
+
+def covers(cluster, xy):
+    """The cluster's box overlaps the footprint of the person standing at xy (a sensor sees the
+    faces turned to it: a floor scanner's cluster is the front of the legs' column)."""
+    (cx, cy, _), (sx, sy, _) = cluster
+    return (abs(cx - xy[0]) <= 0.5 * (sx + PERSON[0]) + 1e-3 and
+            abs(cy - xy[1]) <= 0.5 * (sy + PERSON[1]) + 1e-3)
+
+
+class Scene(object):
+    """Publishes the true boxes on /true_objects at 30 Hz: the people standing at self.people."""
+
+    def __init__(self):
+        self.people = []
+        self.pub = rospy.Publisher("/true_objects", TrackedBoxArray, queue_size=5)
+        self.timer = rospy.Timer(rospy.Duration(1.0 / 30.0), self.tick)
+
+    def tick(self, _):
+        msg = TrackedBoxArray()
+        msg.header.stamp = rospy.Time.now()
+        msg.header.frame_id = "world"
+        for i, (x, y) in enumerate(list(self.people)):
+            b = TrackedBox()
+            b.id, b.label = "person_%d" % i, "person"
+            b.pose.position.x, b.pose.position.y, b.pose.position.z = x, y, 0.5 * PERSON[2]
+            b.pose.orientation.w = 1.0
+            b.dimensions.x, b.dimensions.y, b.dimensions.z = PERSON
+            msg.boxes.append(b)
+        try:
+            self.pub.publish(msg)
+        except rospy.ROSException:
+            pass  # shutting down
+
+    def set(self, people):
+        self.people = list(people)
+        self.tick(None)
+
+
+class SensorsFrontEnd(unittest.TestCase):
+    def test_scene(self):
+        frames = Frames()
+        diag = DiagnosticsCollector(STATUS)
+        scene = Scene()
+        pause = rospy.Publisher("/sensor_simulator/pause_camera", Bool, queue_size=1, latch=True)
+        # Wait for both sensors' frames to come through.
+        deadline = time.monotonic() + 30.0
+        while time.monotonic() < deadline and not (frames.since(CAMERA, 0) and frames.since(SCAN, 0)):
+            time.sleep(0.1)
+        self.assertTrue(frames.since(CAMERA, 0) and frames.since(SCAN, 0), "no frames from cloud_tracker")
+
+        # 1. The empty cell with the arm swinging at full speed: no cluster, ever.
+        t0 = time.monotonic()
+        frames.wait(SCAN, t0, 30)
+        for name in (CAMERA, SCAN):
+            got = frames.wait(name, t0, 30)
+            self.assertGreaterEqual(len(got), 30, "%s: %d frames" % (name, len(got)))
+            bad = [f for f in got if f[2]]
+            self.assertFalse(bad, "%s: the arm made clusters in %d of %d frames, e.g. %s"
+                             % (name, len(bad), len(got), bad[:1]))
+        robot_points = [int(diag_values(st).get(CAMERA + ": robot points", "0")) for _, st in diag.since(t0)]
+        self.assertTrue(robot_points and max(robot_points) > 100,
+                        "the camera should see the arm (robot points %s)" % robot_points[-5:])
+
+        # 2. A person in front of the arm, then gone.
+        spot = (1.2, 1.0)
+        t1 = time.monotonic()
+        scene.set([spot])
+        found = None
+        while time.monotonic() < t1 + 3.0 and found is None:
+            for _, stamp, clusters in frames.since(CAMERA, t1):
+                if any(covers(c, spot) for c in clusters):
+                    found = stamp
+            time.sleep(0.05)
+        self.assertIsNotNone(found, "the camera's clusters never covered the person at %s" % (spot,))
+        time.sleep(0.5)
+        gone = rospy.Time.now().to_sec()
+        scene.set([])
+        t2 = time.monotonic()
+        after = []
+        deadline = time.monotonic() + 20.0
+        while len(after) < 10 and time.monotonic() < deadline:
+            time.sleep(0.1)
+            after = [f for f in frames.since(CAMERA, t2 - 0.5) if f[1] >= gone + 0.05]
+        self.assertGreaterEqual(len(after), 10)
+        late = [f[1] - gone for f in after if any(covers(c, spot) for c in f[2])]
+        self.assertFalse(late, "frames stamped %s s after the person left still show them" % late)
+
+        # 3. The camera silenced: DEGRADED by name; the scanner alone still sees a person.
+        legs = (2.0, -1.3)
+        scene.set([legs])
+        t3 = time.monotonic()
+        pause.publish(Bool(data=True))
+        st = diag.wait_for(lambda s, v: CAMERA in s.message and "DEGRADED" in s.message, 3.0, since=t3)
+        self.assertIsNotNone(st, "a silent camera is not DEGRADED by name: %s"
+                             % (diag.latest().message if diag.latest() else None))
+        t4 = time.monotonic()
+        scans = frames.wait(SCAN, t4, 10)
+        self.assertGreaterEqual(len(scans), 10)
+        self.assertFalse(frames.since(CAMERA, t4 + 0.2), "the camera was to be silent")
+        missing = [f[1:] for f in scans if not any(covers(c, legs) for c in f[2])]
+        self.assertFalse(missing, "scan frames without a cluster covering the person at %s: %d of %d"
+                         % (legs, len(missing), len(scans)))
+        t5 = time.monotonic()
+        pause.publish(Bool(data=False))
+        st = diag.wait_for(lambda s, v: CAMERA not in s.message, 3.0, since=t5 + 0.3)
+        self.assertIsNotNone(st, "the camera is back but still named: %s"
+                             % (diag.latest().message if diag.latest() else None))
+
+
+if __name__ == "__main__":
+    rospy.init_node("test_sensors_front_end")
+    rostest.rosrun("workspace_proximity", "sensors_front_end", SensorsFrontEnd)
