@@ -29,7 +29,8 @@ Parameters (private), lengths in m, angles in rad:
   ~robot_description_param ("robot_description")  "" for no robot
   ~seed (1)                      random generator seed (noise and dropout)
   ~camera (true)                 publish the depth camera
-  ~camera_topic ("sim_camera/depth/points"), ~camera_frame ("sim_camera_link")
+  ~camera_topic ("sim_camera_points": one name without "/", so that it can key cloud_tracker's
+                                 ~sensor_fov in a YAML file), ~camera_frame ("sim_camera_link")
   ~camera_position ([3.6, 2.4, 2.4]), ~camera_target ([0.0, 0.0, 0.6])
   ~width (320), ~height (240)    pixels (640 x 480 works, at a lower rate; see docs/perception.md)
   ~hfov (1.0123)                 horizontal field of view (58 deg); vertical from the aspect
@@ -285,7 +286,7 @@ class SensorSimulator(object):
             statics.append(make_tf(self.frame, self.camera_frame, position, quat_from_rot(body)))
             statics.append(make_tf(self.camera_frame, self.optical_frame, (0.0, 0.0, 0.0),
                                    quat_from_rot(OPTICAL_IN_BODY)))
-            self.cloud_pub = rospy.Publisher(p('camera_topic', 'sim_camera/depth/points'), PointCloud2,
+            self.cloud_pub = rospy.Publisher(p('camera_topic', 'sim_camera_points'), PointCloud2,
                                              queue_size=2)
             self.cloud = PointCloud2()
             self.cloud.header.frame_id = self.optical_frame

@@ -2,7 +2,7 @@
 """The simulated sensors into cloud_tracker, through the topics (sensors_front_end.test).
 
 Scene: the demo arm (config/demo_arm.urdf) swinging at full speed (scene_simulator, joints on
-tf); sensor_simulator's default depth camera (at 160 x 120 here, at (3.6, 2.4, 2.4) looking at the arm)
+tf); sensor_simulator's default depth camera (320 x 240 at (3.6, 2.4, 2.4) looking at the arm)
 and floor scanner (1 000 beams at (3.6, -1.0, 0.2)); the true boxes are what this test
 publishes on /true_objects; cloud_tracker with config/demo_cloud_tracker.yaml. Clusters are
 read from /cloud_tracker/clusters (a MarkerArray per sensor frame, stamped with the frame).
@@ -35,7 +35,7 @@ from wp_node_testlib import (DiagnosticsCollector, TrackedBox, TrackedBoxArray, 
                              diag_values)
 
 STATUS = "cloud_tracker: cloud_tracker"
-CAMERA = "/sim_camera/depth/points"
+CAMERA = "sim_camera_points"  # cloud_tracker names a sensor by its topic as configured
 SCAN = "/sim_scan"
 PERSON = (0.5, 0.5, 1.8)
 
@@ -46,12 +46,18 @@ class Frames(object):
     def __init__(self):
         self.lock = threading.Lock()
         self.frames = {CAMERA: [], SCAN: []}
+        self.unseen = []  # (receipt wall time, set of voxel indices)
         self.sub = rospy.Subscriber("/cloud_tracker/clusters", MarkerArray, self.on_markers, queue_size=50)
 
     def on_markers(self, msg):
         now = time.monotonic()
         per = {}
         for m in msg.markers:
+            if m.ns == "unseen":
+                cells = {voxel_index((p.x, p.y, p.z)) for p in m.points}
+                with self.lock:
+                    self.unseen.append((now, cells))
+                continue
             for name in (CAMERA, SCAN):
                 if m.ns == "voxels " + name:
                     per.setdefault(name, (m.header.stamp.to_sec(), []))
@@ -74,6 +80,29 @@ class Frames(object):
         while time.monotonic() < deadline and len(self.since(name, wall)) < count:
             time.sleep(0.05)
         return self.since(name, wall)
+
+
+VOXEL = 0.05  # config/demo_cloud_tracker.yaml; the grid's corners are whole multiples of it
+CAMERA_AT = (3.6, 2.4, 2.4)  # sensor_simulator's default camera position
+BASE_RADIUS, BASE_TOP = 0.2, 0.4  # the demo arm's base cylinder (config/demo_arm.urdf)
+
+
+def voxel_index(p):
+    return tuple(int(round((c - 0.5 * VOXEL) / VOXEL)) for c in p)
+
+
+def hidden_by_base(centre, core=0.1, top=0.35):
+    """True when the straight line from the camera to `centre` passes through the core of the
+    arm's base (within `core` of its axis, below `top`): an analytic oracle, independent of
+    cloud_tracker's voxel walk."""
+    for k in range(1, 400):
+        u = k / 400.0
+        x = CAMERA_AT[0] + u * (centre[0] - CAMERA_AT[0])
+        y = CAMERA_AT[1] + u * (centre[1] - CAMERA_AT[1])
+        z = CAMERA_AT[2] + u * (centre[2] - CAMERA_AT[2])
+        if x * x + y * y <= core * core and 0.05 <= z <= top:
+            return True
+    return False
 
 
 def covers(cluster, xy):
@@ -161,6 +190,40 @@ class SensorsFrontEnd(unittest.TestCase):
         self.assertGreaterEqual(len(after), 10)
         late = [f[1] - gone for f in after if any(covers(c, spot) for c in f[2])]
         self.assertFalse(late, "frames stamped %s s after the person left still show them" % late)
+
+        # 4. A person in the arm's shadow: right behind its base as the camera sees it. Every
+        #    voxel of their legs whose line of sight crosses the base's core is reported unseen.
+        shadow = (-0.5, -0.333)   # 0.6 m behind the base's axis, on the camera's line through it
+        scene.set([shadow])
+        hidden = []
+        for ix in range(-8, 8):
+            for iy in range(-8, 8):
+                for iz in range(0, 8):
+                    c = (VOXEL * (ix + 0.5) + round(shadow[0] / VOXEL) * VOXEL,
+                         VOXEL * (iy + 0.5) + round(shadow[1] / VOXEL) * VOXEL, VOXEL * (iz + 0.5))
+                    inside = (abs(c[0] - shadow[0]) < 0.5 * PERSON[0] and abs(c[1] - shadow[1]) < 0.5 * PERSON[1]
+                              and c[2] > 0.05)
+                    if inside and hidden_by_base(c):
+                        hidden.append(voxel_index(c))
+        self.assertGreater(len(hidden), 3, "the scene should hide some of the person's legs behind the base")
+        t_shadow = time.monotonic()
+        deadline = t_shadow + 20.0
+        unseen = []
+        while time.monotonic() < deadline and len(unseen) < 5:
+            time.sleep(0.1)
+            with frames.lock:
+                unseen = [u for t, u in frames.unseen if t >= t_shadow + 0.5]
+        self.assertGreaterEqual(len(unseen), 5, "no unseen markers from cloud_tracker")
+        for cells in unseen:
+            missing = [h for h in hidden if h not in cells]
+            self.assertFalse(missing, "%d of the %d voxels of the person hidden behind the base are not "
+                             "reported unseen, e.g. %s" % (len(missing), len(hidden), missing[:3]))
+        st = diag.latest()
+        self.assertGreater(int(diag_values(st).get("unseen: shadowed", "0")), 0)
+        rospy.loginfo("sensors_front_end: %d voxels of the person hidden behind the base, unseen in all %d "
+                      "unseen reports; unseen share %s", len(hidden), len(unseen),
+                      diag_values(st).get("unseen share"))
+        scene.set([])
 
         # 3. The camera silenced: DEGRADED by name; the scanner alone still sees a person.
         legs = (2.0, -1.3)
