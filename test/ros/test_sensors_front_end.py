@@ -46,7 +46,7 @@ class Frames(object):
     def __init__(self):
         self.lock = threading.Lock()
         self.frames = {CAMERA: [], SCAN: []}
-        self.unseen = []  # (receipt wall time, set of voxel indices)
+        self.unseen = []  # (stamp s, set of voxel indices)
         self.sub = rospy.Subscriber("/cloud_tracker/clusters", MarkerArray, self.on_markers, queue_size=50)
 
     def on_markers(self, msg):
@@ -56,7 +56,7 @@ class Frames(object):
             if m.ns == "unseen":
                 cells = {voxel_index((p.x, p.y, p.z)) for p in m.points}
                 with self.lock:
-                    self.unseen.append((now, cells))
+                    self.unseen.append((m.header.stamp.to_sec(), cells))
                 continue
             for name in (CAMERA, SCAN):
                 if m.ns == "voxels " + name:
@@ -72,6 +72,18 @@ class Frames(object):
     def since(self, name, wall):
         with self.lock:
             return [f for f in self.frames[name] if f[0] >= wall]
+
+    def stamped(self, name, t):
+        """The frames stamped at or after the ROS time t (s): what the sensors saw from t on,
+        however late this process got to them."""
+        with self.lock:
+            return [f for f in self.frames[name] if f[1] >= t]
+
+    def wait_stamped(self, name, t, count, timeout=20.0):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline and len(self.stamped(name, t)) < count:
+            time.sleep(0.05)
+        return self.stamped(name, t)
 
     def wait(self, name, wall, count, timeout=20.0):
         """The frames received since `wall`, once there are `count` (a loaded machine slows the
@@ -155,15 +167,14 @@ class SensorsFrontEnd(unittest.TestCase):
         self.assertTrue(frames.since(CAMERA, 0) and frames.since(SCAN, 0), "no frames from cloud_tracker")
 
         # 1. The empty cell with the arm swinging at full speed: no cluster, ever.
-        t0 = time.monotonic()
-        frames.wait(SCAN, t0, 30)
+        t0 = rospy.Time.now().to_sec()
         for name in (CAMERA, SCAN):
-            got = frames.wait(name, t0, 30)
+            got = frames.wait_stamped(name, t0, 30)
             self.assertGreaterEqual(len(got), 30, "%s: %d frames" % (name, len(got)))
             bad = [f for f in got if f[2]]
             self.assertFalse(bad, "%s: the arm made clusters in %d of %d frames, e.g. %s"
                              % (name, len(bad), len(got), bad[:1]))
-        robot_points = [int(diag_values(st).get(CAMERA + ": robot points", "0")) for _, st in diag.since(t0)]
+        robot_points = [int(diag_values(st).get(CAMERA + ": robot points", "0")) for _, st in diag.since(0.0)]
         self.assertTrue(robot_points and max(robot_points) > 100,
                         "the camera should see the arm (robot points %s)" % robot_points[-5:])
 
@@ -206,8 +217,8 @@ class SensorsFrontEnd(unittest.TestCase):
                     if inside and hidden_by_base(c):
                         hidden.append(voxel_index(c))
         self.assertGreater(len(hidden), 3, "the scene should hide some of the person's legs behind the base")
-        t_shadow = time.monotonic()
-        deadline = t_shadow + 20.0
+        t_shadow = rospy.Time.now().to_sec()
+        deadline = time.monotonic() + 20.0
         unseen = []
         while time.monotonic() < deadline and len(unseen) < 5:
             time.sleep(0.1)
@@ -233,10 +244,10 @@ class SensorsFrontEnd(unittest.TestCase):
         st = diag.wait_for(lambda s, v: CAMERA in s.message and "DEGRADED" in s.message, 3.0, since=t3)
         self.assertIsNotNone(st, "a silent camera is not DEGRADED by name: %s"
                              % (diag.latest().message if diag.latest() else None))
-        t4 = time.monotonic()
-        scans = frames.wait(SCAN, t4, 10)
+        t4 = rospy.Time.now().to_sec()
+        scans = frames.wait_stamped(SCAN, t4, 10)
         self.assertGreaterEqual(len(scans), 10)
-        self.assertFalse(frames.since(CAMERA, t4 + 0.2), "the camera was to be silent")
+        self.assertFalse(frames.stamped(CAMERA, t4 + 0.2), "the camera was to be silent")
         missing = [f[1:] for f in scans if not any(covers(c, legs) for c in f[2])]
         self.assertFalse(missing, "scan frames without a cluster covering the person at %s: %d of %d"
                          % (legs, len(missing), len(scans)))
