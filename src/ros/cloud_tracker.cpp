@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include <boost/make_shared.hpp>
@@ -129,6 +130,7 @@ CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
   p.ssm_reach = readNumber(pnh, "ssm_reach", p.ssm_reach, 0.0, 100.0);
   p.unseen_limit = readNumber(pnh, "unseen_limit", p.unseen_limit, 0.0, 1.0);
   p.unseen_rate = readNumber(pnh, "unseen_rate", p.unseen_rate, 0.1, 100.0);
+  p.status_rate = readNumber(pnh, "status_rate", p.status_rate, 0.1, 1000.0);
   XmlRpc::XmlRpcValue views;
   if (pnh.getParam("sensor_fov", views)) {
     if (views.getType() != XmlRpc::XmlRpcValue::TypeStruct) fail("sensor_fov", "must map topics to views");
@@ -199,6 +201,7 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
   params_.tracks.tracker.max_misses = static_cast<int>(names.size());
   tracks_ = std::make_unique<pc::ClusterTracks>(params_.tracks);
   objects_ = nh_.advertise<TrackedBoxArray>("perceived_objects", 2);
+  status_ = nh_.advertise<PerceptionStatus>("perception_status", 2);
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("cloud_tracker", this, &CloudTracker::diagnose);
 
@@ -216,6 +219,8 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
         params_.scan_topics[j], 2, [this, s](const sensor_msgs::LaserScanConstPtr& m) { onScan(s, m); }));
   }
   diag_timer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
+  status_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.status_rate),
+                                  [this](const ros::TimerEvent&) { publishStatus(); });
   unseen_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.unseen_rate),
                                   [this](const ros::TimerEvent&) { updateUnseen(); });
 }
@@ -512,17 +517,32 @@ void CloudTracker::publishMarkers(int s, const std_msgs::Header& header) {
   markers_.publish(marker_msg_);
 }
 
-void CloudTracker::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
-  std::vector<std::string> reasons;
-  health_->degradedReasons(nowNs(), &reasons);
+void CloudTracker::degradedReasons(std::vector<std::string>* reasons) {
+  health_->degradedReasons(nowNs(), reasons);
   char share[160];
   if (!unseen_problem_.empty()) {
-    reasons.push_back(unseen_problem_);
+    reasons->push_back(unseen_problem_);
   } else if (unseen_result_.share > params_.unseen_limit) {
     std::snprintf(share, sizeof share, "unseen share %.3f of the protective volume above unseen_limit %.3f",
                   unseen_result_.share, params_.unseen_limit);
-    reasons.push_back(share);
+    reasons->push_back(share);
   }
+}
+
+void CloudTracker::publishStatus() {
+  const boost::shared_ptr<PerceptionStatus> msg = boost::make_shared<PerceptionStatus>();
+  msg->header.stamp = ros::Time::now();
+  msg->header.frame_id = params_.fixed_frame;
+  degradedReasons(&msg->reasons);
+  msg->degraded = !msg->reasons.empty();
+  msg->unseen_share = unseen_problem_.empty() ? unseen_result_.share
+                                              : std::numeric_limits<double>::quiet_NaN();
+  status_.publish(msg);
+}
+
+void CloudTracker::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  std::vector<std::string> reasons;
+  degradedReasons(&reasons);
   if (reasons.empty()) {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "seeing");
   } else {

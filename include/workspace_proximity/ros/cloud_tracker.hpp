@@ -21,6 +21,7 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <workspace_proximity/PerceptionStatus.h>
 #include <workspace_proximity/TrackedBoxArray.h>
 
 #include "workspace_proximity/perception/cloud_frame.hpp"
@@ -51,6 +52,7 @@ struct CloudTrackerParams {
   double ssm_reach = 1.5;
   double unseen_limit = 0.3;     ///< share above which the status is DEGRADED
   double unseen_rate = 5.0;      ///< Hz
+  double status_rate = 10.0;     ///< Hz, perception_status (PerceptionStatus) for the monitor
   struct View {
     perception::SensorFov fov;   ///< pose unused: the sensor's frame at its frame's stamp
     bool optical = false;
@@ -82,6 +84,10 @@ class CloudTracker {
   // The frame's clusters into the tracker, its tracks on perceived_objects.
   void publishTracks(int sensor, const std_msgs::Header& header);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+  // Every reason the front end is DEGRADED now (each naming its sensor or the unseen share).
+  void degradedReasons(std::vector<std::string>* reasons);
+  // perception_status: the reasons and the unseen share, for the monitor.
+  void publishStatus();
   // The unseen share of the protective volume from every sensor's latest frame.
   void updateUnseen();
   std::int64_t nowNs() const { return static_cast<std::int64_t>(ros::Time::now().toNSec()); }
@@ -101,6 +107,8 @@ class CloudTracker {
   diagnostic_updater::Updater diagnostics_;
   ros::Timer diag_timer_;
   ros::Timer unseen_timer_;
+  ros::Timer status_timer_;
+  ros::Publisher status_;  // perception_status
   perception::UnseenShare unseen_{64};  // sensors beyond 64 see nothing there (counted unseen)
   std::vector<perception::SensorSight> sights_;
   std::vector<Eigen::Isometry3d> sensor_pose_;      // per sensor: its frame at its last frame
