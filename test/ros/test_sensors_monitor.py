@@ -20,8 +20,9 @@ config/proximity_monitor.yaml).
    track on them ("free within one frame" of cloud_tracker: the simulator stamps a frame with
    the robot's newest tf stamp, never later than its rendering, and hears of the departure
    well within 0.05 s). What the monitor does after that is its track rules (docs/node.md).
-4. The sensor silenced: the perceived monitor DEGRADED with a scale of 0 (source_timeout,
-   capped at track_timeout); the true-box monitor is not.
+4. The sensor silenced: the perceived monitor DEGRADED with a scale of 0, the sensor named in
+   its reason (cloud_tracker's perception_status, and perceived_objects silent for
+   source_timeout, capped at track_timeout); the true-box monitor is not.
 """
 import os
 import sys
@@ -36,6 +37,7 @@ import rostest  # noqa: E402
 from std_msgs.msg import Bool, Float64  # noqa: E402
 
 from wp_node_testlib import SafetyStatus, TrackedBox, TrackedBoxArray  # noqa: E402
+from workspace_proximity.msg import PerceptionStatus  # noqa: E402  (on the path: wp_node_testlib)
 
 PERSON = (0.5, 0.5, 1.8)
 RATE = 15.0          # Hz, sensor_simulator's default
@@ -98,6 +100,33 @@ class Perceived(object):
             return [a for a in self.arrays if a[0] >= t]
 
 
+class Health(object):
+    """cloud_tracker's perception_status, with rospy receipt times."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.msgs = []
+        rospy.Subscriber("/perception_status", PerceptionStatus, self.on_status, queue_size=100)
+
+    def on_status(self, msg):
+        with self.lock:
+            self.msgs.append((rospy.Time.now().to_sec(), msg))
+
+    def last(self):
+        with self.lock:
+            return self.msgs[-1][1] if self.msgs else None
+
+    def wait(self, predicate, t, timeout):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            with self.lock:
+                hit = next((m for r, m in self.msgs if r >= t and predicate(m)), None)
+            if hit is not None:
+                return hit
+            time.sleep(0.05)
+        return None
+
+
 class Walker(object):
     """The true boxes on /true_objects at 30 Hz: one person walking START -> STOP at SPEED from
     `start` (rospy s), then standing; none before `start` or after `gone`."""
@@ -145,6 +174,7 @@ class SensorsMonitor(unittest.TestCase):
         pause = rospy.Publisher("/sensor_simulator/pause_" + sensor, Bool, queue_size=1, latch=True)
         perceived, truth = Scales("/perceived"), Scales("/truth")
         tracks = Perceived()
+        health = Health()
         walker = Walker()
 
         # Both monitors up and at full speed (the perceived one once cloud_tracker publishes).
@@ -206,6 +236,13 @@ class SensorsMonitor(unittest.TestCase):
         st = perceived.statuses(t4)[-1][1]
         self.assertEqual(st.status, SafetyStatus.DEGRADED, st.reason)
         self.assertEqual(st.speed_scale, 0.0)
+        # perceived_objects falls silent first (source_timeout capped at track_timeout, 0.5 s:
+        # the reason the monitor's one line gives); the front end's perception_status, which the
+        # monitor also reads, names the sensor after cloud_tracker's source_timeout (1 s).
+        topic = "sim_camera_points" if sensor == "camera" else "sim_scan"
+        named = health.wait(lambda m: m.degraded and any(topic in r for r in m.reasons), t4, 5.0)
+        self.assertIsNotNone(named, "perception_status never named the silent %s: %s" % (sensor, health.last()))
+        self.assertEqual(perceived.statuses(t4)[-1][1].speed_scale, 0.0)
         self.assertTrue(truth.since(t4) and truth.since(t4)[-1][1] > 0.0,
                         "the true-box monitor should not stop for the sensor")
         pause.publish(Bool(data=False))
