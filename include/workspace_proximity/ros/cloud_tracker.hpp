@@ -27,6 +27,7 @@
 #include "workspace_proximity/perception/cloud_frame.hpp"
 #include "workspace_proximity/perception/cluster_tracks.hpp"
 #include "workspace_proximity/perception/sensor_health.hpp"
+#include "workspace_proximity/perception/unseen_boxes.hpp"
 #include "workspace_proximity/perception/unseen_share.hpp"
 #include "workspace_proximity/rules/monitor_params.hpp"
 
@@ -53,6 +54,10 @@ struct CloudTrackerParams {
   double unseen_limit = 0.3;     ///< share above which the status is DEGRADED
   double unseen_rate = 5.0;      ///< Hz
   double status_rate = 10.0;     ///< Hz, perception_status (PerceptionStatus) for the monitor
+  /// ~unseen: "ignore", or "occupied": the unseen protective voxels go to the monitor as boxes
+  /// (label `unseen`, velocity unknown) beside the tracks, at most `unseen_max_boxes`.
+  bool unseen_occupied = false;
+  int unseen_max_boxes = 64;
   struct View {
     perception::SensorFov fov;   ///< pose unused: the sensor's frame at its frame's stamp
     bool optical = false;
@@ -116,6 +121,10 @@ class CloudTracker {
   std::vector<const CloudTrackerParams::View*> view_;  // per sensor, or null
   std::string unseen_problem_ = "not computed yet";  // "" when the share below is current
   perception::UnseenResult unseen_result_;
+  std::unique_ptr<perception::UnseenBoxes> unseen_boxes_;  // ~unseen: occupied
+  std::vector<std::string> unseen_ids_;                    // "unseen_<k>", made once
+  std::vector<ros::Time> last_stamp_;  // per sensor: the stamp of its last used frame
+  ros::Time unseen_stamp_;             // the oldest frame stamp the unseen share was made from
   visualization_msgs::MarkerArray marker_msg_;
 };
 
