@@ -193,6 +193,19 @@ class ArmAnimator(object):
                 msg.velocity.append(self.velocity(j, t, speed))
         return msg
 
+    def transforms(self, t):
+        """Yields (parent, child, translation, rotation) for every joint at time t."""
+        for j in self.joints:
+            trans, rot = j.xyz, j.rot
+            if j.name in self.motion:
+                q = self.position(j, t)
+                if j.type == 'prismatic':
+                    d = quat_rotate(j.rot, tuple(a * q for a in j.axis))
+                    trans = (trans[0] + d[0], trans[1] + d[1], trans[2] + d[2])
+                else:
+                    rot = quat_mul(j.rot, quat_from_axis_angle(j.axis, q))
+            yield j.parent, j.child, trans, rot
+
 
 # The planned move of the demo's trajectory episode: (s after its start, pan offset rad, elbow
 # rad). From where the periodic motion is, the pan turns 1.2 rad further and the elbow folds
@@ -243,20 +256,6 @@ class PlannedMove(object):
                 positions=[self.points[n][k] for n in msg.joint_names],
                 time_from_start=rospy.Duration(t)))
         return msg
-
-    def transforms(self, t):
-        """Yields (parent, child, translation, rotation) for every joint at time t."""
-        for j in self.joints:
-            trans, rot = j.xyz, j.rot
-            if j.name in self.motion:
-                q = self.position(j, t)
-                if j.type == 'prismatic':
-                    d = quat_rotate(j.rot, tuple(a * q for a in j.axis))
-                    trans = (trans[0] + d[0], trans[1] + d[1], trans[2] + d[2])
-                else:
-                    rot = quat_mul(j.rot, quat_from_axis_angle(j.axis, q))
-            yield j.parent, j.child, trans, rot
-
 
 # ---------------------------------------------------------------------------------------------
 # Tracked objects. Each path returns (x, y, yaw, vx, vy, yaw_rate) at time t.
