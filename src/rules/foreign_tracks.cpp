@@ -478,6 +478,11 @@ ForeignRefusal decodeFormat(ForeignFormat format, WireReader& r, ForeignTrackArr
     case ForeignFormat::kJskBoxArrayV2: return decodeJskBoxes(r, out, true);
     case ForeignFormat::kMarkerArray: return decodeMarkers(r, out);
     case ForeignFormat::kPoseArray: return decodePoses(r, out);
+    case ForeignFormat::kJskHumanSkeletonArray:
+      // Bones, not tracks: decodeJskSkeletons reads them (the input bridge dispatches first).
+      return refuse(out, ForeignRefusal::kUnknownType,
+                    "jsk_recognition_msgs/HumanSkeletonArray is a skeleton type: read by "
+                    "decodeJskSkeletons (foreign_skeletons.hpp), not as tracks");
   }
   return refuse(out, ForeignRefusal::kUnknownType, "no decoder for this format");
 }

@@ -205,6 +205,18 @@ constexpr std::string_view kPoseArray = R"(Header header
 Pose[] poses
 )";
 
+constexpr std::string_view kJskHumanSkeletonArray = R"(std_msgs/Header header
+std_msgs/Int32[] human_ids
+jsk_recognition_msgs/HumanSkeleton[] skeletons
+MSG: jsk_recognition_msgs/HumanSkeleton
+std_msgs/Header header
+string[] bone_names
+jsk_recognition_msgs/Segment[] bones
+MSG: jsk_recognition_msgs/Segment
+geometry_msgs/Point start_point
+geometry_msgs/Point end_point
+)";
+
 using F = ForeignFormat;
 
 // What a format carries and its layout: the format decides both, so that type names sharing a
@@ -235,6 +247,7 @@ constexpr FormatFacts formatFacts(ForeignFormat format) {
     case F::kJskBoxArrayV2: return {kDetections, kJskV2};
     case F::kMarkerArray: return {kDetections, kMarkerArray};
     case F::kPoseArray: return {kDetections, kPoseArray};
+    case F::kJskHumanSkeletonArray: return {ForeignFamily::kSkeletons, kJskHumanSkeletonArray};
   }
   return {kTracks, {}};
 }
@@ -279,6 +292,8 @@ constexpr ForeignVersion kVersions[] = {
     known("visualization_msgs/MarkerArray", "debian", "d155b9ce5188fbaf89745847fd5882d7",
           F::kMarkerArray),
     known("geometry_msgs/PoseArray", "debian", "916c28c5764443f268b296bb671b9d97", F::kPoseArray),
+    known("jsk_recognition_msgs/HumanSkeletonArray", "v1", "4013ce44abe9aafa9055e095797a9d50",
+          F::kJskHumanSkeletonArray),
 };
 constexpr std::size_t kVersionCount = sizeof(kVersions) / sizeof(kVersions[0]);
 

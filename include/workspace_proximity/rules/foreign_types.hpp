@@ -29,10 +29,12 @@ enum class ForeignFormat : std::uint8_t {
   kJskBoxArrayV2,                      ///< with value and label (2015-08 on)
   kMarkerArray,                        ///< visualization_msgs/MarkerArray (CUBE, SPHERE, CYLINDER)
   kPoseArray,                          ///< geometry_msgs/PoseArray
+  kJskHumanSkeletonArray,              ///< jsk_recognition_msgs/HumanSkeletonArray (bones)
 };
 
-/// What a type carries: tracks with ids (and maybe velocities), or detections to be associated.
-enum class ForeignFamily : std::uint8_t { kTracks, kDetections };
+/// What a type carries: tracks with ids (and maybe velocities), detections to be associated, or
+/// skeletons (bones as limb capsules: foreign_skeletons.hpp, not decodeForeignTracks).
+enum class ForeignFamily : std::uint8_t { kTracks, kDetections, kSkeletons };
 
 /// One known wire version of one type.
 struct ForeignVersion {
