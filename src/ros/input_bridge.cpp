@@ -46,10 +46,53 @@ std::uint8_t* InputBridge::foreignBytes(int source, std::size_t size) {
   return f->bytes.data();
 }
 
+bool InputBridge::decodeSkeleton(int source, std::string_view type, std::string_view md5,
+                                 std::string_view definition, bool k4abt_markers) {
+  Foreign& f = *foreign_[static_cast<std::size_t>(source)];
+  if (!f.skeleton) {
+    const std::size_t bones = static_cast<std::size_t>(std::max(1, monitor_->params().max_tracks));
+    f.skeleton = std::make_unique<SkeletonFrame>(bones);
+    f.capsules = std::make_unique<SkeletonCapsules>(bones);
+  }
+  SkeletonDecode result;
+  const ForeignRefusal refusal =
+      k4abt_markers ? decodeK4abtMarkers(md5, f.bytes.data(), f.bytes.size(), f.skeleton.get(), &result)
+                    : decodeJskSkeletons(md5, f.bytes.data(), f.bytes.size(), f.skeleton.get(),
+                                         &result, definition);
+  if (refusal == ForeignRefusal::kUnknownMd5) {
+    monitor_->refuseType(source, result.detail);
+    return false;
+  }
+  monitor_->acceptType(source);
+  if (refusal != ForeignRefusal::kNone) {
+    // The whole message is lost: its bones' boxes age in the track table as missing ones do.
+    monitor_->drop(Drop::kMalformed, source,
+                   std::string(type) + ": " + foreignRefusalName(refusal) + ": " + result.detail);
+    return false;
+  }
+  return true;
+}
+
 bool InputBridge::onForeign(int source, std::string_view type, std::string_view md5,
                             std::string_view definition, Stamp now) {
   monitor_->noteReceipt(source, now);
   Foreign& f = *foreign_[static_cast<std::size_t>(source)];
+  // Skeletons: jsk's type by its name; a MarkerArray only on a topic declared to carry
+  // Azure Kinect body tracking (~skeleton_marker_topics), never guessed from its content.
+  const std::vector<std::string>& marker_topics = monitor_->params().skeleton_marker_topics;
+  const bool k4abt = type == "visualization_msgs/MarkerArray" &&
+                     std::find(marker_topics.begin(), marker_topics.end(),
+                               monitor_->sources().source(source).name) != marker_topics.end();
+  f.waiting_skeleton = k4abt || type == "jsk_recognition_msgs/HumanSkeletonArray";
+  if (f.waiting_skeleton) {
+    if (!decodeSkeleton(source, type, md5, definition, k4abt)) {
+      f.waiting_skeleton = false;
+      return true;
+    }
+    f.waiting_detections = false;
+    waiting_[static_cast<std::size_t>(source)].foreign = true;
+    return arrive(source, now);
+  }
   const ForeignRefusal refusal = decodeForeignTracks(type, md5, f.bytes.data(), f.bytes.size(),
                                                      &f.decoded, definition);
   if (refusal == ForeignRefusal::kUnknownType || refusal == ForeignRefusal::kUnknownMd5) {
@@ -86,6 +129,7 @@ bool InputBridge::onForeign(int source, std::string_view type, std::string_view 
 
 std::string_view InputBridge::foreignFrame(int source) const {
   const std::unique_ptr<Foreign>& f = foreign_[static_cast<std::size_t>(source)];
+  if (f && f->waiting_skeleton) return f->skeleton->frame_id;
   if (!f || f->decoded.refusal != ForeignRefusal::kNone) return {};
   if (!f->decoded.frame_id.empty() || f->decoded.tracks.empty()) return f->decoded.frame_id;
   return f->decoded.tracks.front().frame_id;
@@ -114,6 +158,7 @@ void InputBridge::reset() {
   for (std::unique_ptr<Foreign>& f : foreign_) {
     if (!f) continue;
     f->observations.reset();  // sightings from before the jump are no velocity
+    if (f->capsules) f->capsules->reset();
     f->detections.reset();    // nor tracks (made again at the next detections message)
   }
 }
@@ -196,6 +241,12 @@ class InputBridge::ForeignPlacement final : public ArrayPlacement {
       *boxes = &f.detections->tracks();
       return true;
     }
+    if (f.waiting_skeleton) {
+      // Bones: one box around each limb capsule, velocities from the joints' differences.
+      f.capsules->convert(*f.skeleton, monitor.params(), &bridge_->boxes_);
+      *boxes = &bridge_->boxes_;
+      return true;
+    }
     f.observations.convert(f.decoded, frame_, monitor.params(), &bridge_->boxes_);
     if (f.observations.skippedFrame() > 0) {
       monitor.drop(Drop::kFrame, source_,
@@ -224,9 +275,9 @@ bool InputBridge::useForeign(int source, Stamp now, bool at_cycle) {
   const ForeignTrackArray& a = f.decoded;
   // The message's header; people_msgs/PositionMeasurementArray's may be empty where every
   // element has its own: then the first element's.
-  std::string_view frame = a.frame_id;
-  Stamp stamp = a.stamp;
-  if (!a.tracks.empty()) {
+  std::string_view frame = f.waiting_skeleton ? f.skeleton->frame_id : a.frame_id;
+  Stamp stamp = f.waiting_skeleton ? f.skeleton->stamp : a.stamp;
+  if (!f.waiting_skeleton && !a.tracks.empty()) {
     if (frame.empty()) frame = a.tracks.front().frame_id;
     if (stamp == 0) stamp = a.tracks.front().stamp;
   }
