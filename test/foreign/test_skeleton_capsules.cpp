@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "allocation_counter.hpp"
 #include "wire_writer.hpp"
 #include "workspace_proximity/rules/foreign_skeletons.hpp"
 #include "workspace_proximity/rules/skeleton_capsules.hpp"
@@ -354,6 +355,36 @@ TEST(K4abtMarkers, BonesOfEveryBodyInTheDriversLayout) {
             wp::ForeignRefusal::kArrayMismatch);
   EXPECT_NE(result.detail.find("id 507"), std::string::npos) << result.detail;
   EXPECT_TRUE(frame.bones.empty());
+}
+
+// The node's steady state: a message decoded and converted allocates nothing once warm.
+TEST(SkeletonCapsules, NoAllocationOnceWarm) {
+  const wp::MonitorParams params = partParams();
+  wp::SkeletonFrame frame(128);
+  wp::SkeletonDecode result;
+  wp::SkeletonCapsules capsules(128);
+  std::vector<wp::BoxObservation> out;
+  out.reserve(128);
+  const std::vector<std::uint8_t> m = k4abtMessage(-1, -1);
+  std::vector<std::uint8_t> j = jskMessage(true, false);
+  for (int warm = 0; warm < 2; ++warm) {
+    ASSERT_EQ(wp::decodeK4abtMarkers(kMarkerArrayMd5, m.data(), m.size(), &frame, &result),
+              wp::ForeignRefusal::kNone);
+    frame.stamp += 50'000'000;
+    capsules.convert(frame, params, &out);
+    ASSERT_EQ(wp::decodeJskSkeletons(kJskMd5, j.data(), j.size(), &frame, &result),
+              wp::ForeignRefusal::kNone);
+  }
+  const long before = wp_test::allocationCount();
+  for (int i = 0; i < 10; ++i) {
+    wp::decodeK4abtMarkers(kMarkerArrayMd5, m.data(), m.size(), &frame, &result);
+    frame.stamp = 1'000'000'000 + 50'000'000 * i;
+    capsules.convert(frame, params, &out);
+    wp::decodeJskSkeletons(kJskMd5, j.data(), j.size(), &frame, &result);
+    capsules.convert(frame, params, &out);
+  }
+  EXPECT_EQ(wp_test::allocationCount(), before);
+  EXPECT_EQ(out.size(), 2u);
 }
 
 }  // namespace
