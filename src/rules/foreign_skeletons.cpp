@@ -99,7 +99,77 @@ bool room(SkeletonFrame* out, SkeletonDecode* result) {
   return false;
 }
 
+constexpr Rep155Bone kRep155Bones[kRep155BoneCount] = {
+    {"body", "torso", "body->torso", BodyPart::kTorso},
+    {"torso", "head", "torso->head", BodyPart::kHead},
+    {"torso", "l_shoulder", "torso->l_shoulder", BodyPart::kTorso},
+    {"l_shoulder", "l_elbow", "l_shoulder->l_elbow", BodyPart::kArm},
+    {"l_elbow", "l_wrist", "l_elbow->l_wrist", BodyPart::kArm},
+    {"torso", "r_shoulder", "torso->r_shoulder", BodyPart::kTorso},
+    {"r_shoulder", "r_elbow", "r_shoulder->r_elbow", BodyPart::kArm},
+    {"r_elbow", "r_wrist", "r_elbow->r_wrist", BodyPart::kArm},
+    {"body", "l_hip", "body->l_hip", BodyPart::kTorso},
+    {"l_hip", "l_knee", "l_hip->l_knee", BodyPart::kLeg},
+    {"l_knee", "l_ankle", "l_knee->l_ankle", BodyPart::kLeg},
+    {"body", "r_hip", "body->r_hip", BodyPart::kTorso},
+    {"r_hip", "r_knee", "r_hip->r_knee", BodyPart::kLeg},
+    {"r_knee", "r_ankle", "r_knee->r_ankle", BodyPart::kLeg},
+};
+constexpr std::string_view kRep155Links[kRep155LinkCount] = {
+    "body",    "torso",   "head",   "l_shoulder", "l_elbow", "l_wrist", "r_shoulder", "r_elbow",
+    "r_wrist", "l_hip",   "l_knee", "l_ankle",    "r_hip",   "r_knee",  "r_ankle"};
+
 }  // namespace
+
+const Rep155Bone& rep155Bone(int index) { return kRep155Bones[index]; }
+std::string_view rep155Link(int index) { return kRep155Links[index]; }
+
+ForeignRefusal decodeHriIds(std::string_view md5, const std::uint8_t* data, std::size_t size,
+                            HriIds* out, SkeletonDecode* result, std::string_view definition) {
+  constexpr std::string_view kType = "hri_msgs/IdsList";
+  out->stamp = 0;
+  out->frame_id = {};
+  out->ids.clear();
+  *result = SkeletonDecode();
+  auto refuseIds = [&](ForeignRefusal reason, std::string text) {
+    result->refusal = reason;
+    result->detail = std::move(text);
+    out->ids.clear();
+    return reason;
+  };
+  const ForeignVersion* version = findForeignVersion(kType, md5);
+  if (version == nullptr || version->format != ForeignFormat::kHriIdsList) {
+    return refuseIds(ForeignRefusal::kUnknownMd5, describeUnknownMd5(kType, md5, definition));
+  }
+  WireReader r(data, size);
+  r.u32();
+  out->stamp = r.time();
+  out->frame_id = r.string();
+  const std::uint32_t n = r.arrayLength(4);
+  for (std::uint32_t i = 0; i < n && r.ok(); ++i) {
+    const std::string_view id = r.string();
+    if (!r.ok()) break;
+    if (id.empty() || id.find_first_of("/ \t\n") != std::string_view::npos) {
+      return refuseIds(ForeignRefusal::kArrayMismatch,
+                       explain(kType, ": id ", i, " '", id, "' cannot name tf frames"));
+    }
+    if (out->ids.size() >= out->max_ids) {
+      return refuseIds(ForeignRefusal::kTooManyTracks,
+                       explain(kType, ": more than ", out->max_ids, " ids"));
+    }
+    out->ids.push_back(id);
+  }
+  if (!r.ok()) {
+    return refuseIds(r.error() == WireError::kTruncated ? ForeignRefusal::kTruncated
+                                                        : ForeignRefusal::kBadLength,
+                     explain(kType, ": ", r.errorText(), " (at byte ", r.offset(), " of ", size, ")"));
+  }
+  if (r.remaining() != 0) {
+    return refuseIds(ForeignRefusal::kOverlong,
+                     explain(kType, ": ", r.remaining(), " bytes after the message's end"));
+  }
+  return ForeignRefusal::kNone;
+}
 
 std::string_view k4abtJointName(int index) {
   return index >= 0 && index < kK4abtJointCount ? kK4abtNames[static_cast<std::size_t>(index)]

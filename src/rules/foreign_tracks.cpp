@@ -478,6 +478,10 @@ ForeignRefusal decodeFormat(ForeignFormat format, WireReader& r, ForeignTrackArr
     case ForeignFormat::kJskBoxArrayV2: return decodeJskBoxes(r, out, true);
     case ForeignFormat::kMarkerArray: return decodeMarkers(r, out);
     case ForeignFormat::kPoseArray: return decodePoses(r, out);
+    case ForeignFormat::kHriIdsList:
+      return refuse(out, ForeignRefusal::kUnknownType,
+                    "hri_msgs/IdsList lists REP-155 bodies: read by decodeHriIds "
+                    "(foreign_skeletons.hpp) and tf, not as tracks");
     case ForeignFormat::kJskHumanSkeletonArray:
       // Bones, not tracks: decodeJskSkeletons reads them (the input bridge dispatches first).
       return refuse(out, ForeignRefusal::kUnknownType,

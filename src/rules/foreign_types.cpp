@@ -205,6 +205,10 @@ constexpr std::string_view kPoseArray = R"(Header header
 Pose[] poses
 )";
 
+constexpr std::string_view kHriIdsList = R"(Header header
+string[] ids
+)";
+
 constexpr std::string_view kJskHumanSkeletonArray = R"(std_msgs/Header header
 std_msgs/Int32[] human_ids
 jsk_recognition_msgs/HumanSkeleton[] skeletons
@@ -248,6 +252,7 @@ constexpr FormatFacts formatFacts(ForeignFormat format) {
     case F::kMarkerArray: return {kDetections, kMarkerArray};
     case F::kPoseArray: return {kDetections, kPoseArray};
     case F::kJskHumanSkeletonArray: return {ForeignFamily::kSkeletons, kJskHumanSkeletonArray};
+    case F::kHriIdsList: return {ForeignFamily::kSkeletons, kHriIdsList};
   }
   return {kTracks, {}};
 }
@@ -294,6 +299,7 @@ constexpr ForeignVersion kVersions[] = {
     known("geometry_msgs/PoseArray", "debian", "916c28c5764443f268b296bb671b9d97", F::kPoseArray),
     known("jsk_recognition_msgs/HumanSkeletonArray", "v1", "4013ce44abe9aafa9055e095797a9d50",
           F::kJskHumanSkeletonArray),
+    known("hri_msgs/IdsList", "v1", "84a63f55b5676f78b625e8a8bb809fe5", F::kHriIdsList),
 };
 constexpr std::size_t kVersionCount = sizeof(kVersions) / sizeof(kVersions[0]);
 

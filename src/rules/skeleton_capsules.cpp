@@ -44,13 +44,19 @@ bool torsoJoint(std::string_view n) {
                  "torso", "waist"});
 }
 
-// FNV-1a over the body id and the bone's name: the finite-difference table's key.
-std::uint64_t boneKey(std::uint64_t body, std::string_view name) {
+// FNV-1a over the body id (number or text) and the bone's name: the finite-difference key.
+std::uint64_t boneKey(std::uint64_t body, std::string_view body_name, std::string_view name) {
   std::uint64_t h = 1469598103934665603ull;
   for (int i = 0; i < 8; ++i) {
     h ^= (body >> (8 * i)) & 0xff;
     h *= 1099511628211ull;
   }
+  for (char c : body_name) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 1099511628211ull;
+  }
+  h ^= '/';
+  h *= 1099511628211ull;
   for (char c : name) {
     h ^= static_cast<unsigned char>(c);
     h *= 1099511628211ull;
@@ -134,9 +140,14 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
   const std::size_t n = std::min(in.bones.size(), max_bones_);
   // Ids first, views after: ids_ may grow (a long bone name) while it is written.
   for (std::size_t i = 0; i < n; ++i) {
-    char digits[24];
-    const std::to_chars_result r = std::to_chars(digits, digits + sizeof(digits), in.bones[i].body);
-    ids_.append(digits, r.ptr);
+    if (!in.bones[i].body_name.empty()) {
+      ids_.append(in.bones[i].body_name);
+    } else {
+      char digits[24];
+      const std::to_chars_result r =
+          std::to_chars(digits, digits + sizeof(digits), in.bones[i].body);
+      ids_.append(digits, r.ptr);
+    }
     ids_.push_back('/');
     ids_.append(in.bones[i].name);
     id_ends_.push_back(ids_.size());
@@ -152,7 +163,7 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
     capsuleBox(capsule, &b.position, &b.quaternion, &b.dimensions);
     b.angular_velocity.setZero();
 
-    const std::uint64_t key = boneKey(bone.body, bone.name);
+    const std::uint64_t key = boneKey(bone.body, bone.body_name, bone.name);
     const Sighting* last = bone.body_id_stable ? findPrevious(key) : nullptr;
     if (bone.body_id_stable) current_.push_back({key, bone.a, bone.b, in.stamp});
     const double dt = last ? secondsBetween(last->stamp, in.stamp) : 0.0;

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -355,6 +356,68 @@ TEST(K4abtMarkers, BonesOfEveryBodyInTheDriversLayout) {
             wp::ForeignRefusal::kArrayMismatch);
   EXPECT_NE(result.detail.find("id 507"), std::string::npos) << result.detail;
   EXPECT_TRUE(frame.bones.empty());
+}
+
+TEST(Rep155, IdsAndTheBonesOfHumanDescriptionsFrames) {
+  wp_test::WireWriter w;
+  w.header(3, 50, 0, "");
+  w.u32(2);
+  w.str("abcde");
+  w.str("fghij");
+  wp::HriIds ids(4);
+  wp::SkeletonDecode result;
+  const char* md5 = "84a63f55b5676f78b625e8a8bb809fe5";
+  ASSERT_EQ(wp::decodeHriIds(md5, w.bytes.data(), w.bytes.size(), &ids, &result),
+            wp::ForeignRefusal::kNone)
+      << result.detail;
+  ASSERT_EQ(ids.ids.size(), 2u);
+  EXPECT_EQ(ids.ids[1], "fghij");
+  EXPECT_EQ(ids.stamp, 50'000'000'000);
+  EXPECT_EQ(wp::decodeHriIds("ffffffffffffffffffffffffffffffff", w.bytes.data(), w.bytes.size(),
+                             &ids, &result),
+            wp::ForeignRefusal::kUnknownMd5);
+  wp_test::WireWriter bad;
+  bad.header(3, 50, 0, "");
+  bad.u32(1);
+  bad.str("a/b");
+  EXPECT_EQ(wp::decodeHriIds(md5, bad.bytes.data(), bad.bytes.size(), &ids, &result),
+            wp::ForeignRefusal::kArrayMismatch);
+  EXPECT_NE(result.detail.find("'a/b'"), std::string::npos);
+
+  // The bones form a tree over the 15 links (14 bones), each link listed once, and where the
+  // joint names say a part, it is the table's.
+  std::set<std::string_view> links;
+  for (int i = 0; i < wp::kRep155LinkCount; ++i) links.insert(wp::rep155Link(i));
+  EXPECT_EQ(links.size(), static_cast<std::size_t>(wp::kRep155LinkCount));
+  std::set<std::string_view> children;
+  for (int i = 0; i < wp::kRep155BoneCount; ++i) {
+    const wp::Rep155Bone& b = wp::rep155Bone(i);
+    EXPECT_TRUE(links.count(b.link_a) && links.count(b.link_b)) << b.name;
+    EXPECT_TRUE(children.insert(b.link_b).second) << b.name;
+    EXPECT_EQ(b.name, std::string(b.link_a) + "->" + std::string(b.link_b));
+    wp::BodyPart part;
+    if (wp::bodyPartOfBone(b.link_a, b.link_b, &part)) {
+      EXPECT_EQ(part, b.part) << b.name;
+    }
+  }
+  EXPECT_EQ(children.size() + 1, links.size());  // every link but the root "body" is a child
+  EXPECT_EQ(children.count("body"), 0u);
+}
+
+// Text body ids (REP-155's) name the boxes as number ids do.
+TEST(SkeletonCapsules, TextBodyIds) {
+  const wp::MonitorParams params = partParams();
+  wp::SkeletonCapsules capsules(4);
+  wp::SkeletonFrame frame(4);
+  wp::SkeletonBone& bone = frame.bones.emplace_back();
+  bone.body_name = "abcde";
+  bone.name = "l_elbow->l_wrist";
+  bone.part = wp::BodyPart::kArm;
+  bone.b = Vector3d(0.3, 0, 0);
+  std::vector<wp::BoxObservation> out;
+  capsules.convert(frame, params, &out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].id, "abcde/l_elbow->l_wrist");
 }
 
 // The node's steady state: a message decoded and converted allocates nothing once warm.

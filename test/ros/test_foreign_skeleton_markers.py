@@ -26,6 +26,7 @@ Checks, from 0.5 s after the start (the joints' differences need two sightings):
 """
 import math
 import os
+import re
 import sys
 import threading
 import unittest
@@ -190,6 +191,84 @@ def median(values):
     return v[len(v) // 2]
 
 
+TOPICS = ("/scene/boxes/", "/scene/k4abt/", "/humans/bodies/tracked/")
+
+
+def without_topic(track_id):
+    """A track id without the input topic that qualifies it (several input topics)."""
+    for topic in TOPICS:
+        if track_id.startswith(topic):
+            return track_id[len(topic):]
+    return track_id
+
+
+def check_same(test, recorders, t0, skeleton_ns, min_bones, must_have):
+    """The checks of the module's docstring: the skeleton node `skeleton_ns` against "boxes"."""
+    since, until = t0 + rospy.Duration(SKIP_S), t0 + rospy.Duration(SCENE_S)
+    instants, statuses = {}, {}
+    for ns in ("boxes", skeleton_ns):
+        contacts, status = recorders[ns].between(since, until)
+        test.assertGreater(len(contacts), 20, "%s: %d contact arrays" % (ns, len(contacts)))
+        per_id = {}
+        for c in contacts:
+            test.assertEqual(c.status, ContactEventArray.OK, "%s: %s" % (ns, c.status_details))
+            for e in c.events:
+                # The robot's events (the bones of one body touch each other too).
+                if e.state == e.END or "post" not in (e.id_a, e.id_b):
+                    continue
+                other = e.id_b if e.id_a == "post" else e.id_a
+                bone = without_topic(other)
+                per_id.setdefault(bone, []).append(c.header.stamp.to_sec() + e.time_to_contact)
+        instants[ns] = per_id
+        test.assertGreater(len(status), 20, "%s: %d safety_status" % (ns, len(status)))
+        rows = []
+        for s in status:
+            test.assertEqual(s.status, SafetyStatus.OK, "%s: %s" % (ns, s.reason))
+            if s.separation == float("inf"):
+                continue
+            # The limiting bone, without its topic and side (the scenes are symmetric in y).
+            bone = without_topic(s.id_object).replace("_left", "").replace("_right", "")
+            bone = re.sub(r"(^|/|>)[lr]_", r"\1", bone)
+            rows.append((s.header.stamp.to_sec(), bone, s.separation, s.approach_speed))
+            test.assertAlmostEqual(s.raw_scale, ssm_scale(s.separation, s.approach_speed),
+                                   delta=1e-3, msg=ns)
+        statuses[ns] = rows
+
+    bones = set(instants["boxes"])
+    test.assertEqual(set(instants[skeleton_ns]), bones)
+    test.assertGreaterEqual(len(bones), min_bones, bones)
+    test.assertIn(must_have, bones)
+    for bone in bones:
+        reference = median(instants["boxes"][bone])
+        for instant in instants[skeleton_ns][bone]:
+            test.assertAlmostEqual(instant, reference, delta=5e-3,
+                                   msg="%s: contact at %.4f, boxes %.4f" % (bone, instant, reference))
+    test.assertGreater(len(statuses["boxes"]), 5, "no status within reach")
+    test.assertGreater(len(statuses[skeleton_ns]), 5, "no status within reach")
+    # Cycle by cycle (the two nodes' timers differ by a few ms): the skeleton node's limiting
+    # bone, separation and approach speed are the boxes node's, interpolated linearly to
+    # the skeleton node's stamp between the two boxes cycles around it. Where the limiting
+    # bone changes between those cycles there is nothing to interpolate: skipped, at most
+    # one cycle in five.
+    compared = 0
+    ref = statuses["boxes"]
+    for stamp, bone, separation, speed in statuses[skeleton_ns]:
+        after = next((i for i, r in enumerate(ref) if r[0] >= stamp), None)
+        if after is None or after == 0:
+            continue
+        r0, r1 = ref[after - 1], ref[after]
+        if r0[1] != bone or r1[1] != bone or r1[0] - r0[0] > 0.1:
+            continue
+        w = (stamp - r0[0]) / (r1[0] - r0[0])
+        compared += 1
+        test.assertAlmostEqual(separation, r0[2] + w * (r1[2] - r0[2]), delta=1e-3,
+                               msg="%s at %.3f" % (bone, stamp))
+        test.assertAlmostEqual(speed, r0[3] + w * (r1[3] - r0[3]), delta=1e-3,
+                               msg="%s at %.3f" % (bone, stamp))
+    test.assertGreater(compared, 0.8 * len(statuses[skeleton_ns]),
+                       "%d of %d compared" % (compared, len(statuses[skeleton_ns])))
+
+
 class SkeletonMarkers(unittest.TestCase):
     def test_same_capsules_as_boxes(self):
         k4abt_pub = rospy.Publisher("/scene/k4abt", MarkerArray, queue_size=10)
@@ -220,68 +299,7 @@ class SkeletonMarkers(unittest.TestCase):
             rate.sleep()
         rospy.sleep(0.3)
 
-        since, until = t0 + rospy.Duration(SKIP_S), t0 + rospy.Duration(SCENE_S)
-        instants, statuses = {}, {}
-        for ns in ("boxes", "k4abt"):
-            contacts, status = recorders[ns].between(since, until)
-            self.assertGreater(len(contacts), 20, "%s: %d contact arrays" % (ns, len(contacts)))
-            per_id = {}
-            for c in contacts:
-                self.assertEqual(c.status, ContactEventArray.OK, "%s: %s" % (ns, c.status_details))
-                for e in c.events:
-                    # The robot's events (the bones of one body touch each other too).
-                    if e.state == e.END or "post" not in (e.id_a, e.id_b):
-                        continue
-                    other = e.id_b if e.id_a == "post" else e.id_a
-                    bone = other.split("/", 3)[-1]  # without "/scene/<topic>/"
-                    per_id.setdefault(bone, []).append(c.header.stamp.to_sec() + e.time_to_contact)
-            instants[ns] = per_id
-            self.assertGreater(len(status), 20, "%s: %d safety_status" % (ns, len(status)))
-            rows = []
-            for s in status:
-                self.assertEqual(s.status, SafetyStatus.OK, "%s: %s" % (ns, s.reason))
-                if s.separation == float("inf"):
-                    continue
-                # The limiting bone, without its topic and side (the scene is symmetric in y).
-                bone = s.id_object.split("/", 3)[-1].replace("_left", "").replace("_right", "")
-                rows.append((s.header.stamp.to_sec(), bone, s.separation, s.approach_speed))
-                self.assertAlmostEqual(s.raw_scale, ssm_scale(s.separation, s.approach_speed),
-                                       delta=1e-3, msg=ns)
-            statuses[ns] = rows
-
-        bones = set(instants["boxes"])
-        self.assertEqual(set(instants["k4abt"]), bones)
-        self.assertGreaterEqual(len(bones), 10, bones)  # the bones below the post's top
-        self.assertIn(bone_id("Spine_Naval"), bones)
-        for bone in bones:
-            reference = median(instants["boxes"][bone])
-            for instant in instants["k4abt"][bone]:
-                self.assertAlmostEqual(instant, reference, delta=5e-3,
-                                       msg="%s: contact at %.4f, boxes %.4f" % (bone, instant, reference))
-        self.assertGreater(len(statuses["boxes"]), 5, "no status within reach")
-        self.assertGreater(len(statuses["k4abt"]), 5, "no status within reach")
-        # Cycle by cycle (the two nodes' timers differ by a few ms): the k4abt node's limiting
-        # bone, separation and approach speed are the boxes node's, interpolated linearly to
-        # the k4abt node's stamp between the two boxes cycles around it. Where the limiting
-        # bone changes between those cycles there is nothing to interpolate: skipped, at most
-        # one cycle in five.
-        compared = 0
-        ref = statuses["boxes"]
-        for stamp, bone, separation, speed in statuses["k4abt"]:
-            after = next((i for i, r in enumerate(ref) if r[0] >= stamp), None)
-            if after is None or after == 0:
-                continue
-            r0, r1 = ref[after - 1], ref[after]
-            if r0[1] != bone or r1[1] != bone or r1[0] - r0[0] > 0.1:
-                continue
-            w = (stamp - r0[0]) / (r1[0] - r0[0])
-            compared += 1
-            self.assertAlmostEqual(separation, r0[2] + w * (r1[2] - r0[2]), delta=1e-3,
-                                   msg="%s at %.3f" % (bone, stamp))
-            self.assertAlmostEqual(speed, r0[3] + w * (r1[3] - r0[3]), delta=1e-3,
-                                   msg="%s at %.3f" % (bone, stamp))
-        self.assertGreater(compared, 0.8 * len(statuses["k4abt"]),
-                           "%d of %d compared" % (compared, len(statuses["k4abt"])))
+        check_same(self, recorders, t0, "k4abt", 10, bone_id("Spine_Naval"))
 
 if __name__ == "__main__":
     rospy.init_node("test_foreign_skeleton_markers")

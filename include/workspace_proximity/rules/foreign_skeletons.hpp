@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "workspace_proximity/rules/foreign_tracks.hpp"
 #include "workspace_proximity/rules/skeleton_capsules.hpp"
@@ -43,6 +44,35 @@ ForeignRefusal decodeJskSkeletons(std::string_view md5, const std::uint8_t* data
 /// carries something else is not read as one.
 ForeignRefusal decodeK4abtMarkers(std::string_view md5, const std::uint8_t* data, std::size_t size,
                                   SkeletonFrame* out, SkeletonDecode* result);
+
+/// hri_msgs/IdsList (REP-155: /humans/bodies/tracked): the ids of the bodies tracked now.
+struct HriIds {
+  explicit HriIds(std::size_t max_ids = 64) : max_ids(max_ids) { ids.reserve(max_ids); }
+  Stamp stamp = 0;  ///< ns
+  std::string_view frame_id;
+  std::vector<std::string_view> ids;  ///< views into the message's bytes
+  std::size_t max_ids;
+};
+
+/// Reads an hri_msgs/IdsList into `*out`. An empty id, or one with a character that cannot be
+/// part of a tf frame name ('/', white space), refuses the message (kArrayMismatch, naming it).
+ForeignRefusal decodeHriIds(std::string_view md5, const std::uint8_t* data, std::size_t size,
+                            HriIds* out, SkeletonDecode* result, std::string_view definition = {});
+
+/// REP-155 bodies as ros4hri/human_description's URDF frames them: the frame of link `link` of
+/// body `id` is "<link>_<id>". The bones joining frame origins, each with its part: body (the
+/// hips) to torso (the shoulders' height), torso to head (the head's centre), torso to each
+/// shoulder, shoulder to elbow, elbow to wrist, body to each hip, hip to knee, knee to ankle.
+struct Rep155Bone {
+  std::string_view link_a, link_b;
+  std::string_view name;  ///< "link_a->link_b"
+  BodyPart part;
+};
+constexpr int kRep155BoneCount = 14;
+const Rep155Bone& rep155Bone(int index);
+/// The links the bones use (every link_a and link_b once).
+constexpr int kRep155LinkCount = 15;
+std::string_view rep155Link(int index);
 
 /// K4ABT's joint count and the name of joint `index` (as the driver's tf frames spell it).
 constexpr int kK4abtJointCount = 32;

@@ -30,6 +30,7 @@ enum class ForeignFormat : std::uint8_t {
   kMarkerArray,                        ///< visualization_msgs/MarkerArray (CUBE, SPHERE, CYLINDER)
   kPoseArray,                          ///< geometry_msgs/PoseArray
   kJskHumanSkeletonArray,              ///< jsk_recognition_msgs/HumanSkeletonArray (bones)
+  kHriIdsList,                         ///< hri_msgs/IdsList: REP-155 body ids (links from tf)
 };
 
 /// What a type carries: tracks with ids (and maybe velocities), detections to be associated, or

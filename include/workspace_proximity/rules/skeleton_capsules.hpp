@@ -60,6 +60,7 @@ void capsuleVelocity(const Eigen::Vector3d& velocity_a, const Eigen::Vector3d& v
 /// One bone of one body, in its message's frame. Names view the message's bytes.
 struct SkeletonBone {
   std::uint64_t body = 0;      ///< the body's id (jsk: human_ids[i]; K4ABT: marker id / 100)
+  std::string_view body_name;  ///< a text id instead (REP-155's "<id>"), when not empty
   bool body_id_stable = true;  ///< false: the id is an index, not a track (no differences)
   std::string_view name;       ///< the bone's name, unique within its body ("Neck->RShoulder")
   BodyPart part = BodyPart::kTorso;
