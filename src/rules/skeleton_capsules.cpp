@@ -66,6 +66,10 @@ std::uint64_t boneKey(std::uint64_t body, std::string_view body_name, std::strin
 
 // Below this the two sightings are one measurement (a republished message): no velocity.
 constexpr double kMinDifferenceTime = 1e-3;  // s
+// A spread below this is the doubles' rounding, not a limb stretching: coordinates up to
+// BoxLimits' 1e5 m differ by 2e-11 m in their last bit, over at least 1 ms 2e-8 m/s. Kept,
+// such a spread would send a rigidly moving limb to the growth model's solver for nothing.
+constexpr double kSpreadRounding = 1e-7;  // m/s
 
 }  // namespace
 
@@ -176,7 +180,7 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
     // A limb stretching faster than a person of its label can move says nothing: unknown.
     if (spread > unknownVelocitySpeed(label)) continue;
     b.linear_velocity = velocity;
-    b.velocity_error = spread;
+    b.velocity_error = spread < kSpreadRounding ? 0.0 : spread;
     b.velocity_known = true;
   }
   std::sort(current_.begin(), current_.end(),

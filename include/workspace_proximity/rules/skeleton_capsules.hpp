@@ -87,7 +87,8 @@ class SkeletonCapsules {
   /// `in`'s bones as boxes in `*out` (resized; ids and labels view this object, valid until
   /// the next call). A bone's radius is half its part label's size_x. Its velocity is the
   /// capsule's (capsuleVelocity) from each joint's finite difference since the bone's last
-  /// sighting (within params.track_timeout), velocity_error the spread; without such a
+  /// sighting (within params.track_timeout), velocity_error the spread (0 below 1e-7 m/s, the
+  /// differences' rounding); without such a
   /// sighting, for bodies without a stable id, or when the spread exceeds the label's
   /// unknownVelocitySpeed: velocity_known = false (growth at the label's max_speed).
   void convert(const SkeletonFrame& in, const MonitorParams& params,
