@@ -303,6 +303,9 @@ bool InputBridge::useForeign(int source, Stamp now, bool at_cycle) {
     if (frame.empty()) frame = a.tracks.front().frame_id;
     if (stamp == 0) stamp = a.tracks.front().stamp;
   }
+  // The Azure Kinect driver's message while it sees nobody is an empty MarkerArray, which has
+  // no header: "no bodies" as the tracker says it, placed in the fixed frame at its receipt.
+  if (f.waiting_skeleton && frame.empty() && f.skeleton->bones.empty()) frame = fixed_frame_;
   if (frame.empty()) {
     monitor_->drop(Drop::kFrame, source, "the message has an empty frame_id");
     return true;

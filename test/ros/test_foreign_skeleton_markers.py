@@ -15,6 +15,9 @@ bones (K4ABT's joint tree, written here from the SDK's joint hierarchy) are caps
 part's radius; a capsule's box is centred between its joints, its z axis along the bone, full
 extents (d, d, length + d).
 
+First 1 s of empty MarkerArrays (the driver's message while it sees nobody): the k4abt node is
+OK with no events (an empty array says "no bodies"). Then the body.
+
 Checks, from 0.5 s after the start (the joints' differences need two sightings):
 - the same bones have events with the post in both monitors (at least 10; the bones of one
   body touch each other too: those events are not compared) (ids "<body>/<parent joint>-><joint>"), and for
@@ -289,8 +292,20 @@ class SkeletonMarkers(unittest.TestCase):
         self.assertGreaterEqual(k4abt_pub.get_num_connections(), 1)
         self.assertGreaterEqual(boxes_pub.get_num_connections(), 1)
 
-        t0 = rospy.Time.now()
+        # Nobody in view first: the driver publishes empty MarkerArrays (no header at all).
+        empty_from = rospy.Time.now()
         rate = rospy.Rate(20.0)
+        while rospy.Time.now() < empty_from + rospy.Duration(1.0):
+            k4abt_pub.publish(MarkerArray())
+            rate.sleep()
+        contacts, _ = recorders["k4abt"].between(empty_from + rospy.Duration(0.5),
+                                                 empty_from + rospy.Duration(1.0))
+        self.assertGreater(len(contacts), 5)
+        for c in contacts:
+            self.assertEqual(c.status, ContactEventArray.OK, "no bodies: %s" % c.status_details)
+            self.assertEqual(len(c.events), 0)
+
+        t0 = rospy.Time.now()
         while rospy.Time.now() < t0 + rospy.Duration(SCENE_S):
             stamp = rospy.Time.now() - rospy.Duration(0.05)
             t = (stamp - t0).to_sec()
