@@ -76,6 +76,14 @@ bool InputBridge::decodeSkeleton(int source, std::string_view type, std::string_
                    std::string(type) + ": " + foreignRefusalName(refusal) + ": " + result.detail);
     return false;
   }
+  if (result.unread > 0) {
+    // Bones named by joints no part is known for, or with a joint missing: not monitored as
+    // bones this message (their earlier boxes age out), said once in a while, never silently.
+    ROS_WARN_THROTTLE(5.0, "proximity_monitor: %s: %zu bones of a %.*s not read (joint names "
+                           "of no known body part, or a joint missing)",
+                      monitor_->sources().source(source).name.c_str(), result.unread,
+                      static_cast<int>(type.size()), type.data());
+  }
   return true;
 }
 
