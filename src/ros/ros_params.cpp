@@ -84,6 +84,9 @@ LabelSettings readLabel(const XmlRpcValue& v, const std::string& name, LabelSett
   if (v.getType() != XmlRpcValue::TypeStruct) fail(name, "must be a dictionary");
   for (auto it = v.begin(); it != v.end(); ++it) {
     const std::string key = it->first;
+    // A dictionary inside a track label is a sub-label ("person/head": the parameter server
+    // nests a label whose name has a '/'), read by readLabels.
+    if (track_label && it->second.getType() == XmlRpcValue::TypeStruct) continue;
     const double value = toDouble(it->second, name + "/" + key);
     const LabelRow* row = findLabelSetting(key);
     if (row == nullptr || (row->track_only && !track_label)) {
@@ -120,6 +123,18 @@ RobotBodySpec readRobotBody(const XmlRpcValue& v, const std::string& name) {
   return b;
 }
 
+// Sub-labels of `name` (the dictionaries among its keys): "person/head" arrives as the key
+// "head" of "person", since the parameter server makes every '/' a namespace. Each inherits
+// its parent's settings.
+void readSubLabels(const XmlRpcValue& v, const std::string& name, MonitorParams* p) {
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    if (it->second.getType() != XmlRpcValue::TypeStruct) continue;
+    const std::string sub = name + "/" + it->first;
+    p->labels[sub] = readLabel(it->second, "labels/" + sub, p->labels[name]);
+    readSubLabels(it->second, sub, p);
+  }
+}
+
 // ~labels: "default" first, so that the other labels inherit from it.
 void readLabels(const XmlRpcValue& v, MonitorParams* p) {
   if (v.getType() != XmlRpcValue::TypeStruct) fail("labels", "must be a dictionary of labels");
@@ -128,7 +143,15 @@ void readLabels(const XmlRpcValue& v, MonitorParams* p) {
   }
   for (auto it = v.begin(); it != v.end(); ++it) {
     if (it->first == "default") continue;
-    p->labels[it->first] = readLabel(it->second, "labels/" + it->first, p->labels["default"]);
+    // "person/head" as one key (a YAML file read without the parameter server: the replay)
+    // inherits from "person" too, read before it (a prefix sorts first).
+    const std::string& name = it->first;
+    const auto slash = name.rfind('/');
+    const auto parent = slash == std::string::npos ? p->labels.end()
+                                                   : p->labels.find(name.substr(0, slash));
+    const LabelSettings& base = parent != p->labels.end() ? parent->second : p->labels["default"];
+    p->labels[name] = readLabel(it->second, "labels/" + name, base);
+    readSubLabels(it->second, name, p);
   }
 }
 

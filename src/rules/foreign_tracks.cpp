@@ -496,6 +496,15 @@ ForeignRefusal decodeFormat(ForeignFormat format, WireReader& r, ForeignTrackArr
     case ForeignFormat::kMarkerArray: return decodeMarkers(r, out);
     case ForeignFormat::kPoseArray: return decodePoses(r, out);
     case ForeignFormat::kTrackedBoxArrayV1: return decodeTrackedBoxesV1(r, out);
+    case ForeignFormat::kHriIdsList:
+      return refuse(out, ForeignRefusal::kUnknownType,
+                    "hri_msgs/IdsList lists REP-155 bodies: read by decodeHriIds "
+                    "(foreign_skeletons.hpp) and tf, not as tracks");
+    case ForeignFormat::kJskHumanSkeletonArray:
+      // Bones, not tracks: decodeJskSkeletons reads them (the input bridge dispatches first).
+      return refuse(out, ForeignRefusal::kUnknownType,
+                    "jsk_recognition_msgs/HumanSkeletonArray is a skeleton type: read by "
+                    "decodeJskSkeletons (foreign_skeletons.hpp), not as tracks");
   }
   return refuse(out, ForeignRefusal::kUnknownType, "no decoder for this format");
 }

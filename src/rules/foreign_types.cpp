@@ -217,6 +217,22 @@ geometry_msgs/Vector3 dimensions
 geometry_msgs/Twist twist
 )";
 
+constexpr std::string_view kHriIdsList = R"(Header header
+string[] ids
+)";
+
+constexpr std::string_view kJskHumanSkeletonArray = R"(std_msgs/Header header
+std_msgs/Int32[] human_ids
+jsk_recognition_msgs/HumanSkeleton[] skeletons
+MSG: jsk_recognition_msgs/HumanSkeleton
+std_msgs/Header header
+string[] bone_names
+jsk_recognition_msgs/Segment[] bones
+MSG: jsk_recognition_msgs/Segment
+geometry_msgs/Point start_point
+geometry_msgs/Point end_point
+)";
+
 using F = ForeignFormat;
 
 // What a format carries and its layout: the format decides both, so that type names sharing a
@@ -248,6 +264,8 @@ constexpr FormatFacts formatFacts(ForeignFormat format) {
     case F::kMarkerArray: return {kDetections, kMarkerArray};
     case F::kPoseArray: return {kDetections, kPoseArray};
     case F::kTrackedBoxArrayV1: return {kTracks, kTrackedBoxArrayV1};
+    case F::kJskHumanSkeletonArray: return {ForeignFamily::kSkeletons, kJskHumanSkeletonArray};
+    case F::kHriIdsList: return {ForeignFamily::kSkeletons, kHriIdsList};
   }
   return {kTracks, {}};
 }
@@ -294,6 +312,9 @@ constexpr ForeignVersion kVersions[] = {
     known("geometry_msgs/PoseArray", "debian", "916c28c5764443f268b296bb671b9d97", F::kPoseArray),
     known("workspace_proximity/TrackedBoxArray", "v1", "d56a591380bdbf88ec37ec86270fc893",
           F::kTrackedBoxArrayV1),
+    known("jsk_recognition_msgs/HumanSkeletonArray", "v1", "4013ce44abe9aafa9055e095797a9d50",
+          F::kJskHumanSkeletonArray),
+    known("hri_msgs/IdsList", "v1", "84a63f55b5676f78b625e8a8bb809fe5", F::kHriIdsList),
 };
 constexpr std::size_t kVersionCount = sizeof(kVersions) / sizeof(kVersions[0]);
 

@@ -131,6 +131,14 @@ std::vector<std::string> validate(const MonitorParams& p) {
                        "'tracked_objects' without ~input_topics)");
     }
   }
+  for (const std::string& topic : p.skeleton_marker_topics) {
+    const std::vector<std::string> topics =
+        p.input_topics.empty() ? std::vector<std::string>{"tracked_objects"} : p.input_topics;
+    if (std::find(topics.begin(), topics.end(), topic) == topics.end()) {
+      errors.push_back("~skeleton_marker_topics: '" + topic +
+                       "' must be one of the input topics (as ~input_topics lists them)");
+    }
+  }
   checkSsmOutputs(&errors, p.ssm);
   if (p.labels.count("default") == 0) errors.push_back("~labels: must have a 'default' entry");
   for (const auto& kv : p.labels) checkLabel(&errors, "labels/" + kv.first, kv.second, true);

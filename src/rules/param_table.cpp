@@ -33,6 +33,8 @@ constexpr ParamRow kParams[] = {
      "TrackedBoxArray topics; empty: the single topic tracked_objects"},
     {"perception_status_topics", WP_M(perception_status_topics), kWiring, 0, 0, nullptr, "", "",
      "PerceptionStatus topics of perception front ends; a degraded or silent one: DEGRADED"},
+    {"skeleton_marker_topics", WP_M(skeleton_marker_topics), kWiring, 0, 0, nullptr, "", "",
+     "input topics whose MarkerArrays are Azure Kinect body-tracking skeletons (K4ABT joints)"},
     {"cycle_trigger", WP_M(cycle_trigger), kWiring, 0, 0, nullptr, "", "",
      "when a cycle runs: 'timer' (every 1 / rate s) or 'input' (on an array of trigger_source)"},
     {"trigger_source", WP_M(trigger_source), kWiring, 0, 0, nullptr, "", "",

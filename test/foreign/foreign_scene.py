@@ -108,6 +108,22 @@ def trackedbox_v1(m, s, p, v):
     return msg
 
 
+def jsk_skeleton(m, s, p, v):
+    """One body (human_ids [100]) of one bone "Neck->Pelvis" (a torso), vertical through the
+    person's centre, 1.2 m long: with the test parameters' torso radius 0.3 m (the default
+    label's size_x 0.6 m as its diameter) the capsule's tight box is the person's 0.6 x 0.6 x
+    1.8 m box. The joints carry no velocity: the node differences them."""
+    import std_msgs.msg
+    msg = header(m.HumanSkeletonArray(), s)
+    msg.human_ids.append(std_msgs.msg.Int32(100))
+    skeleton = header(m.HumanSkeleton(), s)
+    skeleton.bone_names.append("Neck->Pelvis")
+    skeleton.bones.append(m.Segment(start_point=g.Point(p[0], p[1], p[2] + 0.6),
+                                    end_point=g.Point(p[0], p[1], p[2] - 0.6)))
+    msg.skeletons.append(skeleton)
+    return msg
+
+
 FAMILIES = {
     "people": ("people_msgs", {}, people),
     "position_measurements": ("people_msgs", {}, position_measurements),
@@ -122,6 +138,7 @@ FAMILIES = {
     "derived_objects": ("derived_object_msgs", {}, derived(False)),
     "derived_objects_covariance": ("derived_object_msgs", {}, derived(True)),
     "trackedbox_v1": ("workspace_proximity", {"workspace_proximity": "v1"}, trackedbox_v1),
+    "jsk_skeleton": ("jsk_recognition_msgs", {}, jsk_skeleton),
 }
 # Elements without ids: refused by name until the multi-object tracker reads them.
 FAMILIES_WITHOUT_IDS = {"obstacles": ("obstacle_detector", {}, obstacles)}

@@ -297,6 +297,51 @@ TEST(RosParams, GrowthSettingsPerLabelInheritFromDefault) {
   EXPECT_TRUE(named);
 }
 
+// "person/head" in a YAML file reaches the node as the key "head" of "person" (the parameter
+// server nests every '/', as rosparam and roslaunch load it): a sub-label inheriting from its
+// parent, and the parent's own settings unharmed.
+TEST(RosParams, PartLabelsWithASlashAreNestedSubLabels) {
+  XmlRpcValue person = dict();
+  person["margin"] = 0.2;
+  person["max_speed"] = 1.6;
+  XmlRpcValue hand = dict();
+  hand["max_speed"] = 2.0;
+  hand["size_x"] = 0.12;
+  person["hand"] = hand;
+  person["torso"] = dict();
+  person["torso"]["size_x"] = 0.4;
+  XmlRpcValue labels = dict();
+  labels["person"] = person;
+  XmlRpcValue root = dict();
+  root["labels"] = labels;
+
+  const wp::MonitorParams p = wp::readParams(root);
+  EXPECT_EQ(p.label("person").margin, 0.2);
+  EXPECT_EQ(p.label("person").max_speed, 1.6);
+  EXPECT_EQ(p.label("person/hand").max_speed, 2.0);
+  EXPECT_EQ(p.label("person/hand").size_x, 0.12);
+  EXPECT_EQ(p.label("person/hand").margin, 0.2);  // inherited from person
+  EXPECT_EQ(p.label("person/torso").max_speed, 1.6);
+  EXPECT_EQ(p.label("person/torso").size_x, 0.4);
+  EXPECT_TRUE(wp::validate(p).empty());
+  EXPECT_TRUE(wp::unknownParams(root).empty());
+
+  // One key "person/hand" (a YAML file read without the parameter server): the same.
+  XmlRpcValue flat = dict();
+  flat["person"] = dict();
+  flat["person"]["margin"] = 0.2;
+  flat["person/hand"] = hand;
+  XmlRpcValue flat_root = dict();
+  flat_root["labels"] = flat;
+  const wp::MonitorParams q = wp::readParams(flat_root);
+  EXPECT_EQ(q.label("person/hand").max_speed, 2.0);
+  EXPECT_EQ(q.label("person/hand").margin, 0.2);
+
+  // A scalar that is no setting is still refused by name.
+  root["labels"]["person"]["hand"]["speed"] = 3.0;
+  EXPECT_THROW(wp::readParams(root), std::exception);
+}
+
 TEST(RosParams, RobotBodiesWithOffsets) {
   XmlRpcValue offset = dict();
   offset["xyz"] = list({XmlRpcValue(0.1), XmlRpcValue(0), XmlRpcValue(-0.2)});

@@ -24,6 +24,7 @@ namespace {
 wp::MonitorParams populated() {
   wp::MonitorParams p;
   p.input_topics = {"a", "b"};
+  p.skeleton_marker_topics = {"a"};
   p.ignore_pairs = {{"label:person", "label:person"}};
   p.check_pairs = {{"id:gripper", "id:base_link"}};
   p.labels["person"] = wp::LabelSettings();

@@ -15,6 +15,10 @@
 /// while it sends it), turned into boxes (ForeignObservations) and take the same path. Types
 /// of detections without ids (vision_msgs, jsk, MarkerArray, PoseArray) go through a
 /// multi-object tracker per source (ForeignDetections, label `unknown`) in the fixed frame.
+/// Skeletons (jsk HumanSkeletonArray; MarkerArray on a ~skeleton_marker_topics topic) become
+/// one box per bone around its limb capsule (SkeletonCapsules, labels person/<part>). REP-155
+/// bodies: the ids of an hri_msgs/IdsList, each body's link frames looked up in tf at the
+/// message's stamp (a link tf does not have at that stamp leaves its bones out).
 
 #include <cstdint>
 #include <memory>
@@ -26,6 +30,7 @@
 #include <workspace_proximity/TrackedBoxArray.h>
 
 #include "workspace_proximity/rules/foreign_detections.hpp"
+#include "workspace_proximity/rules/foreign_skeletons.hpp"
 #include "workspace_proximity/rules/foreign_observations.hpp"
 #include "workspace_proximity/rules/foreign_tracks.hpp"
 #include "workspace_proximity/rules/monitor.hpp"
@@ -77,7 +82,21 @@ class InputBridge {
     bool waiting_detections = false;  // the waiting message is of the detections family
     ForeignTrackArray decoded;
     ForeignObservations observations;
+    // Skeletons: the waiting message's bones (views into bytes) and their capsules, made at
+    // the source's first skeleton message.
+    std::unique_ptr<SkeletonFrame> skeleton;
+    std::unique_ptr<SkeletonCapsules> capsules;
+    bool waiting_skeleton = false;  // the waiting message is a skeleton
+    std::unique_ptr<HriIds> hri;    // REP-155: the waiting message's body ids
+    bool rep155 = false;            // the waiting skeleton is REP-155 (bones from tf)
+    std::string link_frame;         // "<link>_<id>" (reused)
   };
+  // REP-155: the bones of the waiting ids' bodies from tf at `stamp`, in the fixed frame, into
+  // the source's skeleton. false (and *wait) when a link is not in tf yet on arrival.
+  bool rep155Bones(int source, Stamp stamp, bool at_cycle, bool* wait);
+  // Decodes the waiting skeleton message of `source`; false when refused (handled).
+  bool decodeSkeleton(int source, std::string_view type, std::string_view md5,
+                      std::string_view definition, bool k4abt_markers);
   bool waits(const Waiting& w) const { return w.msg || w.foreign; }
   bool arrive(int source, Stamp now);  // the common arrival of a TrackedBoxArray or foreign
   bool useForeign(int source, Stamp now, bool at_cycle);

@@ -30,10 +30,13 @@ enum class ForeignFormat : std::uint8_t {
   kMarkerArray,                        ///< visualization_msgs/MarkerArray (CUBE, SPHERE, CYLINDER)
   kPoseArray,                          ///< geometry_msgs/PoseArray
   kTrackedBoxArrayV1,                  ///< this package's TrackedBoxArray before per-box errors
+  kJskHumanSkeletonArray,              ///< jsk_recognition_msgs/HumanSkeletonArray (bones)
+  kHriIdsList,                         ///< hri_msgs/IdsList: REP-155 body ids (links from tf)
 };
 
-/// What a type carries: tracks with ids (and maybe velocities), or detections to be associated.
-enum class ForeignFamily : std::uint8_t { kTracks, kDetections };
+/// What a type carries: tracks with ids (and maybe velocities), detections to be associated, or
+/// skeletons (bones as limb capsules: foreign_skeletons.hpp, not decodeForeignTracks).
+enum class ForeignFamily : std::uint8_t { kTracks, kDetections, kSkeletons };
 
 /// One known wire version of one type.
 struct ForeignVersion {

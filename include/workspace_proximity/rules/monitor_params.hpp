@@ -63,6 +63,9 @@ struct MonitorParams {
   /// Perception front ends' PerceptionStatus topics (cloud_tracker's perception_status): a
   /// degraded or silent one makes the status DEGRADED (perception_health.hpp).
   std::vector<std::string> perception_status_topics;
+  /// Input topics (as input_topics lists them) whose visualization_msgs/MarkerArray is read as
+  /// Azure Kinect body-tracking skeletons (one SPHERE per K4ABT joint), not as detections.
+  std::vector<std::string> skeleton_marker_topics;
   double stale_after = 0.25;    ///< s; pairs with a track older than this are marked stale
   double source_timeout = 1.0;  ///< s without an array from a source -> DEGRADED
   double max_future = 0.5;      ///< s; arrays stamped further ahead of the clock are dropped

@@ -1,0 +1,191 @@
+#include "workspace_proximity/rules/skeleton_capsules.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "workspace_proximity/rules/track_growth.hpp"
+
+namespace workspace_proximity {
+namespace {
+
+// Whether `name` contains `word`, ignoring ASCII case (joint names come in every spelling).
+bool contains(std::string_view name, std::string_view word) {
+  if (word.size() > name.size()) return false;
+  for (std::size_t i = 0; i + word.size() <= name.size(); ++i) {
+    bool same = true;
+    for (std::size_t j = 0; same && j < word.size(); ++j) {
+      char c = name[i + j];
+      if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+      same = c == word[j];
+    }
+    if (same) return true;
+  }
+  return false;
+}
+
+bool any(std::string_view name, std::initializer_list<std::string_view> words) {
+  for (std::string_view w : words) {
+    if (contains(name, w)) return true;
+  }
+  return false;
+}
+
+// Joint classes by name. A wrist is both a hand and an arm joint: wrist-to-hand bones are
+// hands, elbow-to-wrist bones arms.
+bool handJoint(std::string_view n) { return any(n, {"wrist", "hand", "thumb", "finger"}); }
+bool armJoint(std::string_view n) { return any(n, {"elbow", "wrist"}); }
+bool legJoint(std::string_view n) { return any(n, {"knee", "ankle", "foot", "toe", "heel"}); }
+bool headJoint(std::string_view n) { return any(n, {"nose", "eye", "ear", "head"}); }
+bool torsoJoint(std::string_view n) {
+  return any(n, {"neck", "spine", "chest", "pelvis", "hip", "clavicle", "shoulder", "navel", "naval",
+                 "torso", "waist"});
+}
+
+// FNV-1a over the body id (number or text) and the bone's name: the finite-difference key.
+std::uint64_t boneKey(std::uint64_t body, std::string_view body_name, std::string_view name) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (int i = 0; i < 8; ++i) {
+    h ^= (body >> (8 * i)) & 0xff;
+    h *= 1099511628211ull;
+  }
+  for (char c : body_name) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 1099511628211ull;
+  }
+  h ^= '/';
+  h *= 1099511628211ull;
+  for (char c : name) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+// Below this the two sightings are one measurement (a republished message): no velocity.
+constexpr double kMinDifferenceTime = 1e-3;  // s
+// A spread below this is the doubles' rounding, not a limb stretching: coordinates up to
+// BoxLimits' 1e5 m differ by 2e-11 m in their last bit, over at least 1 ms 2e-8 m/s. Kept,
+// such a spread would send a rigidly moving limb to the growth model's solver for nothing.
+constexpr double kSpreadRounding = 1e-7;  // m/s
+
+}  // namespace
+
+std::string_view bodyPartLabel(BodyPart part) {
+  switch (part) {
+    case BodyPart::kHead: return "person/head";
+    case BodyPart::kTorso: return "person/torso";
+    case BodyPart::kArm: return "person/arm";
+    case BodyPart::kHand: return "person/hand";
+    case BodyPart::kLeg: return "person/leg";
+    case BodyPart::kCount: break;
+  }
+  return "person";
+}
+
+bool bodyPartOfBone(std::string_view joint_a, std::string_view joint_b, BodyPart* part) {
+  const std::string_view j[2] = {joint_a, joint_b};
+  if (handJoint(j[0]) && handJoint(j[1])) {
+    *part = BodyPart::kHand;
+  } else if (armJoint(j[0]) || armJoint(j[1])) {
+    *part = BodyPart::kArm;
+  } else if (legJoint(j[0]) || legJoint(j[1])) {
+    *part = BodyPart::kLeg;
+  } else if (headJoint(j[0]) || headJoint(j[1])) {
+    *part = BodyPart::kHead;
+  } else if (torsoJoint(j[0]) && torsoJoint(j[1])) {
+    *part = BodyPart::kTorso;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+void capsuleBox(const Capsule& capsule, Eigen::Vector3d* centre, Eigen::Vector4d* quaternion,
+                Eigen::Vector3d* dimensions) {
+  const Eigen::Vector3d d = capsule.b - capsule.a;
+  const double length = d.norm();
+  *centre = 0.5 * (capsule.a + capsule.b);
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  // A sphere (both joints at one point) needs no axis.
+  if (length > 1e-12) q = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), d / length);
+  *quaternion = Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
+  const double width = 2.0 * capsule.radius;
+  *dimensions = Eigen::Vector3d(width, width, length + width);
+}
+
+void capsuleVelocity(const Eigen::Vector3d& velocity_a, const Eigen::Vector3d& velocity_b,
+                     Eigen::Vector3d* velocity, double* spread) {
+  *velocity = 0.5 * (velocity_a + velocity_b);
+  *spread = 0.5 * (velocity_b - velocity_a).norm();
+}
+
+SkeletonCapsules::SkeletonCapsules(std::size_t max_bones) : max_bones_(max_bones) {
+  ids_.reserve(max_bones * 64);
+  id_ends_.reserve(max_bones);
+  previous_.reserve(max_bones);
+  current_.reserve(max_bones);
+}
+
+const SkeletonCapsules::Sighting* SkeletonCapsules::findPrevious(std::uint64_t key) const {
+  auto it = std::lower_bound(previous_.begin(), previous_.end(), key,
+                             [](const Sighting& s, std::uint64_t k) { return s.key < k; });
+  return it != previous_.end() && it->key == key ? &*it : nullptr;
+}
+
+void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& params,
+                               std::vector<BoxObservation>* out) {
+  out->clear();
+  ids_.clear();
+  id_ends_.clear();
+  current_.clear();
+  const std::size_t n = std::min(in.bones.size(), max_bones_);
+  // Ids first, views after: ids_ may grow (a long bone name) while it is written.
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!in.bones[i].body_name.empty()) {
+      ids_.append(in.bones[i].body_name);
+    } else {
+      char digits[24];
+      const std::to_chars_result r =
+          std::to_chars(digits, digits + sizeof(digits), in.bones[i].body);
+      ids_.append(digits, r.ptr);
+    }
+    ids_.push_back('/');
+    ids_.append(in.bones[i].name);
+    id_ends_.push_back(ids_.size());
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const SkeletonBone& bone = in.bones[i];
+    BoxObservation& b = out->emplace_back();
+    const std::size_t begin = i == 0 ? 0 : id_ends_[i - 1];
+    b.id = std::string_view(ids_.data() + begin, id_ends_[i] - begin);
+    b.label = bodyPartLabel(bone.part);
+    const LabelSettings& label = params.label(std::string(b.label));
+    const Capsule capsule{bone.a, bone.b, 0.5 * label.size_x};
+    capsuleBox(capsule, &b.position, &b.quaternion, &b.dimensions);
+    b.angular_velocity.setZero();
+
+    const std::uint64_t key = boneKey(bone.body, bone.body_name, bone.name);
+    const Sighting* last = bone.body_id_stable ? findPrevious(key) : nullptr;
+    if (bone.body_id_stable) current_.push_back({key, bone.a, bone.b, in.stamp});
+    const double dt = last ? secondsBetween(last->stamp, in.stamp) : 0.0;
+    b.linear_velocity.setZero();
+    b.velocity_known = false;
+    if (last == nullptr || dt < kMinDifferenceTime || dt > params.track_timeout) continue;
+    Eigen::Vector3d velocity;
+    double spread = 0.0;
+    capsuleVelocity((bone.a - last->a) / dt, (bone.b - last->b) / dt, &velocity, &spread);
+    // A limb stretching faster than a person of its label can move says nothing: unknown.
+    if (spread > unknownVelocitySpeed(label)) continue;
+    b.linear_velocity = velocity;
+    b.velocity_error = spread < kSpreadRounding ? 0.0 : spread;
+    b.velocity_known = true;
+  }
+  std::sort(current_.begin(), current_.end(),
+            [](const Sighting& a, const Sighting& b) { return a.key < b.key; });
+  previous_.swap(current_);
+}
+
+}  // namespace workspace_proximity
