@@ -275,6 +275,8 @@ TEST(ParamFiles, TheCfgHasASliderForEachLiveRowWithItsDefaultAndRange) {
 }
 
 TEST(ParamFiles, TheConfigFilesUseKnownKeysAndTheDefaultFileEveryDefault) {
+  // The monitor's files: config/*.yaml (cloud_tracker's are in config/cloud_tracker/, read by
+  // cloud_tracker, not by the monitor).
   const std::string dir = kSource + "config/";
   std::vector<std::string> files;
   if (DIR* d = ::opendir(dir.c_str())) {

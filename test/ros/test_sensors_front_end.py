@@ -4,7 +4,7 @@
 Scene: the demo arm (config/demo_arm.urdf) swinging at full speed (scene_simulator, joints on
 tf); sensor_simulator's default depth camera (320 x 240 at (3.6, 2.4, 2.4) looking at the arm)
 and floor scanner (1 000 beams at (3.6, -1.0, 0.2)); the true boxes are what this test
-publishes on /true_objects; cloud_tracker with config/demo_cloud_tracker.yaml. Clusters are
+publishes on /true_objects; cloud_tracker with config/cloud_tracker/demo.yaml. Clusters are
 read from /cloud_tracker/clusters (a MarkerArray per sensor frame, stamped with the frame).
 
 1. The arm's own points never make a cluster: 4 s of the empty cell, every camera and scanner
@@ -94,7 +94,7 @@ class Frames(object):
         return self.since(name, wall)
 
 
-VOXEL = 0.05  # config/demo_cloud_tracker.yaml; the grid's corners are whole multiples of it
+VOXEL = 0.05  # config/cloud_tracker/demo.yaml; the grid's corners are whole multiples of it
 CAMERA_AT = (3.6, 2.4, 2.4)  # sensor_simulator's default camera position
 BASE_RADIUS, BASE_TOP = 0.2, 0.4  # the demo arm's base cylinder (config/demo_arm.urdf)
 

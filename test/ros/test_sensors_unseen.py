@@ -4,7 +4,7 @@
 
 Scene: the demo arm swinging (scene_simulator, joint_states through robot_state_publisher);
 sensor_simulator's default depth camera (320 x 240 at (3.6, 2.4, 2.4) looking at the arm), no
-scanner; cloud_tracker with config/demo_cloud_tracker.yaml and ~unseen: occupied; the monitor
+scanner; cloud_tracker with config/cloud_tracker/demo.yaml and ~unseen: occupied; the monitor
 on /perceived_objects.
 
 A person stands right behind the arm's base as the camera sees it (the spot of

@@ -25,6 +25,7 @@ wp::MonitorParams populated() {
   wp::MonitorParams p;
   p.input_topics = {"a", "b"};
   p.skeleton_marker_topics = {"a"};
+  p.perception_status_topics = {"perception_status"};
   p.ignore_pairs = {{"label:person", "label:person"}};
   p.check_pairs = {{"id:gripper", "id:base_link"}};
   p.labels["person"] = wp::LabelSettings();
