@@ -9,6 +9,10 @@
 /// pairs from began/ended) -> pair rules (cached per pair) -> contact window (per-axis time of
 /// impact, then the moving separating-axis test for translating boxes) -> narrow phase
 /// (closed forms and FCL, conservative advancement inside the window) -> events.
+/// It runs in two halves, so that what needs only the pairs within reach (speed and
+/// separation monitoring) can act before the contacts are predicted: predictNear(H) (swept
+/// bounds, broad phase, the pairs within reach) then predictEvents() (contact window, narrow
+/// phase, events); predict(H) is both.
 
 #include <cstdint>
 #include <memory>
@@ -65,6 +69,7 @@ struct WorldStats {
   /// window; narrow phase; events.
   std::int64_t ns_bounds = 0, ns_broad = 0, ns_axis = 0, ns_narrow = 0, ns_events = 0;
   std::int64_t ns_pairs = 0;  ///< rules + contact window + narrow phase, all pairs
+  std::int64_t ns_near = 0;   ///< the pairs within reach (predictNear's last step)
   SweepAndPruneStats broad_phase;
 };
 
@@ -129,8 +134,19 @@ class ProximityWorld {
   void setRules(const PairRules& rules);
 
   /// Predicts contacts within `horizon` seconds (> 0... or 0 for "touching now" only).
-  /// The returned events are valid until the next call.
+  /// The returned events are valid until the next call. The same as predictNear(horizon)
+  /// followed by predictEvents().
   const std::vector<PairEvent>& predict(double horizon);
+  /// The first half of predict(horizon): every body's swept bounds, the broad phase, and the
+  /// pairs within reach (nearPairs(), returned). The same pairs, in the same order, with the same
+  /// distances as predict() reports; the events are not predicted yet (predictEvents()).
+  /// A predictNear() not followed by predictEvents() has its events predicted (and dropped)
+  /// by the next predictNear().
+  const std::vector<NearPair>& predictNear(double horizon);
+  /// The second half: contact window, narrow phase and events over the pairs predictNear()
+  /// found, with its horizon. Throws std::logic_error unless predictNear() ran since the last
+  /// predictEvents() (or predict()).
+  const std::vector<PairEvent>& predictEvents();
   const WorldStats& stats() const;
   /// Every allowed pair within reach at the last predict() (see setReach), in no particular
   /// order; valid until the next call.

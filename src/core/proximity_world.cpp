@@ -107,6 +107,8 @@ struct ProximityWorld::Impl {
   double reach(BodyHandle body) const;
   void setRules(const PairRules& rules);
   const std::vector<PairEvent>& predict(double horizon);
+  const std::vector<NearPair>& predictNear(double horizon);
+  const std::vector<PairEvent>& predictEvents();
 
   struct BodyRecord;
   // The world's own record of a broad-phase pair, kept from the pair's begin to its end.
@@ -126,6 +128,7 @@ struct ProximityWorld::Impl {
   void freeRemovedSlots();
   void updateBounds(double horizon);
   void syncPairCache();
+  void collectNearPairs();
   void predictPairs(double horizon);
   void predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b, double horizon);
   PairBody pairBody(std::int32_t slot) const;
@@ -144,6 +147,8 @@ struct ProximityWorld::Impl {
   double last_horizon_ = -1.0;
   bool rules_changed_ = true;
   std::uint64_t cycle_ = 0;                 // predict() calls so far (never wraps)
+  bool near_done_ = false;                  // predictNear() ran; predictEvents() may follow
+  double near_horizon_ = 0.0;               // its horizon, s
 
   SweepAndPrune broad_phase_;
   std::vector<std::int32_t> body_of_proxy_;    // body slot per broad-phase proxy id
@@ -364,9 +369,17 @@ void ProximityWorld::Impl::setRules(const PairRules& rules) {
 // interposed, so the compiler would not inline them into the pair loop otherwise.
 
 const std::vector<PairEvent>& ProximityWorld::Impl::predict(double horizon) {
+  predictNear(horizon);
+  return predictEvents();
+}
+
+const std::vector<NearPair>& ProximityWorld::Impl::predictNear(double horizon) {
   if (!std::isfinite(horizon) || horizon < 0.0 || horizon > Limits::kMaxHorizon) {
     throw std::invalid_argument("ProximityWorld::predict: horizon must be in [0, 1e4] s");
   }
+  // The last predictNear() was not followed by its events (its caller threw in between): they
+  // are predicted now and dropped, so that the tracker's pairs and the freed slots stay in step.
+  if (near_done_) predictEvents();
   stats_ = WorldStats();
   ++cycle_;
   freeRemovedSlots();
@@ -382,8 +395,23 @@ const std::vector<PairEvent>& ProximityWorld::Impl::predict(double horizon) {
   stats_.broad_phase = broad_phase_.stats();
   stats_.bodies = live_count_;
   {
+    StageTimer timer(&stats_.ns_near);
+    collectNearPairs();
+  }
+  near_done_ = true;
+  near_horizon_ = horizon;
+  return near_pairs_;
+}
+
+const std::vector<PairEvent>& ProximityWorld::Impl::predictEvents() {
+  if (!near_done_) {
+    throw std::logic_error("ProximityWorld::predictEvents: predictNear() has not run since the "
+                           "last prediction");
+  }
+  near_done_ = false;
+  {
     StageTimer timer(&stats_.ns_pairs);
-    predictPairs(horizon);
+    predictPairs(near_horizon_);
   }
   if (!config_.time_pair_stages) stats_.ns_axis = stats_.ns_pairs;
   {
@@ -466,17 +494,28 @@ void ProximityWorld::Impl::syncPairCache() {
   }
 }
 
+void ProximityWorld::Impl::collectNearPairs() {
+  // Before the contact prediction: speed and separation acts on these pairs alone, so they
+  // must not wait for the contact window and narrow phase of every other pair.
+  near_pairs_.clear();
+  for (PairRecord& pair : pair_cache_.mutablePairs()) {
+    if (!(bodies_[pair.body_a].reach + bodies_[pair.body_b].reach > 0.0)) continue;
+    if (!allowed(pair)) continue;
+    PairBody a = pairBody(pair.body_a), b = pairBody(pair.body_b);
+    reportIfNear(pair, &a, &b);
+  }
+  stats_.near_pairs = static_cast<int>(near_pairs_.size());
+}
+
 void ProximityWorld::Impl::predictPairs(double horizon) {
   // Per pair: rules, contact window, narrow phase inside the window, report.
   tracker_.beginCycle();
-  near_pairs_.clear();
   stats_.broad_pairs = pair_cache_.size();
   const bool timed_pairs = config_.time_pair_stages;
   for (PairRecord& pair : pair_cache_.mutablePairs()) {
     if (!allowed(pair)) continue;
     ++stats_.allowed_pairs;
     PairBody a = pairBody(pair.body_a), b = pairBody(pair.body_b);
-    reportIfNear(pair, &a, &b);
     if (a.piecewise() || b.piecewise()) {
       predictPiecewisePair(pair, &a, &b, horizon);
       continue;
@@ -494,7 +533,6 @@ void ProximityWorld::Impl::predictPairs(double horizon) {
     report(pair, prediction);
   }
   rules_changed_ = false;
-  stats_.near_pairs = static_cast<int>(near_pairs_.size());
 }
 
 void ProximityWorld::Impl::predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b,
@@ -615,6 +653,10 @@ void ProximityWorld::setReach(BodyHandle body, double reach) { impl_->setReach(b
 double ProximityWorld::reach(BodyHandle body) const { return impl_->reach(body); }
 void ProximityWorld::setRules(const PairRules& rules) { impl_->setRules(rules); }
 const std::vector<PairEvent>& ProximityWorld::predict(double horizon) { return impl_->predict(horizon); }
+const std::vector<NearPair>& ProximityWorld::predictNear(double horizon) {
+  return impl_->predictNear(horizon);
+}
+const std::vector<PairEvent>& ProximityWorld::predictEvents() { return impl_->predictEvents(); }
 const WorldStats& ProximityWorld::stats() const { return impl_->stats_; }
 const std::vector<NearPair>& ProximityWorld::nearPairs() const { return impl_->near_pairs_; }
 
