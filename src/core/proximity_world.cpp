@@ -119,6 +119,7 @@ struct ProximityWorld::Impl {
     std::int32_t body_b = -1;
     std::uint8_t verdict = 0;   // pair rules: unknown, allowed, denied
     bool swapped = false;       // body_b's id sorts before body_a's (events name it first)
+    std::int32_t event_record = -1;  // the event tracker's record last time (a hint)
   };
   BodyRecord& record(BodyHandle body);
   const BodyRecord& record(BodyHandle body) const;
@@ -130,12 +131,12 @@ struct ProximityWorld::Impl {
   void syncPairCache();
   void collectNearPairs();
   void predictPairs(double horizon);
-  void predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b, double horizon);
+  void predictPiecewisePair(PairRecord& pair, PairBody* a, PairBody* b, double horizon);
   PairBody pairBody(std::int32_t slot) const;
   ContactWindow windowOf(PairBody* a, PairBody* b, double horizon);
   bool allowed(PairRecord& pair);
   void reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b);
-  void report(const PairRecord& pair, const ContactPrediction& prediction);
+  void report(PairRecord& pair, const ContactPrediction& prediction);
 
   WorldConfig config_;
   std::vector<BodyRecord> bodies_;
@@ -484,6 +485,7 @@ void ProximityWorld::Impl::syncPairCache() {
     pair->body_a = body_of_proxy_[static_cast<std::size_t>(pair->proxy_a)];
     pair->body_b = body_of_proxy_[static_cast<std::size_t>(pair->proxy_b)];
     pair->verdict = kVerdictUnknown;
+    pair->event_record = -1;
     // Ids are fixed while both bodies live, and so is the pair: compared once, not per event.
     pair->swapped = bodies_[pair->body_b].desc.id < bodies_[pair->body_a].desc.id;
   }
@@ -535,7 +537,7 @@ void ProximityWorld::Impl::predictPairs(double horizon) {
   rules_changed_ = false;
 }
 
-void ProximityWorld::Impl::predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b,
+void ProximityWorld::Impl::predictPiecewisePair(PairRecord& pair, PairBody* a, PairBody* b,
                                          double horizon) {
   // The merged breakpoints of both bodies, then the same steps as a constant-twist pair.
   const bool timed_pairs = config_.time_pair_stages;
@@ -602,7 +604,7 @@ inline void ProximityWorld::Impl::reportIfNear(const PairRecord& pair, PairBody*
   near_pairs_.push_back(near);
 }
 
-inline void ProximityWorld::Impl::report(const PairRecord& pair, const ContactPrediction& prediction) {
+inline void ProximityWorld::Impl::report(PairRecord& pair, const ContactPrediction& prediction) {
   const BodyRecord& a = bodies_[pair.body_a];
   const BodyRecord& b = bodies_[pair.body_b];
   // Name the pair so that body_a's id sorts first, as the message contract asks.
@@ -620,7 +622,9 @@ inline void ProximityWorld::Impl::report(const PairRecord& pair, const ContactPr
   // The bodies' serials name the pair for the tracker: never reused, unlike slots.
   const std::uint32_t lo = std::min(a.serial, b.serial);
   const std::uint32_t hi = std::max(a.serial, b.serial);
-  tracker_.report((static_cast<std::uint64_t>(lo) << 32) | hi, event);
+  // The pair's record last time first: no look-up in the tracker's index while it lasts.
+  pair.event_record =
+      tracker_.report((static_cast<std::uint64_t>(lo) << 32) | hi, event, pair.event_record);
 }
 
 // ---------------------------------------------------------------------------------------------
