@@ -11,7 +11,7 @@
 /// (closed forms and FCL, conservative advancement inside the window) -> events.
 /// It runs in two halves, so that what needs only the pairs within reach (speed and
 /// separation monitoring) can act before the contacts are predicted: predictNear(H) (swept
-/// bounds, broad phase, the pairs within reach) then predictEvents() (contact window, narrow
+/// bounds, the pairs within reach) then predictEvents() (broad phase, contact window, narrow
 /// phase, events); predict(H) is both.
 
 #include <cstdint>
@@ -69,7 +69,7 @@ struct WorldStats {
   /// window; narrow phase; events.
   std::int64_t ns_bounds = 0, ns_broad = 0, ns_axis = 0, ns_narrow = 0, ns_events = 0;
   std::int64_t ns_pairs = 0;  ///< rules + contact window + narrow phase, all pairs
-  std::int64_t ns_near = 0;   ///< the pairs within reach (predictNear's last step)
+  std::int64_t ns_near = 0;   ///< the pairs within reach (predictNear's scan)
   SweepAndPruneStats broad_phase;
 };
 
@@ -122,11 +122,11 @@ class ProximityWorld {
 
   /// How near (m, >= 0; default 0) another body must come to this one to be reported in
   /// nearPairs(), whatever the contact prediction says: an allowed pair is reported when its
-  /// bare shapes are at most reach(a) + reach(b) apart now. The body's broad-phase bounds are
-  /// grown by `reach` on every side (its sweptBounds() are not), so the broad phase finds every
-  /// such pair: the bounds hold the shapes now, and two shapes at most r apart have boxes at
-  /// most r apart on every axis. Takes effect at the next predict(). Throws on a negative,
-  /// non-finite or huge (> Limits::kMaxSize) reach.
+  /// bare shapes are at most reach(a) + reach(b) apart now. predictNear() finds them by a scan
+  /// of every body against the bodies with a reach (meant for a few: the robot's), before the
+  /// broad phase. The body's broad-phase bounds are grown by `reach` on every side as well (its
+  /// sweptBounds() are not), so the broad phase pairs it with every such body too. Takes effect
+  /// at the next predict(). Throws on a negative, non-finite or huge (> Limits::kMaxSize) reach.
   void setReach(BodyHandle body, double reach);
   double reach(BodyHandle body) const;
 
@@ -137,14 +137,16 @@ class ProximityWorld {
   /// The returned events are valid until the next call. The same as predictNear(horizon)
   /// followed by predictEvents().
   const std::vector<PairEvent>& predict(double horizon);
-  /// The first half of predict(horizon): every body's swept bounds, the broad phase, and the
-  /// pairs within reach (nearPairs(), returned). The same pairs, in the same order, with the same
-  /// distances as predict() reports; the events are not predicted yet (predictEvents()).
+  /// The first half of predict(horizon): every body's swept bounds and the pairs within reach
+  /// (nearPairs(), returned), by a scan of every body against the bodies with a reach (their
+  /// cost grows with the bodies times the bodies with a reach, not with the broad phase). The
+  /// same pairs, in the same order, with the same distances as predict() reports; the broad
+  /// phase and the events follow in predictEvents().
   /// A predictNear() not followed by predictEvents() has its events predicted (and dropped)
   /// by the next predictNear().
   const std::vector<NearPair>& predictNear(double horizon);
-  /// The second half: contact window, narrow phase and events over the pairs predictNear()
-  /// found, with its horizon. Throws std::logic_error unless predictNear() ran since the last
+  /// The second half, with predictNear()'s horizon: the broad phase, the contact window,
+  /// narrow phase and events. Throws std::logic_error unless predictNear() ran since the last
   /// predictEvents() (or predict()).
   const std::vector<PairEvent>& predictEvents();
   const WorldStats& stats() const;

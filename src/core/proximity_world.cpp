@@ -135,7 +135,7 @@ struct ProximityWorld::Impl {
   PairBody pairBody(std::int32_t slot) const;
   ContactWindow windowOf(PairBody* a, PairBody* b, double horizon);
   bool allowed(PairRecord& pair);
-  void reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b);
+  void reportIfNear(std::int32_t slot_a, std::int32_t slot_b);
   void report(PairRecord& pair, const ContactPrediction& prediction);
 
   WorldConfig config_;
@@ -157,6 +157,7 @@ struct ProximityWorld::Impl {
   NarrowPhase narrow_phase_;
   EventTracker tracker_;
   std::vector<NearPair> near_pairs_;
+  std::vector<std::int32_t> reaching_;         // slots of the live bodies with a reach (scratch)
   WorldStats stats_;
 };
 
@@ -388,14 +389,11 @@ const std::vector<NearPair>& ProximityWorld::Impl::predictNear(double horizon) {
     StageTimer timer(&stats_.ns_bounds);
     updateBounds(horizon);
   }
-  {
-    StageTimer timer(&stats_.ns_broad);
-    broad_phase_.update();
-    syncPairCache();
-  }
-  stats_.broad_phase = broad_phase_.stats();
   stats_.bodies = live_count_;
   {
+    // Before the broad phase: the few bodies with a reach (the robot's) against every body
+    // is a linear scan, cheaper than the broad phase's update at thousands of objects, and
+    // what speed and separation acts on must not wait for it.
     StageTimer timer(&stats_.ns_near);
     collectNearPairs();
   }
@@ -410,6 +408,12 @@ const std::vector<PairEvent>& ProximityWorld::Impl::predictEvents() {
                            "last prediction");
   }
   near_done_ = false;
+  {
+    StageTimer timer(&stats_.ns_broad);
+    broad_phase_.update();
+    syncPairCache();
+  }
+  stats_.broad_phase = broad_phase_.stats();
   {
     StageTimer timer(&stats_.ns_pairs);
     predictPairs(near_horizon_);
@@ -497,14 +501,26 @@ void ProximityWorld::Impl::syncPairCache() {
 }
 
 void ProximityWorld::Impl::collectNearPairs() {
-  // Before the contact prediction: speed and separation acts on these pairs alone, so they
-  // must not wait for the contact window and narrow phase of every other pair.
+  // Every live body against the live bodies with a reach, each pair once, named as the broad
+  // phase names it (the lower proxy first), so that the distances are the ones a pass over the
+  // broad phase's pairs would give, bit for bit.
   near_pairs_.clear();
-  for (PairRecord& pair : pair_cache_.mutablePairs()) {
-    if (!(bodies_[pair.body_a].reach + bodies_[pair.body_b].reach > 0.0)) continue;
-    if (!allowed(pair)) continue;
-    PairBody a = pairBody(pair.body_a), b = pairBody(pair.body_b);
-    reportIfNear(pair, &a, &b);
+  reaching_.clear();
+  const auto n = static_cast<std::int32_t>(bodies_.size());
+  for (std::int32_t i = 0; i < n; ++i) {
+    if (bodies_[i].state == BodyRecord::State::kLive && bodies_[i].reach > 0.0) reaching_.push_back(i);
+  }
+  if (!reaching_.empty()) {
+    for (std::int32_t j = 0; j < n; ++j) {
+      const BodyRecord& other = bodies_[j];
+      if (other.state != BodyRecord::State::kLive) continue;
+      for (const std::int32_t i : reaching_) {
+        // Two bodies with a reach: the pair is seen from the lower slot only.
+        if (i == j || (other.reach > 0.0 && j < i)) continue;
+        const bool i_first = bodies_[i].proxy < other.proxy;
+        reportIfNear(i_first ? i : j, i_first ? j : i);
+      }
+    }
   }
   stats_.near_pairs = static_cast<int>(near_pairs_.size());
 }
@@ -584,19 +600,24 @@ inline bool ProximityWorld::Impl::allowed(PairRecord& pair) {
   return pair.verdict == kVerdictAllowed;
 }
 
-inline void ProximityWorld::Impl::reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b) {
-  const double reach = bodies_[pair.body_a].reach + bodies_[pair.body_b].reach;
+inline void ProximityWorld::Impl::reportIfNear(std::int32_t slot_a, std::int32_t slot_b) {
+  const BodyRecord& ra = bodies_[slot_a];
+  const BodyRecord& rb = bodies_[slot_b];
+  const double reach = ra.reach + rb.reach;
   if (!(reach > 0.0)) return;
-  // The boxes around the centres (PairBody::half holds each shape now) a lower bound apart on
-  // some axis further than the reach: the shapes are too. Most pairs stop here.
-  const Eigen::Vector3d gap = (a->motion->position - b->motion->position).cwiseAbs() - a->half - b->half;
+  // The boxes around the centres (`half` holds each shape now) a lower bound apart on some
+  // axis further than the reach: the shapes are too. Most pairs stop here.
+  const Eigen::Vector3d gap = (ra.motion.position - rb.motion.position).cwiseAbs() - ra.half - rb.half;
   if (gap.maxCoeff() > reach) return;
-  const ShapeDistance d = narrow_phase_.distanceNow(*a, *b);
+  // The pair rules, as the broad phase's pairs have them (only for the few pairs this near).
+  if (!config_.rules.allowed(ra.desc, rb.desc)) return;
+  const PairBody a = pairBody(slot_a), b = pairBody(slot_b);
+  const ShapeDistance d = narrow_phase_.distanceNow(a, b);
   ++stats_.narrow_iterations;
   if (d.distance > reach) return;
   NearPair near;
-  near.body_a = BodyHandle{pair.body_a, bodies_[pair.body_a].generation};
-  near.body_b = BodyHandle{pair.body_b, bodies_[pair.body_b].generation};
+  near.body_a = BodyHandle{slot_a, ra.generation};
+  near.body_b = BodyHandle{slot_b, rb.generation};
   near.distance = d.overlapping ? 0.0 : d.distance;
   near.point_a = d.point_a;
   near.point_b = d.point_b;

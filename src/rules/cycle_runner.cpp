@@ -27,7 +27,7 @@ CycleRun CycleRunner::run(Stamp now, CycleFeed* feed, CycleOutput* out) {
     clock.lap(CycleStage::kSafety);
     monitor_->finishCycle(&clock);
     const WorldStats& stats = monitor_->world().stats();
-    timing_.add(CycleStage::kBroad, 1e-6 * static_cast<double>(stats.ns_bounds + stats.ns_broad));
+    timing_.add(CycleStage::kBroad, 1e-6 * static_cast<double>(stats.ns_broad));
     if (out != nullptr) out->contacts(report, monitor_->world());
     clock.lap(CycleStage::kContacts);
     if (out != nullptr) out->rest(report, monitor_->world(), run);

@@ -171,8 +171,8 @@ TEST(CycleRunner, TheStagesAreLappedWithinTheCycleAndOffCycleStagesNoted) {
     laps += t.last(s);
   }
   EXPECT_LE(laps, f.runner.lastCycleMs());
-  // The broad phase is part of the near lap (the world's own stage times).
-  EXPECT_LE(t.last(wp::CycleStage::kBroad), t.last(wp::CycleStage::kNear));
+  // The broad phase is part of the predict lap (the world's own stage times).
+  EXPECT_LE(t.last(wp::CycleStage::kBroad), t.last(wp::CycleStage::kPredict));
   // Every stage has its own name in the summary.
   for (int i = 0; i < wp::CycleTiming::kStages; ++i) {
     EXPECT_NE(std::string(wp::CycleTiming::name(static_cast<wp::CycleStage>(i))), "?");

@@ -17,7 +17,7 @@
 ///   -> Monitor::beginCycle (expire, extrapolate, pairs within reach, status, SSM verdict)
 ///   -> out.safety (speed_scale, speed_override, stop actions: before the contacts are even
 ///      predicted)  [lap kSafety]
-///   -> Monitor::finishCycle (contact window, narrow phase, events, their levels)
+///   -> Monitor::finishCycle (broad phase, contact window, narrow phase, events, their levels)
 ///   -> out.contacts  [lap kContacts] -> out.rest (markers' schedule) -> cycle time noted
 ///   on an exception: feed.failed -> Monitor::cycleFailed -> out.safety -> out.contacts
 ///   -> out.rest

@@ -14,10 +14,10 @@ namespace workspace_proximity {
 /// cycle and the parts of a stage noted on their own.
 enum class CycleStage : int {
   kInput = 0,  ///< arrays left for the cycle -> tracks, extrapolation, robot poses, the SSM's reach
-  kNear,       ///< ProximityWorld::predictNear: swept bounds, broad phase, pairs within reach
+  kNear,       ///< ProximityWorld::predictNear: swept bounds, the pairs within reach
   kSsm,        ///< the status (OK / DEGRADED) and the speed and separation verdict
   kSafety,     ///< the safety output built and published (speed_scale first)
-  kPredict,    ///< ProximityWorld::predictEvents: contact window, narrow phase, events
+  kPredict,    ///< ProximityWorld::predictEvents: broad phase, contact window, narrow phase, events
   kReport,     ///< the events' levels, stale flags, bodies' worst levels
   kContacts,   ///< the ContactEventArray built and published
   kMarkers,    ///< not in the cycle: a MarkerArray built and published, half a period later
@@ -25,7 +25,7 @@ enum class CycleStage : int {
   kTransit,    ///< not in the cycle: an array's stamp to its callback (the publisher's
                ///< serialisation, the wire, deserialisation, the callback queue; and whatever
                ///< the tracker's stamp is older than its publication)
-  kBroad,      ///< part of kNear: swept bounds and the broad phase (WorldStats)
+  kBroad,      ///< part of kPredict: the broad phase with the world's pair cache (WorldStats)
   kSerialise,  ///< part of kContacts: the contacts' publish() (serialisation, hand-off)
   kCount
 };

@@ -109,7 +109,8 @@ class Monitor {
   /// Forgets every stamp: tracks (their pairs END), robot poses, sources' receipts.
   void reset();
   /// The first half of the cycle at `now`: expires old tracks, moves every track to `now`,
-  /// finds the pairs within reach (ProximityWorld::predictNear) and decides the status and the
+  /// finds the pairs within reach (ProximityWorld::predictNear: swept bounds and a scan of the
+  /// robot's bodies against every body, before the broad phase) and decides the status and the
   /// speed and separation verdict: report().ssm, .degraded, .status_lines and .stamp are this
   /// cycle's, and the report has no events yet. `clock` laps kInput, kNear and kSsm.
   const CycleReport& beginCycle(Stamp now, StageClock* clock);
