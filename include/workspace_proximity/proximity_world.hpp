@@ -9,6 +9,10 @@
 /// pairs from began/ended) -> pair rules (cached per pair) -> contact window (per-axis time of
 /// impact, then the moving separating-axis test for translating boxes) -> narrow phase
 /// (closed forms and FCL, conservative advancement inside the window) -> events.
+/// It runs in two halves, so that what needs only the pairs within reach (speed and
+/// separation monitoring) can act before the contacts are predicted: predictNear(H) (swept
+/// bounds, the pairs within reach) then predictEvents() (broad phase, contact window, narrow
+/// phase, events); predict(H) is both.
 
 #include <cstdint>
 #include <memory>
@@ -65,6 +69,7 @@ struct WorldStats {
   /// window; narrow phase; events.
   std::int64_t ns_bounds = 0, ns_broad = 0, ns_axis = 0, ns_narrow = 0, ns_events = 0;
   std::int64_t ns_pairs = 0;  ///< rules + contact window + narrow phase, all pairs
+  std::int64_t ns_near = 0;   ///< the pairs within reach (predictNear's scan)
   SweepAndPruneStats broad_phase;
 };
 
@@ -117,11 +122,11 @@ class ProximityWorld {
 
   /// How near (m, >= 0; default 0) another body must come to this one to be reported in
   /// nearPairs(), whatever the contact prediction says: an allowed pair is reported when its
-  /// bare shapes are at most reach(a) + reach(b) apart now. The body's broad-phase bounds are
-  /// grown by `reach` on every side (its sweptBounds() are not), so the broad phase finds every
-  /// such pair: the bounds hold the shapes now, and two shapes at most r apart have boxes at
-  /// most r apart on every axis. Takes effect at the next predict(). Throws on a negative,
-  /// non-finite or huge (> Limits::kMaxSize) reach.
+  /// bare shapes are at most reach(a) + reach(b) apart now. predictNear() finds them by a scan
+  /// of every body against the bodies with a reach (meant for a few: the robot's), before the
+  /// broad phase. The body's broad-phase bounds are grown by `reach` on every side as well (its
+  /// sweptBounds() are not), so the broad phase pairs it with every such body too. Takes effect
+  /// at the next predict(). Throws on a negative, non-finite or huge (> Limits::kMaxSize) reach.
   void setReach(BodyHandle body, double reach);
   double reach(BodyHandle body) const;
 
@@ -129,8 +134,21 @@ class ProximityWorld {
   void setRules(const PairRules& rules);
 
   /// Predicts contacts within `horizon` seconds (> 0... or 0 for "touching now" only).
-  /// The returned events are valid until the next call.
+  /// The returned events are valid until the next call. The same as predictNear(horizon)
+  /// followed by predictEvents().
   const std::vector<PairEvent>& predict(double horizon);
+  /// The first half of predict(horizon): every body's swept bounds and the pairs within reach
+  /// (nearPairs(), returned), by a scan of every body against the bodies with a reach (their
+  /// cost grows with the bodies times the bodies with a reach, not with the broad phase). The
+  /// same pairs, in the same order, with the same distances as predict() reports; the broad
+  /// phase and the events follow in predictEvents().
+  /// A predictNear() not followed by predictEvents() has its events predicted (and dropped)
+  /// by the next predictNear().
+  const std::vector<NearPair>& predictNear(double horizon);
+  /// The second half, with predictNear()'s horizon: the broad phase, the contact window,
+  /// narrow phase and events. Throws std::logic_error unless predictNear() ran since the last
+  /// predictEvents() (or predict()).
+  const std::vector<PairEvent>& predictEvents();
   const WorldStats& stats() const;
   /// Every allowed pair within reach at the last predict() (see setReach), in no particular
   /// order; valid until the next call.

@@ -70,8 +70,14 @@ void EventTracker::beginCycle() {
   events_.clear();
 }
 
-void EventTracker::report(std::uint64_t key, const PairEvent& prediction) {
-  std::int32_t r = find(key);
+std::int32_t EventTracker::report(std::uint64_t key, const PairEvent& prediction, std::int32_t hint) {
+  // Keys are never reused, and a free record has no place in active_: a hint that is an
+  // active record with this key is the pair's record.
+  std::int32_t r = hint;
+  if (r < 0 || static_cast<std::size_t>(r) >= records_.size() || records_[r].active_pos < 0 ||
+      records_[r].key != key) {
+    r = find(key);
+  }
   ContactState state = ContactState::kOngoing;
   if (r == HashIndex::kNone) {
     r = allocate(key);
@@ -81,6 +87,7 @@ void EventTracker::report(std::uint64_t key, const PairEvent& prediction) {
   events_.push_back(prediction);
   events_.back().state = state;
   events_.back().pair = r;
+  return r;
 }
 
 void EventTracker::endCycle() {

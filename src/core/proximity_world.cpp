@@ -107,6 +107,8 @@ struct ProximityWorld::Impl {
   double reach(BodyHandle body) const;
   void setRules(const PairRules& rules);
   const std::vector<PairEvent>& predict(double horizon);
+  const std::vector<NearPair>& predictNear(double horizon);
+  const std::vector<PairEvent>& predictEvents();
 
   struct BodyRecord;
   // The world's own record of a broad-phase pair, kept from the pair's begin to its end.
@@ -117,6 +119,7 @@ struct ProximityWorld::Impl {
     std::int32_t body_b = -1;
     std::uint8_t verdict = 0;   // pair rules: unknown, allowed, denied
     bool swapped = false;       // body_b's id sorts before body_a's (events name it first)
+    std::int32_t event_record = -1;  // the event tracker's record last time (a hint)
   };
   BodyRecord& record(BodyHandle body);
   const BodyRecord& record(BodyHandle body) const;
@@ -126,13 +129,14 @@ struct ProximityWorld::Impl {
   void freeRemovedSlots();
   void updateBounds(double horizon);
   void syncPairCache();
+  void collectNearPairs();
   void predictPairs(double horizon);
-  void predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b, double horizon);
+  void predictPiecewisePair(PairRecord& pair, PairBody* a, PairBody* b, double horizon);
   PairBody pairBody(std::int32_t slot) const;
   ContactWindow windowOf(PairBody* a, PairBody* b, double horizon);
   bool allowed(PairRecord& pair);
-  void reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b);
-  void report(const PairRecord& pair, const ContactPrediction& prediction);
+  void reportIfNear(std::int32_t slot_a, std::int32_t slot_b);
+  void report(PairRecord& pair, const ContactPrediction& prediction);
 
   WorldConfig config_;
   std::vector<BodyRecord> bodies_;
@@ -144,6 +148,8 @@ struct ProximityWorld::Impl {
   double last_horizon_ = -1.0;
   bool rules_changed_ = true;
   std::uint64_t cycle_ = 0;                 // predict() calls so far (never wraps)
+  bool near_done_ = false;                  // predictNear() ran; predictEvents() may follow
+  double near_horizon_ = 0.0;               // its horizon, s
 
   SweepAndPrune broad_phase_;
   std::vector<std::int32_t> body_of_proxy_;    // body slot per broad-phase proxy id
@@ -151,6 +157,7 @@ struct ProximityWorld::Impl {
   NarrowPhase narrow_phase_;
   EventTracker tracker_;
   std::vector<NearPair> near_pairs_;
+  std::vector<std::int32_t> reaching_;         // slots of the live bodies with a reach (scratch)
   WorldStats stats_;
 };
 
@@ -364,9 +371,17 @@ void ProximityWorld::Impl::setRules(const PairRules& rules) {
 // interposed, so the compiler would not inline them into the pair loop otherwise.
 
 const std::vector<PairEvent>& ProximityWorld::Impl::predict(double horizon) {
+  predictNear(horizon);
+  return predictEvents();
+}
+
+const std::vector<NearPair>& ProximityWorld::Impl::predictNear(double horizon) {
   if (!std::isfinite(horizon) || horizon < 0.0 || horizon > Limits::kMaxHorizon) {
     throw std::invalid_argument("ProximityWorld::predict: horizon must be in [0, 1e4] s");
   }
+  // The last predictNear() was not followed by its events (its caller threw in between): they
+  // are predicted now and dropped, so that the tracker's pairs and the freed slots stay in step.
+  if (near_done_) predictEvents();
   stats_ = WorldStats();
   ++cycle_;
   freeRemovedSlots();
@@ -374,16 +389,34 @@ const std::vector<PairEvent>& ProximityWorld::Impl::predict(double horizon) {
     StageTimer timer(&stats_.ns_bounds);
     updateBounds(horizon);
   }
+  stats_.bodies = live_count_;
+  {
+    // Before the broad phase: the few bodies with a reach (the robot's) against every body
+    // is a linear scan, cheaper than the broad phase's update at thousands of objects, and
+    // what speed and separation acts on must not wait for it.
+    StageTimer timer(&stats_.ns_near);
+    collectNearPairs();
+  }
+  near_done_ = true;
+  near_horizon_ = horizon;
+  return near_pairs_;
+}
+
+const std::vector<PairEvent>& ProximityWorld::Impl::predictEvents() {
+  if (!near_done_) {
+    throw std::logic_error("ProximityWorld::predictEvents: predictNear() has not run since the "
+                           "last prediction");
+  }
+  near_done_ = false;
   {
     StageTimer timer(&stats_.ns_broad);
     broad_phase_.update();
     syncPairCache();
   }
   stats_.broad_phase = broad_phase_.stats();
-  stats_.bodies = live_count_;
   {
     StageTimer timer(&stats_.ns_pairs);
-    predictPairs(horizon);
+    predictPairs(near_horizon_);
   }
   if (!config_.time_pair_stages) stats_.ns_axis = stats_.ns_pairs;
   {
@@ -456,6 +489,7 @@ void ProximityWorld::Impl::syncPairCache() {
     pair->body_a = body_of_proxy_[static_cast<std::size_t>(pair->proxy_a)];
     pair->body_b = body_of_proxy_[static_cast<std::size_t>(pair->proxy_b)];
     pair->verdict = kVerdictUnknown;
+    pair->event_record = -1;
     // Ids are fixed while both bodies live, and so is the pair: compared once, not per event.
     pair->swapped = bodies_[pair->body_b].desc.id < bodies_[pair->body_a].desc.id;
   }
@@ -466,17 +500,40 @@ void ProximityWorld::Impl::syncPairCache() {
   }
 }
 
+void ProximityWorld::Impl::collectNearPairs() {
+  // Every live body against the live bodies with a reach, each pair once, named as the broad
+  // phase names it (the lower proxy first), so that the distances are the ones a pass over the
+  // broad phase's pairs would give, bit for bit.
+  near_pairs_.clear();
+  reaching_.clear();
+  const auto n = static_cast<std::int32_t>(bodies_.size());
+  for (std::int32_t i = 0; i < n; ++i) {
+    if (bodies_[i].state == BodyRecord::State::kLive && bodies_[i].reach > 0.0) reaching_.push_back(i);
+  }
+  if (!reaching_.empty()) {
+    for (std::int32_t j = 0; j < n; ++j) {
+      const BodyRecord& other = bodies_[j];
+      if (other.state != BodyRecord::State::kLive) continue;
+      for (const std::int32_t i : reaching_) {
+        // Two bodies with a reach: the pair is seen from the lower slot only.
+        if (i == j || (other.reach > 0.0 && j < i)) continue;
+        const bool i_first = bodies_[i].proxy < other.proxy;
+        reportIfNear(i_first ? i : j, i_first ? j : i);
+      }
+    }
+  }
+  stats_.near_pairs = static_cast<int>(near_pairs_.size());
+}
+
 void ProximityWorld::Impl::predictPairs(double horizon) {
   // Per pair: rules, contact window, narrow phase inside the window, report.
   tracker_.beginCycle();
-  near_pairs_.clear();
   stats_.broad_pairs = pair_cache_.size();
   const bool timed_pairs = config_.time_pair_stages;
   for (PairRecord& pair : pair_cache_.mutablePairs()) {
     if (!allowed(pair)) continue;
     ++stats_.allowed_pairs;
     PairBody a = pairBody(pair.body_a), b = pairBody(pair.body_b);
-    reportIfNear(pair, &a, &b);
     if (a.piecewise() || b.piecewise()) {
       predictPiecewisePair(pair, &a, &b, horizon);
       continue;
@@ -494,10 +551,9 @@ void ProximityWorld::Impl::predictPairs(double horizon) {
     report(pair, prediction);
   }
   rules_changed_ = false;
-  stats_.near_pairs = static_cast<int>(near_pairs_.size());
 }
 
-void ProximityWorld::Impl::predictPiecewisePair(const PairRecord& pair, PairBody* a, PairBody* b,
+void ProximityWorld::Impl::predictPiecewisePair(PairRecord& pair, PairBody* a, PairBody* b,
                                          double horizon) {
   // The merged breakpoints of both bodies, then the same steps as a constant-twist pair.
   const bool timed_pairs = config_.time_pair_stages;
@@ -544,19 +600,24 @@ inline bool ProximityWorld::Impl::allowed(PairRecord& pair) {
   return pair.verdict == kVerdictAllowed;
 }
 
-inline void ProximityWorld::Impl::reportIfNear(const PairRecord& pair, PairBody* a, PairBody* b) {
-  const double reach = bodies_[pair.body_a].reach + bodies_[pair.body_b].reach;
+inline void ProximityWorld::Impl::reportIfNear(std::int32_t slot_a, std::int32_t slot_b) {
+  const BodyRecord& ra = bodies_[slot_a];
+  const BodyRecord& rb = bodies_[slot_b];
+  const double reach = ra.reach + rb.reach;
   if (!(reach > 0.0)) return;
-  // The boxes around the centres (PairBody::half holds each shape now) a lower bound apart on
-  // some axis further than the reach: the shapes are too. Most pairs stop here.
-  const Eigen::Vector3d gap = (a->motion->position - b->motion->position).cwiseAbs() - a->half - b->half;
+  // The boxes around the centres (`half` holds each shape now) a lower bound apart on some
+  // axis further than the reach: the shapes are too. Most pairs stop here.
+  const Eigen::Vector3d gap = (ra.motion.position - rb.motion.position).cwiseAbs() - ra.half - rb.half;
   if (gap.maxCoeff() > reach) return;
-  const ShapeDistance d = narrow_phase_.distanceNow(*a, *b);
+  // The pair rules, as the broad phase's pairs have them (only for the few pairs this near).
+  if (!config_.rules.allowed(ra.desc, rb.desc)) return;
+  const PairBody a = pairBody(slot_a), b = pairBody(slot_b);
+  const ShapeDistance d = narrow_phase_.distanceNow(a, b);
   ++stats_.narrow_iterations;
   if (d.distance > reach) return;
   NearPair near;
-  near.body_a = BodyHandle{pair.body_a, bodies_[pair.body_a].generation};
-  near.body_b = BodyHandle{pair.body_b, bodies_[pair.body_b].generation};
+  near.body_a = BodyHandle{slot_a, ra.generation};
+  near.body_b = BodyHandle{slot_b, rb.generation};
   near.distance = d.overlapping ? 0.0 : d.distance;
   near.point_a = d.point_a;
   near.point_b = d.point_b;
@@ -564,7 +625,7 @@ inline void ProximityWorld::Impl::reportIfNear(const PairRecord& pair, PairBody*
   near_pairs_.push_back(near);
 }
 
-inline void ProximityWorld::Impl::report(const PairRecord& pair, const ContactPrediction& prediction) {
+inline void ProximityWorld::Impl::report(PairRecord& pair, const ContactPrediction& prediction) {
   const BodyRecord& a = bodies_[pair.body_a];
   const BodyRecord& b = bodies_[pair.body_b];
   // Name the pair so that body_a's id sorts first, as the message contract asks.
@@ -582,7 +643,9 @@ inline void ProximityWorld::Impl::report(const PairRecord& pair, const ContactPr
   // The bodies' serials name the pair for the tracker: never reused, unlike slots.
   const std::uint32_t lo = std::min(a.serial, b.serial);
   const std::uint32_t hi = std::max(a.serial, b.serial);
-  tracker_.report((static_cast<std::uint64_t>(lo) << 32) | hi, event);
+  // The pair's record last time first: no look-up in the tracker's index while it lasts.
+  pair.event_record =
+      tracker_.report((static_cast<std::uint64_t>(lo) << 32) | hi, event, pair.event_record);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -615,6 +678,10 @@ void ProximityWorld::setReach(BodyHandle body, double reach) { impl_->setReach(b
 double ProximityWorld::reach(BodyHandle body) const { return impl_->reach(body); }
 void ProximityWorld::setRules(const PairRules& rules) { impl_->setRules(rules); }
 const std::vector<PairEvent>& ProximityWorld::predict(double horizon) { return impl_->predict(horizon); }
+const std::vector<NearPair>& ProximityWorld::predictNear(double horizon) {
+  return impl_->predictNear(horizon);
+}
+const std::vector<PairEvent>& ProximityWorld::predictEvents() { return impl_->predictEvents(); }
 const WorldStats& ProximityWorld::stats() const { return impl_->stats_; }
 const std::vector<NearPair>& ProximityWorld::nearPairs() const { return impl_->near_pairs_; }
 

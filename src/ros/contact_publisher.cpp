@@ -1,5 +1,7 @@
 #include "workspace_proximity/ros/contact_publisher.hpp"
 
+#include <chrono>
+
 #include "workspace_proximity/ros/conversions.hpp"
 
 namespace workspace_proximity {
@@ -23,9 +25,11 @@ void fillContacts(const CycleReport& report, const ProximityWorld& world,
 ContactPublisher::ContactPublisher(ros::NodeHandle& nh, const std::string& fixed_frame)
     : publisher_(nh.advertise<ContactEventArray>("contacts", 10)), fixed_frame_(fixed_frame) {}
 
-void ContactPublisher::publish(const CycleReport& report, const ProximityWorld& world) {
+double ContactPublisher::publish(const CycleReport& report, const ProximityWorld& world) {
   fillContacts(report, world, fixed_frame_, &msg_);
+  const auto start = std::chrono::steady_clock::now();
   publisher_.publish(msg_);
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace workspace_proximity

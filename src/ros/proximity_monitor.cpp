@@ -190,6 +190,11 @@ void ProximityMonitor::onAnyMessage(int i, const topic_tools::ShapeShifter& msg)
 
 void ProximityMonitor::onArray(int i, const TrackedBoxArray::ConstPtr& msg) {
   const ros::Time now = ros::Time::now();
+  if (!msg->header.stamp.isZero() && msg->header.stamp <= now) {
+    // The array's stamp to here: its publisher's serialisation, the wire, deserialisation and
+    // the callback queue (and how much older than its publication the tracker stamped it).
+    bridges_->noteTime(CycleStage::kTransit, (now - msg->header.stamp).toSec() * 1e3);
+  }
   bridges_->onArray(i, msg, toStamp(now));
   if (input_trigger_ && i == trigger_source_) onTriggerArray(now);
 }
@@ -273,7 +278,7 @@ void ProximityMonitor::safety(const CycleReport& report, const ProximityWorld& w
 }
 
 void ProximityMonitor::contacts(const CycleReport& report, const ProximityWorld& world) {
-  contacts_->publish(report, world);
+  bridges_->noteTime(CycleStage::kSerialise, contacts_->publish(report, world));
 }
 
 void ProximityMonitor::rest(const CycleReport& report, const ProximityWorld& /*world*/,

@@ -19,10 +19,15 @@ CycleRun CycleRunner::run(Stamp now, CycleFeed* feed, CycleOutput* out) {
       monitor_->reset();
     }
     if (feed != nullptr) feed->update(now);
-    const CycleReport& report = monitor_->cycle(now, &clock);
-    // What a controller acts on goes out first: the contacts' message (thousands of events at
-    // high density) and everything after it must not delay the speed scale.
+    // What a controller acts on goes out first, as soon as it is decided: the contacts'
+    // prediction (the contact window and narrow phase of every pair), their message
+    // (thousands of events at high density) and everything after them must not delay it.
+    const CycleReport& report = monitor_->beginCycle(now, &clock);
     if (out != nullptr) out->safety(report, monitor_->world(), run);
+    clock.lap(CycleStage::kSafety);
+    monitor_->finishCycle(&clock);
+    const WorldStats& stats = monitor_->world().stats();
+    timing_.add(CycleStage::kBroad, 1e-6 * static_cast<double>(stats.ns_broad));
     if (out != nullptr) out->contacts(report, monitor_->world());
     clock.lap(CycleStage::kContacts);
     if (out != nullptr) out->rest(report, monitor_->world(), run);

@@ -31,10 +31,17 @@ double CycleTiming::percentile(CycleStage stage, double p) const {
 const char* CycleTiming::name(CycleStage stage) {
   switch (stage) {
     case CycleStage::kInput: return "input";
+    case CycleStage::kNear: return "near";
+    case CycleStage::kSsm: return "ssm";
+    case CycleStage::kSafety: return "safety";
     case CycleStage::kPredict: return "predict";
+    case CycleStage::kReport: return "report";
     case CycleStage::kContacts: return "contacts";
     case CycleStage::kMarkers: return "markers";
     case CycleStage::kArrival: return "arrival";
+    case CycleStage::kTransit: return "transit";
+    case CycleStage::kBroad: return "broad";
+    case CycleStage::kSerialise: return "serialise";
     default: return "?";
   }
 }

@@ -109,18 +109,37 @@ void Monitor::reset() {
 }
 
 const CycleReport& Monitor::cycle(Stamp now, StageClock* clock) {
+  beginCycle(now, clock);
+  return finishCycle(clock);
+}
+
+const CycleReport& Monitor::beginCycle(Stamp now, StageClock* clock) {
   last_cycle_ = now;
   tracks_.expire(now, params_.track_timeout);
   tracks_.advance(now);
   ssm_.prepare(tracks_, labels_, robot_, &world_);
   clock->lap(CycleStage::kInput);
 
-  const std::vector<PairEvent>& events = world_.predict(params_.horizon);
-  // The prediction ends here (CycleStage::kPredict is ProximityWorld::predict); the report
-  // and the status are the start of building the contacts (kContacts, lapped by the caller).
+  // The speed and separation verdict needs the pairs within reach and the status, not the
+  // contacts: it is decided before them, so that the safety output never waits for the
+  // contact window and narrow phase of every other pair (issue 26).
+  world_.predictNear(params_.horizon);
+  clock->lap(CycleStage::kNear);
+  // This cycle's events are not predicted yet: the report has none until finishCycle().
+  report_.stamp = now;
+  report_.events = nullptr;
+  buildStatus(now);
+  ssm_.evaluate(now, world_, tracks_, labels_, robot_, report_.degraded, report_.status_lines,
+                &report_.ssm);
+  clock->lap(CycleStage::kSsm);
+  return report_;
+}
+
+const CycleReport& Monitor::finishCycle(StageClock* clock) {
+  const std::vector<PairEvent>& events = world_.predictEvents();
   clock->lap(CycleStage::kPredict);
   ReportInputs in;
-  in.now = now;
+  in.now = report_.stamp;
   in.events = &events;
   in.world = &world_;
   in.tracks = &tracks_;
@@ -129,9 +148,7 @@ const CycleReport& Monitor::cycle(Stamp now, StageClock* clock) {
   in.stale_after = params_.stale_after;
   buildEventReport(in, &report_);
   report_.stats = world_.stats();
-  buildStatus(now);
-  ssm_.evaluate(now, world_, tracks_, labels_, robot_, report_.degraded, report_.status_lines,
-                &report_.ssm);
+  clock->lap(CycleStage::kReport);
   ++cycles_;
   return report_;
 }

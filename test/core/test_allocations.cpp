@@ -215,7 +215,8 @@ TEST(Allocations, WorldPairCacheAllocatesNothingWhilePairsComeAndGo) {
 }
 
 // The same cell with every link reaching 1.5 m (speed and separation monitoring's reach):
-// the near pairs' distances (upright boxes: the closed form) and their list allocate nothing.
+// the near pairs' distances (upright boxes: the closed form) and their list allocate nothing,
+// also with predict in its two halves (predictNear, predictEvents: the monitor's cycle).
 TEST(Allocations, WorldNearPairsAllocateNothing) {
   wp::ProximityWorld world;
   wp_test::RobotCell cell(&world, 30, 200);
@@ -223,7 +224,12 @@ TEST(Allocations, WorldNearPairsAllocateNothing) {
   Range near;
   auto cycle = [&](int k) {
     cell.step(k / 30.0, 1.0 / 30.0);
-    world.predict(2.0);
+    if (k % 2 == 0) {
+      world.predict(2.0);
+    } else {
+      world.predictNear(2.0);
+      world.predictEvents();
+    }
     near.see(world.stats().near_pairs);
   };
   EXPECT_EQ(steadyAllocations(cycle, [&] { near = Range(); }), 0);

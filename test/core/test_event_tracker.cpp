@@ -124,12 +124,15 @@ TEST(EventTracker, EventsAreSortedEarliestFirstWithEndsLast) {
 }
 
 // A model-based check: random pairs come and go over many cycles; the events must match
-// a std::map model, and the pool must stop growing once it has seen the peak.
+// a std::map model, and the pool must stop growing once it has seen the peak. Reports carry
+// hints of every kind (none, the pair's record last time, which may since have gone to
+// another pair, random and out-of-range numbers): a hint never changes an event.
 TEST(EventTracker, MatchesModelAndRecyclesRecords) {
   wp::EventTracker tracker(16);
   wp_test::Rng rng(7);
   std::map<std::uint64_t, int> model_active;  // key -> cycles active
   std::map<std::uint64_t, std::int32_t> model_number;  // live key -> its pair number
+  std::map<std::uint64_t, std::int32_t> last_record;   // key -> report's return, never erased
   int reused_numbers = 0;
   std::set<std::int32_t> ever_numbered;
   int capacity_after_warmup = -1;
@@ -142,8 +145,21 @@ TEST(EventTracker, MatchesModelAndRecyclesRecords) {
     }
     tracker.beginCycle();
     for (const auto& kv : reported) {
-      tracker.report(kv.first, prediction(static_cast<int>(kv.first >> 32),
-                                          static_cast<int>(kv.first & 0xffffffff), kv.second));
+      std::int32_t hint = -1;
+      switch (rng() % 4) {
+        case 1: {  // its record last time, also long after its END (then another pair's)
+          const auto it = last_record.find(kv.first);
+          if (it != last_record.end()) hint = it->second;
+          break;
+        }
+        case 2: hint = static_cast<std::int32_t>(rng() % (tracker.poolCapacity() + 10)) - 5; break;
+        case 3: hint = tracker.poolCapacity() + static_cast<std::int32_t>(rng() % 100); break;
+        default: break;
+      }
+      last_record[kv.first] =
+          tracker.report(kv.first, prediction(static_cast<int>(kv.first >> 32),
+                                              static_cast<int>(kv.first & 0xffffffff), kv.second),
+                         hint);
     }
     tracker.endCycle();
 
@@ -169,6 +185,9 @@ TEST(EventTracker, MatchesModelAndRecyclesRecords) {
         ASSERT_EQ(model_number.count(k), 0u);
       } else {
         ASSERT_EQ(e.pair, model_number.at(k)) << "pair number changed, cycle " << cycle;
+      }
+      if (e.state != wp::ContactState::kEnd) {
+        ASSERT_EQ(last_record.at(k), e.pair);  // report returned the pair's record
       }
       model_number[k] = e.pair;
       if (e.state == wp::ContactState::kEnd) model_number.erase(k);

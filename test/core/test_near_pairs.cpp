@@ -1,7 +1,8 @@
 // Pairs within reach (ProximityWorld::setReach / nearPairs): every allowed pair whose bare
 // shapes are at most reach_a + reach_b apart now is reported, and no other, with the distance
-// and nearest points of an independent box-distance oracle; a reach changes nothing else (events,
-// swept bounds).
+// and nearest points of an independent box-distance oracle, already after predictNear (before
+// the events are predicted); a reach changes nothing else (events, swept bounds); predict in two
+// halves (predictNear, predictEvents) gives what predict gives.
 
 #include <gtest/gtest.h>
 
@@ -79,13 +80,23 @@ TEST(NearPairs, EveryAllowedPairWithinReachAndNoOtherAgainstTheBoxOracle) {
         }
         ASSERT_EQ(world.reach(b.handle), b.reach);
       }
-      world.predict(rng.chance(0.2) ? 0.0 : rng.uniform(0.1, 3.0));
+      // The first half only: the pairs within reach must be complete before the events.
+      const std::vector<wp::NearPair> near =
+          world.predictNear(rng.chance(0.2) ? 0.0 : rng.uniform(0.1, 3.0));
       std::map<std::pair<int, int>, const wp::NearPair*> got;
-      for (const wp::NearPair& p : world.nearPairs()) {
+      for (const wp::NearPair& p : near) {
         const int a = p.body_a.index, b = p.body_b.index;
         ASSERT_TRUE(got.emplace(std::minmax(a, b), &p).second) << "pair reported twice";
       }
       EXPECT_EQ(world.stats().near_pairs, static_cast<int>(got.size()));
+      // The second half leaves them as they were.
+      world.predictEvents();
+      ASSERT_EQ(world.nearPairs().size(), near.size());
+      for (std::size_t k = 0; k < near.size(); ++k) {
+        EXPECT_EQ(world.nearPairs()[k].body_a, near[k].body_a);
+        EXPECT_EQ(world.nearPairs()[k].body_b, near[k].body_b);
+        EXPECT_EQ(world.nearPairs()[k].distance, near[k].distance);
+      }
       for (int i = 0; i < n; ++i) {
         for (int j = i + 1; j < n; ++j) {
           const Body &a = bodies[i], &b = bodies[j];
@@ -170,6 +181,94 @@ TEST(NearPairs, AReachChangesNeitherTheEventsNorTheSweptBounds) {
     EXPECT_GT(reaching.stats().broad_pairs, plain.stats().broad_pairs);
   }
   EXPECT_GT(events, 20);
+}
+
+TEST(NearPairs, PredictInTwoHalvesGivesPredictsPairsAndEvents) {
+  // predictNear then predictEvents (the monitor's cycle: the speed and separation verdict
+  // between them) against predict on a twin world: the same pairs within reach, distances and
+  // nearest points, and the same events, cycle after cycle (adds and removals included).
+  wp_test::Rng rng(17);
+  wp::ProximityWorld whole, halves;
+  std::vector<std::pair<wp::BodyHandle, wp::BodyHandle>> handles;
+  int serial = 0;
+  auto add = [&](bool robot) {
+    const wp::BodyDesc desc{"b" + std::to_string(serial++), robot ? "robot" : "thing",
+                            robot ? wp::BodyGroup::kRobot : wp::BodyGroup::kObject,
+                            wp::Shape::box(rng.vector(0.1, 0.6)), 0.05};
+    const wp::BodyMotion m = randomMotion(rng, 4.0);
+    handles.emplace_back(whole.addBody(desc, m), halves.addBody(desc, m));
+    if (robot) {
+      const double reach = rng.uniform(0.5, 3.0);
+      whole.setReach(handles.back().first, reach);
+      halves.setReach(handles.back().second, reach);
+    }
+  };
+  for (int i = 0; i < 50; ++i) add(i < 6);
+  int events = 0, near = 0;
+  for (int cycle = 0; cycle < 30; ++cycle) {
+    for (const auto& h : handles) {
+      const wp::BodyMotion m = randomMotion(rng, 4.0);
+      whole.setMotion(h.first, m);
+      halves.setMotion(h.second, m);
+    }
+    if (cycle % 5 == 4) {  // a few leave, a few come
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t i = 6 + static_cast<std::size_t>(rng.integer(0, static_cast<int>(handles.size()) - 7));
+        whole.removeBody(handles[i].first);
+        halves.removeBody(handles[i].second);
+        handles.erase(handles.begin() + static_cast<long>(i));
+        add(false);
+      }
+    }
+    const double horizon = rng.uniform(0.5, 2.5);
+    const std::vector<wp::PairEvent> a = whole.predict(horizon);
+    const std::vector<wp::NearPair> near_a = whole.nearPairs();
+    const std::vector<wp::NearPair> near_b = halves.predictNear(horizon);
+    const std::vector<wp::PairEvent>& b = halves.predictEvents();
+    ASSERT_EQ(near_a.size(), near_b.size());
+    for (std::size_t i = 0; i < near_a.size(); ++i) {
+      EXPECT_EQ(whole.desc(near_a[i].body_a).id, halves.desc(near_b[i].body_a).id);
+      EXPECT_EQ(whole.desc(near_a[i].body_b).id, halves.desc(near_b[i].body_b).id);
+      EXPECT_EQ(near_a[i].distance, near_b[i].distance);
+      EXPECT_EQ(near_a[i].point_a, near_b[i].point_a);
+      EXPECT_EQ(near_a[i].point_b, near_b[i].point_b);
+    }
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(whole.desc(a[i].body_a).id, halves.desc(b[i].body_a).id);
+      EXPECT_EQ(whole.desc(a[i].body_b).id, halves.desc(b[i].body_b).id);
+      EXPECT_EQ(a[i].state, b[i].state);
+      EXPECT_EQ(a[i].time_to_contact, b[i].time_to_contact);
+      EXPECT_EQ(a[i].time_to_separation, b[i].time_to_separation);
+      EXPECT_EQ(a[i].distance, b[i].distance);
+    }
+    events += static_cast<int>(a.size());
+    near += static_cast<int>(near_a.size());
+  }
+  EXPECT_GT(events, 50);
+  EXPECT_GT(near, 50);
+}
+
+TEST(NearPairs, TheEventsHalfNeedsTheNearHalfFirst) {
+  wp::ProximityWorld world;
+  const wp::BodyHandle a = world.addBody(
+      {"a", "thing", wp::BodyGroup::kObject, wp::Shape::box({0.5, 0.5, 0.5}), 0.0}, wp::BodyMotion());
+  wp::BodyMotion m;
+  m.position = Eigen::Vector3d(1.5, 0.0, 0.0);
+  m.linear_velocity = Eigen::Vector3d(-1.0, 0.0, 0.0);
+  world.addBody({"b", "thing", wp::BodyGroup::kObject, wp::Shape::box({0.5, 0.5, 0.5}), 0.0}, m);
+  EXPECT_THROW(world.predictEvents(), std::logic_error);
+  world.predictNear(2.0);
+  ASSERT_EQ(world.predictEvents().size(), 1u);  // a BEGIN: they meet after 0.5 s
+  EXPECT_THROW(world.predictEvents(), std::logic_error);  // once per predictNear
+  // A predictNear whose events were never asked for: the next one predicts them first, so
+  // the pair's history stays whole (ONGOING now, not a second BEGIN).
+  world.predictNear(2.0);
+  world.predictNear(2.0);
+  const std::vector<wp::PairEvent>& events = world.predictEvents();
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].state, wp::ContactState::kOngoing);
+  (void)a;
 }
 
 TEST(NearPairs, AnInvalidReachIsRefused) {

@@ -8,7 +8,11 @@
 // which pairs were active after the last predict, the current pair rules) and checks the
 // world against it: among others, every pair keeps its pair number from BEGIN to END, and two
 // live boxes that overlap now by an independent separating-axis test (test/shared/oracles.hpp)
-// have a contact event at time 0 unless the rules deny the pair. Set WP_FUZZ_STRICT=1 to also report a *valid* input (by the documented
+// have a contact event at time 0 unless the rules deny the pair. Robot bodies get a reach (0 to
+// 1.5 m, from their order: no input bytes), every other predict runs in its two halves
+// (predictNear, then predictEvents), and the pairs within reach are checked: live, allowed, no
+// farther than the reach, each once, and every clearly overlapping allowed pair with a reach
+// among them. Set WP_FUZZ_STRICT=1 to also report a *valid* input (by the documented
 // rules) that the API rejected, e.g. finite numbers whose bounds overflow to infinity.
 
 #include <algorithm>
@@ -128,6 +132,7 @@ struct ModelBody {
   wp::BodyDesc desc;
   bool live = true;
   int removed_after = -1;  // successful predicts done when it was removed
+  double reach = 0.0;      // m (setReach)
 };
 
 using PairKey = std::pair<std::uint64_t, std::uint64_t>;
@@ -317,7 +322,14 @@ class Harness {
     }
     if (!world_.contains(h)) fail("addBody: handle not contained", str(h));
     if (world_.desc(h).id != desc.id) fail("addBody: desc() names another body", str(h));
-    bodies_.push_back(ModelBody{h, desc, true, -1});
+    bodies_.push_back(ModelBody{h, desc, true, -1, 0.0});
+    if (desc.group == wp::BodyGroup::kRobot) {
+      // A reach as speed and separation gives the robot's bodies (no input bytes spent).
+      const double reach = 0.5 * static_cast<double>(next_id_ % 4);
+      world_.setReach(h, reach);
+      bodies_.back().reach = reach;
+      if (world_.reach(h) != reach) fail("reach() differs from setReach", str(h));
+    }
   }
 
   void remove() {
@@ -423,8 +435,15 @@ class Harness {
     if (traceMode()) std::fprintf(stderr, "calling predict %s\n", str(horizon).c_str());
     bool threw = false;
     const std::vector<wp::PairEvent>* events = nullptr;
+    const bool halves = predicts_ % 2 == 1;  // predictNear then predictEvents: the same contract
     try {
-      events = &world_.predict(horizon);
+      if (halves) {
+        const std::vector<wp::NearPair> near = world_.predictNear(horizon);
+        events = &world_.predictEvents();
+        if (near.size() != world_.nearPairs().size()) fail("predictEvents changed the near pairs", "");
+      } else {
+        events = &world_.predict(horizon);
+      }
     } catch (const std::invalid_argument&) {
       threw = true;
     }
@@ -432,6 +451,46 @@ class Harness {
     if (threw) return;
     ++predicts_;
     check(*events, horizon);
+    if (!tainted_) checkNearPairs();
+  }
+
+  // The pairs within reach: live bodies, allowed, no farther apart than their reaches, each
+  // pair once; and every clearly overlapping allowed pair of moderate boxes with a reach is
+  // among them at distance 0 (the oracle's separating-axis test, as checkOverlapsNow).
+  void checkNearPairs() {
+    std::set<PairKey> seen;
+    for (const wp::NearPair& p : world_.nearPairs()) {
+      const ModelBody* a = lookup(p.body_a);
+      const ModelBody* b = lookup(p.body_b);
+      const std::string where = str(p.body_a) + "-" + str(p.body_b) + " distance " + str(p.distance);
+      if (a == nullptr || b == nullptr || !a->live || !b->live) fail("near pair of a body not live", where);
+      if (!seen.insert(pairKey(p.body_a, p.body_b)).second) fail("near pair reported twice", where);
+      if (!rules_.allowed(a->desc, b->desc)) fail("near pair the rules deny", where);
+      const double reach = a->reach + b->reach;
+      if (!(p.distance >= 0.0) || p.distance > reach * (1.0 + 1e-9) + 1e-9) {
+        fail("near pair farther than the reach", where + " reach " + str(reach));
+      }
+    }
+    if (world_.stats().near_pairs != static_cast<int>(seen.size())) fail("stats().near_pairs differs", "");
+    auto moderate = [](const wp::BodyDesc& d, const wp::BodyMotion& m) {
+      return d.shape.type == wp::ShapeType::kBox && d.shape.half_extents.minCoeff() >= 1e-3 &&
+             d.shape.half_extents.maxCoeff() <= 1e3 && m.position.cwiseAbs().maxCoeff() <= 1e3;
+    };
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      const ModelBody& a = bodies_[i];
+      if (!a.live || !moderate(a.desc, world_.motion(a.handle))) continue;
+      const oracle::Obb oa{oracle::poseAt(world_.motion(a.handle), 0.0), a.desc.shape.half_extents * (1.0 - 1e-6)};
+      for (std::size_t j = i + 1; j < bodies_.size(); ++j) {
+        const ModelBody& b = bodies_[j];
+        if (!b.live || a.reach + b.reach <= 0.0 || !moderate(b.desc, world_.motion(b.handle))) continue;
+        if (!rules_.allowed(a.desc, b.desc)) continue;
+        const oracle::Obb ob{oracle::poseAt(world_.motion(b.handle), 0.0), b.desc.shape.half_extents * (1.0 - 1e-6)};
+        if (!oracle::overlaps(oa, ob)) continue;
+        if (seen.count(pairKey(a.handle, b.handle)) == 0) {
+          fail("overlapping boxes with a reach missing from the near pairs", str(a.handle) + "-" + str(b.handle));
+        }
+      }
+    }
   }
 
   // ---- invariants after predict ---------------------------------------------------------

@@ -161,11 +161,22 @@ TEST(CycleRunner, TheStagesAreLappedWithinTheCycleAndOffCycleStagesNoted) {
   f.emptyScene(kT0);
   f.runner.run(kT0, &f.feed, &f.out);
   const wp::CycleTiming& t = f.runner.timing();
-  // Input, predict and contacts are consecutive laps from the cycle's start: together no
-  // longer than the whole cycle, which ends after the rest.
-  const double laps = t.last(wp::CycleStage::kInput) + t.last(wp::CycleStage::kPredict) +
-                      t.last(wp::CycleStage::kContacts);
+  // Input, near, ssm, safety, predict, report and contacts are consecutive laps from the
+  // cycle's start: together no longer than the whole cycle, which ends after the rest.
+  double laps = 0.0;
+  for (wp::CycleStage s : {wp::CycleStage::kInput, wp::CycleStage::kNear, wp::CycleStage::kSsm,
+                           wp::CycleStage::kSafety, wp::CycleStage::kPredict,
+                           wp::CycleStage::kReport, wp::CycleStage::kContacts}) {
+    EXPECT_GE(t.last(s), 0.0) << wp::CycleTiming::name(s);
+    laps += t.last(s);
+  }
   EXPECT_LE(laps, f.runner.lastCycleMs());
+  // The broad phase is part of the predict lap (the world's own stage times).
+  EXPECT_LE(t.last(wp::CycleStage::kBroad), t.last(wp::CycleStage::kPredict));
+  // Every stage has its own name in the summary.
+  for (int i = 0; i < wp::CycleTiming::kStages; ++i) {
+    EXPECT_NE(std::string(wp::CycleTiming::name(static_cast<wp::CycleStage>(i))), "?");
+  }
   EXPECT_GE(f.runner.maxCycleMs(), f.runner.lastCycleMs());
   f.runner.noteTime(wp::CycleStage::kMarkers, 2.5);
   EXPECT_EQ(t.last(wp::CycleStage::kMarkers), 2.5);

@@ -3,7 +3,9 @@
 // separation without any predicted contact), label rules (~ssm/labels, ssm_min_speed), the
 // DEGRADED cap, the hysteresis after the person leaves, and, on random scenes, the scale
 // against a brute-force minimum over every robot-object pair (so no pair within reach is
-// missed by the broad phase).
+// missed by the broad phase). Every cycle runs through the CycleRunner, and the verdict the
+// safety output receives (before the contacts are predicted) is the one checked; it is also the
+// whole cycle's.
 
 #include <gtest/gtest.h>
 
@@ -14,6 +16,7 @@
 #include <vector>
 
 #include "monitor_scenes.hpp"  // test/shared
+#include "workspace_proximity/rules/cycle_runner.hpp"
 #include "workspace_proximity/rules/monitor.hpp"
 
 namespace wp = workspace_proximity;
@@ -47,11 +50,26 @@ struct Person {
   bool velocity_known = true;
 };
 
+// What the safety output received: the verdict as it went out, and whether the cycle's events
+// had been predicted by then.
+class EarlySafety : public wp::CycleOutput {
+ public:
+  void safety(const wp::CycleReport& report, const wp::ProximityWorld&, const wp::CycleRun&) override {
+    verdict = report.ssm;
+    events_then = report.eventCount();
+    ++calls;
+  }
+  void contacts(const wp::CycleReport&, const wp::ProximityWorld&) override {}
+  wp::SsmVerdict verdict;
+  std::size_t events_then = 0;
+  int calls = 0;
+};
+
 class Cell {
  public:
   Cell(const wp::MonitorParams& p, std::vector<wp::RobotBodySpec> robot)
       : specs_(robot), monitor_(p, std::move(robot), {"/boxes"}, false, nullptr),
-        clock_(&timing_) {}
+        runner_(&monitor_) {}
 
   // Every robot body at its spec's offset, standing still; the people as observed at `now`.
   const wp::CycleReport& cycle(wp::Stamp now, const std::vector<Person>& people) {
@@ -75,15 +93,26 @@ class Cell {
     }
     monitor_.noteReceipt(0, now);
     EXPECT_TRUE(monitor_.ingest(0, now, now, Eigen::Isometry3d::Identity(), boxes));
-    return monitor_.cycle(now, &clock_);
+    // The node's cycle: the safety output goes out between the two halves.
+    const int calls = early_.calls;
+    EXPECT_FALSE(runner_.run(now, nullptr, &early_).failed);
+    EXPECT_EQ(early_.calls, calls + 1);
+    const wp::CycleReport& r = monitor_.report();
+    // What went out early is the whole cycle's verdict, to the bit.
+    EXPECT_EQ(early_.verdict.speed_scale, r.ssm.speed_scale);
+    EXPECT_EQ(early_.verdict.raw_scale, r.ssm.raw_scale);
+    EXPECT_EQ(early_.verdict.pairs, r.ssm.pairs);
+    EXPECT_EQ(early_.verdict.reason, r.ssm.reason);
+    return r;
   }
   wp::Monitor& monitor() { return monitor_; }
+  const EarlySafety& early() const { return early_; }
 
  private:
   std::vector<wp::RobotBodySpec> specs_;
   wp::Monitor monitor_;
-  wp::CycleTiming timing_;
-  wp::StageClock clock_;
+  wp::CycleRunner runner_;
+  EarlySafety early_;
 };
 
 // The robot: a 1 m cube centred at the origin.
@@ -304,7 +333,7 @@ TEST(SsmCycle, TheScaleIsTheMinimumOverEveryPairAgainstBruteForce) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * u(rng); };
-  int limiting = 0, zero = 0, partial = 0;
+  int limiting = 0, zero = 0, partial = 0, early_with_events = 0;
   for (int scene = 0; scene < 30; ++scene) {
     wp::MonitorParams p = params();
     p.labels["cart"] = p.labels["default"];
@@ -363,6 +392,10 @@ TEST(SsmCycle, TheScaleIsTheMinimumOverEveryPairAgainstBruteForce) {
         }
       }
       EXPECT_NEAR(r.ssm.raw_scale, expected, 1e-9) << "scene " << scene << " cycle " << cycle;
+      // ... and so was the scale the safety output sent before any event was predicted.
+      EXPECT_NEAR(cell.early().verdict.raw_scale, expected, 1e-9);
+      EXPECT_EQ(cell.early().events_then, 0u);
+      early_with_events += r.eventCount() > 0;
       if (expected < 1.0) {
         ASSERT_TRUE(r.ssm.limited);
         // The limiting pair has the smallest d - S_p(v_max) (for overlapping shapes the
@@ -379,6 +412,7 @@ TEST(SsmCycle, TheScaleIsTheMinimumOverEveryPairAgainstBruteForce) {
   EXPECT_GT(limiting, 50);
   EXPECT_GT(zero, 10);
   EXPECT_GT(partial, 10);
+  EXPECT_GT(early_with_events, 50);  // cycles whose events came only after the scale went out
 }
 
 TEST(SsmCycle, AMutedObjectDoesNotLowerTheScaleUntilTheMuteEnds) {

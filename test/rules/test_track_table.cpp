@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 #include <list>
 #include <map>
@@ -252,7 +253,9 @@ TEST(TrackTable, ClearRemovesEveryBody) {
 
 TEST(TrackTable, RandomArraysMatchAPlainModel) {
   // Model: which keys must be tracked (the newest stamp of each), given arrays of random
-  // subsets of 30 ids and expiry with a 0.3 s timeout. No cap, valid boxes only.
+  // subsets of 30 ids, in id order or shuffled (the table tries the track a position had
+  // last time first: any order must find the right track), and expiry with a 0.3 s timeout.
+  // No cap, valid boxes only. Each box's x says its id: every track holds its own box.
   Fixture f;
   std::mt19937 rng(11);
   std::map<std::string, wp::Stamp> model;
@@ -264,7 +267,14 @@ TEST(TrackTable, RandomArraysMatchAPlainModel) {
       boxes.push_back(f.box("id" + std::to_string(id), 0.1 * id, static_cast<double>(rng() % 7)));
       model["id" + std::to_string(id)] = now;
     }
+    if (step % 4 >= 2) std::shuffle(boxes.begin(), boxes.end(), rng);
     f.ingest(boxes, now);
+    for (const wp::BoxObservation& b : boxes) {
+      const int i = f.table.find(std::string(b.id));
+      ASSERT_GE(i, 0) << b.id;
+      EXPECT_EQ(f.table.track(i).motion.position.x(), b.position.x()) << b.id;
+      EXPECT_EQ(f.table.track(i).stamp, now) << b.id;
+    }
     f.table.expire(now + kSecond / 20, 0.3);
     for (auto it = model.begin(); it != model.end();) {
       it = wp::secondsBetween(it->second, now + kSecond / 20) > 0.3 ? model.erase(it) : std::next(it);

@@ -21,7 +21,9 @@ void fillContacts(const CycleReport& report, const ProximityWorld& world,
 class ContactPublisher {
  public:
   ContactPublisher(ros::NodeHandle& nh, const std::string& fixed_frame);
-  void publish(const CycleReport& report, const ProximityWorld& world);
+  /// Fills the message and publishes it; returns the time publish() took, ms (serialisation
+  /// for the remote subscribers and the hand-off to their connections).
+  double publish(const CycleReport& report, const ProximityWorld& world);
 
  private:
   ros::Publisher publisher_;

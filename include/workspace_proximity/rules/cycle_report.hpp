@@ -1,8 +1,10 @@
 #pragma once
-/// What one prediction cycle concluded, built once right after ProximityWorld::predict and
-/// read by every output (contacts, markers, diagnostics, the offline replay): the events with
-/// their levels and stale flags, each body's worst level, and whether the prediction rests on
-/// fresh data (OK) or not (DEGRADED, with one line per reason). No output reads another's.
+/// What one prediction cycle concluded, read by every output (safety, contacts, markers,
+/// diagnostics, the offline replay): the events with their levels and stale flags, each body's
+/// worst level, and whether the prediction rests on fresh data (OK) or not (DEGRADED, with one
+/// line per reason). Built in two steps (Monitor::beginCycle, finishCycle): the stamp, the
+/// status and the speed and separation verdict before the events are predicted (what the
+/// safety output reads), the events and their levels after. No output reads another's.
 
 #include <cstdint>
 #include <limits>

@@ -5,7 +5,8 @@
 ///     feed's history first;
 ///   - failure: an exception anywhere in the cycle becomes Monitor::cycleFailed, and the cycle
 ///     still reports (silence must not read as clear);
-///   - timing: the stage laps (input, predict, contacts) and the whole cycle's wall time.
+///   - timing: the stage laps (input, near, ssm, safety, predict, report, contacts) and the
+///     whole cycle's wall time.
 /// It lives here, below the bridges and ROS-free, so that the benchmarks run the cycle the node
 /// runs without ROS; what needs ROS (tf2's buffer, the subscriptions' waiting arrays, the
 /// publishers) comes in through the two interfaces below, which MonitorBridges (the bridges)
@@ -13,8 +14,10 @@
 ///
 /// One cycle at `now`:
 ///   clock went back? feed.reset + Monitor::reset -> feed.update (arrays, robot poses)
-///   -> Monitor::cycle (expire, extrapolate, predict, report, SSM verdict)
-///   -> out.safety (speed_scale, speed_override, stop actions: before anything else is built)
+///   -> Monitor::beginCycle (expire, extrapolate, pairs within reach, status, SSM verdict)
+///   -> out.safety (speed_scale, speed_override, stop actions: before the contacts are even
+///      predicted)  [lap kSafety]
+///   -> Monitor::finishCycle (broad phase, contact window, narrow phase, events, their levels)
 ///   -> out.contacts  [lap kContacts] -> out.rest (markers' schedule) -> cycle time noted
 ///   on an exception: feed.failed -> Monitor::cycleFailed -> out.safety -> out.contacts
 ///   -> out.rest
@@ -51,12 +54,14 @@ class CycleOutput {
  public:
   virtual ~CycleOutput() = default;
   /// The safety output (speed and separation: what a controller acts on): the first output,
-  /// before the contacts, markers and diagnostics are built, so that their cost never delays
-  /// it. Also for a failed cycle (then `run.failed`, and the verdict is the failure's).
+  /// before the contacts are predicted and before the markers and diagnostics are built, so
+  /// that their cost never delays it. The report's verdict, status and stamp are this cycle's;
+  /// it has no events yet (eventCount() 0). Also for a failed cycle (then `run.failed`, and the
+  /// verdict is the failure's).
   virtual void safety(const CycleReport& report, const ProximityWorld& world, const CycleRun& run) {
     (void)report, (void)world, (void)run;
   }
-  /// The contacts: after the safety output; both are timed with the report as
+  /// The contacts: after the safety output and the events' prediction; timed as
   /// CycleStage::kContacts.
   virtual void contacts(const CycleReport& report, const ProximityWorld& world) = 0;
   /// Everything after the contacts (the markers' schedule), in the cycle's time.

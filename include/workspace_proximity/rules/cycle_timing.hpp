@@ -10,13 +10,23 @@
 
 namespace workspace_proximity {
 
-/// Stages of one cycle, in order.
+/// Stages of one cycle, in order (the laps of CycleRunner::run), then the stages outside the
+/// cycle and the parts of a stage noted on their own.
 enum class CycleStage : int {
-  kInput = 0,    ///< arrays left for the cycle -> tracks, extrapolation, robot poses from tf
-  kPredict,      ///< ProximityWorld::predict: swept bounds, broad phase, time of impact, FCL
-  kContacts,     ///< the cycle's report (levels, status, SSM), ContactEventArray built and published
-  kMarkers,      ///< not in the cycle: a MarkerArray built and published, half a period later
-  kArrival,      ///< not in the cycle: an array turned into tracks when it arrives
+  kInput = 0,  ///< arrays left for the cycle -> tracks, extrapolation, robot poses, the SSM's reach
+  kNear,       ///< ProximityWorld::predictNear: swept bounds, the pairs within reach
+  kSsm,        ///< the status (OK / DEGRADED) and the speed and separation verdict
+  kSafety,     ///< the safety output built and published (speed_scale first)
+  kPredict,    ///< ProximityWorld::predictEvents: broad phase, contact window, narrow phase, events
+  kReport,     ///< the events' levels, stale flags, bodies' worst levels
+  kContacts,   ///< the ContactEventArray built and published
+  kMarkers,    ///< not in the cycle: a MarkerArray built and published, half a period later
+  kArrival,    ///< not in the cycle: an array turned into tracks when it arrives
+  kTransit,    ///< not in the cycle: an array's stamp to its callback (the publisher's
+               ///< serialisation, the wire, deserialisation, the callback queue; and whatever
+               ///< the tracker's stamp is older than its publication)
+  kBroad,      ///< part of kPredict: the broad phase with the world's pair cache (WorldStats)
+  kSerialise,  ///< part of kContacts: the contacts' publish() (serialisation, hand-off)
   kCount
 };
 

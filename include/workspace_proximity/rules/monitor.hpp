@@ -113,9 +113,17 @@ class Monitor {
   bool clockWentBack(Stamp now) const { return last_cycle_ != 0 && now < last_cycle_; }
   /// Forgets every stamp: tracks (their pairs END), robot poses, sources' receipts.
   void reset();
-  /// Expires old tracks, moves every track to `now`, predicts and builds the report.
-  /// `clock` laps kInput after the track updates and kPredict after ProximityWorld::predict;
-  /// the report, status and SSM verdict count towards the caller's next lap (kContacts).
+  /// The first half of the cycle at `now`: expires old tracks, moves every track to `now`,
+  /// finds the pairs within reach (ProximityWorld::predictNear: swept bounds and a scan of the
+  /// robot's bodies against every body, before the broad phase) and decides the status and the
+  /// speed and separation verdict: report().ssm, .degraded, .status_lines and .stamp are this
+  /// cycle's, and the report has no events yet. `clock` laps kInput, kNear and kSsm.
+  const CycleReport& beginCycle(Stamp now, StageClock* clock);
+  /// The second half, after beginCycle(): the events (ProximityWorld::predictEvents), their
+  /// levels and stale flags. `clock` laps kPredict and kReport.
+  const CycleReport& finishCycle(StageClock* clock);
+  /// Both halves: the whole cycle's report (tests, benchmarks). The verdict is the one
+  /// beginCycle() decided.
   const CycleReport& cycle(Stamp now, StageClock* clock);
   /// A cycle failed (an exception): the next report says so; counted.
   void cycleFailed(Stamp now, const std::string& what);

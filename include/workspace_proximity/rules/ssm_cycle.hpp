@@ -14,10 +14,11 @@
 /// most max(|v| + velocity_error, ssm_min_speed) of the object, so no pair farther than
 ///   R = max over monitored tracks of S_p(v_max) + extra, v_h = max(|v| + e, ssm_min_speed)
 /// can lower the scale. Before each predict, every robot body's reach in the world
-/// (ProximityWorld::setReach) is set to R: the broad phase then pairs every robot body with
-/// every object whose bare shape is within R of it now, and the world reports those pairs
-/// with their distance and nearest points (ProximityWorld::nearPairs). The robot's bodies are
-/// grown, not the objects': they are few, so the extra broad-phase pairs stay few too.
+/// (ProximityWorld::setReach) is set to R: the world's scan of the robot's bodies against
+/// every body (ProximityWorld::predictNear, before the broad phase) then reports every object
+/// whose bare shape is within R of a robot body now, with the distance and nearest points
+/// (ProximityWorld::nearPairs). The robot's bodies get the reach, not the objects': they are
+/// few, so the scan stays linear in the objects.
 
 #include <cstdint>
 #include <string>

@@ -89,7 +89,10 @@ class TrackTable {
   // The boxes to consider, nearest the robot first when there are more than the cap.
   void selectNearest(const ArrayContext& array, const std::vector<BoxObservation>& boxes);
   bool evictFarther(const ArrayContext& array, double squared_distance);
-  void update(const ArrayContext& array, int index, const BoxObservation& box);
+  // The track for key_, the id of the box at `position` in its array (the hint first).
+  int findAt(std::size_t position) const;
+  // Updates track `index` (-1: a new one) from `box`; returns the track's index now.
+  int update(const ArrayContext& array, int index, const BoxObservation& box);
   void add(const ArrayContext& array, const BoxObservation& box, const BodyMotion& motion);
   void remove(int index);
   void setTrackOfSlot(std::int32_t slot, int track);
@@ -112,6 +115,9 @@ class TrackTable {
   // Reused by every array.
   std::vector<std::pair<double, std::size_t>> nearest_;  // squared distance, box index
   std::string key_;                                      // qualified id
+  // Per position in an array: the track its box updated last time (-1: none), tried before
+  // the index (findAt). Any value is safe: it is used only when its key matches.
+  std::vector<int> hint_;
   std::string detail_;                                   // rejection text
   std::uint64_t array_serial_ = 0;
   Drop last_reject_ = Drop::kCount;  // reason of the last rejection (ingest reports it)
