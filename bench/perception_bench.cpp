@@ -32,6 +32,7 @@
 #include "workspace_proximity/perception/laser_scan.hpp"
 #include "workspace_proximity/perception/unseen_share.hpp"
 #include "perception_peers.hpp"
+#include "ray_cast_scene.hpp"
 
 namespace wp = workspace_proximity;
 namespace pc = workspace_proximity::perception;
@@ -39,40 +40,13 @@ namespace peers = perception_peers;
 
 namespace {
 
-struct Box {
-  Eigen::Isometry3d pose;
-  Eigen::Vector3d half;
-};
+using bench_scene::Box;
+using bench_scene::boxAt;
+using bench_scene::castRay;
 
-// Distance along the unit ray o + t d to the first box, floor (z = 0) or wall (x = -3.5).
-double castRay(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const std::vector<Box>& boxes) {
-  double best = std::numeric_limits<double>::infinity();
-  if (d.z() < 0.0) best = std::min(best, -o.z() / d.z());
-  if (d.x() < 0.0) best = std::min(best, (-3.5 - o.x()) / d.x());
-  for (const Box& b : boxes) {
-    const Eigen::Vector3d lo = b.pose.inverse() * o;
-    const Eigen::Vector3d ld = b.pose.linear().transpose() * d;
-    double t0 = 0.0, t1 = best;
-    bool hit = true;
-    for (int k = 0; k < 3 && hit; ++k) {
-      if (std::abs(ld[k]) < 1e-12) {
-        hit = std::abs(lo[k]) <= b.half[k];
-        continue;
-      }
-      double u = (-b.half[k] - lo[k]) / ld[k], v = (b.half[k] - lo[k]) / ld[k];
-      if (u > v) std::swap(u, v);
-      t0 = std::max(t0, u);
-      t1 = std::min(t1, v);
-      hit = t0 <= t1;
-    }
-    if (hit) best = std::min(best, t0);
-  }
-  return best;
-}
-
-// One row of the cloud comparison: its per-frame totals and stage times (ms).
 enum class Kind { kOurs, kPcl, kOctomapCropped, kOctomapWhole };
 
+// One row of the cloud comparison: its per-frame totals and stage times (ms).
 struct Contestant {
   Kind kind;
   std::string name;
@@ -128,13 +102,6 @@ int main(int argc, char** argv) {
   const std::string where = machine();
 
   // The cell: an arm of four boxes at the origin, two people.
-  auto boxAt = [](const Eigen::Vector3d& c, const Eigen::Vector3d& half, double yaw, double pitch) {
-    Box b;
-    b.pose = Eigen::Translation3d(c) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-             Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY());
-    b.half = half;
-    return b;
-  };
   std::vector<Box> arm = {boxAt({0, 0, 0.3}, {0.1, 0.1, 0.3}, 0, 0),
                           boxAt({0.25, 0, 0.7}, {0.3, 0.06, 0.06}, 0, -0.3),
                           boxAt({0.6, 0.1, 0.8}, {0.25, 0.05, 0.05}, 0.5, 0),
