@@ -14,7 +14,11 @@
 //     subscribes, so they cost it a little).
 // Parameters (private): rate (Hz, 30), duration (s, 20), frames (distinct frames, precomputed,
 // 30: a person walking 1 m towards the arm and back at 1 m/s), monitor (load the monitor,
-// true), markers (false), topic (bench_points), camera_frame (bench_camera).
+// true), markers (false), topic (bench_points), camera_frame (bench_camera), fake_perceived
+// (false: with true this process also publishes, right after each cloud, the person's true box
+// on perceived_objects with the cloud's stamp, in place of the front end's: the monitor's part
+// alone, and a check of the matching; the front end still processes every cloud, its own
+// perceived_objects renamed perceived_objects_front_end).
 // The nodelets read their parameters from the server (/cloud_tracker/..., /proximity_monitor/...):
 // scripts/bench-perception-latency sets them. Prints one `summary` line per output.
 
@@ -82,6 +86,7 @@ int main(int argc, char** argv) {
   const bool with_monitor = pnh.param("monitor", true), with_markers = pnh.param("markers", false);
   const std::string topic = pnh.param<std::string>("topic", "bench_points");
   const std::string camera_frame = pnh.param<std::string>("camera_frame", "bench_camera");
+  const bool fake_perceived = pnh.param("fake_perceived", false);
 
   // The cell: the monitor's and the front end's robot (three boxes in `world`, set by the
   // script) and a person walking from 3 m to 2 m in front of it and back, seen by a camera at
@@ -196,7 +201,10 @@ int main(int argc, char** argv) {
   nodelet::Loader manager(false);
   const nodelet::M_string remap;
   const nodelet::V_string args;
-  if (!manager.load("/cloud_tracker", "workspace_proximity/CloudTrackerNodelet", remap, args)) {
+  // With fake_perceived the front end still runs on every cloud, its own output renamed.
+  nodelet::M_string tracker_remap;
+  if (fake_perceived) tracker_remap["/perceived_objects"] = "/perceived_objects_front_end";
+  if (!manager.load("/cloud_tracker", "workspace_proximity/CloudTrackerNodelet", tracker_remap, args)) {
     std::fprintf(stderr, "cloud_latency_bench: could not load the cloud_tracker nodelet\n");
     return 1;
   }
@@ -205,6 +213,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   ros::Publisher pub = nh.advertise<sensor_msgs::PointCloud2>(topic, 2);
+  ros::Publisher fake_pub;
+  if (fake_perceived) fake_pub = nh.advertise<workspace_proximity::TrackedBoxArray>("perceived_objects", 2);
   // The front end needs the camera's transform first; 1 s of frames before the timed ones.
   ros::WallDuration(1.0).sleep();
 
@@ -215,6 +225,7 @@ int main(int argc, char** argv) {
   while (ros::ok() && nowS() - start < duration + warm_up) {
     sensor_msgs::PointCloud2::Ptr msg(new sensor_msgs::PointCloud2(proto));
     msg->data = data[static_cast<std::size_t>(f)];
+    const int shown = f, shown_step = step;
     if (frames > 1 && (f + step < 0 || f + step >= frames)) step = -step;  // walk back and forth
     f += step;
     msg->header.stamp = ros::Time::now();
@@ -230,6 +241,25 @@ int main(int argc, char** argv) {
       }
     }
     pub.publish(sensor_msgs::PointCloud2::ConstPtr(msg));
+    if (fake_perceived) {
+      workspace_proximity::TrackedBoxArray::Ptr boxes(new workspace_proximity::TrackedBoxArray);
+      boxes->header = msg->header;
+      boxes->header.frame_id = "world";
+      workspace_proximity::TrackedBox b;
+      b.id = "person";
+      b.label = "person";
+      const double s = frames > 1 ? static_cast<double>(shown) / (frames - 1) : 0.0;
+      b.pose.position.x = 3.0 - 1.0 * s;
+      b.pose.position.y = -0.6;
+      b.pose.position.z = 0.9;
+      b.pose.orientation.w = 1.0;
+      b.dimensions.x = 0.5;
+      b.dimensions.y = 0.4;
+      b.dimensions.z = 1.8;
+      b.twist.linear.x = -shown_step * rate / std::max(frames - 1, 1);  // m/s: 1 m over frames - 1
+      boxes->boxes.push_back(b);
+      fake_pub.publish(workspace_proximity::TrackedBoxArray::ConstPtr(boxes));
+    }
     loop.sleep();
   }
   ros::WallDuration(0.5).sleep();
@@ -261,7 +291,7 @@ int main(int argc, char** argv) {
   }
   printSummary("cloud_to_perceived_objects", clouds, rx.perceived_ms);
   if (rx.perceived_unmatched > 0) {
-    std::printf("note perceived_objects unmatched=%zu (stamp not a timed cloud's)\n", rx.perceived_unmatched);
+    std::printf("note perceived_objects unmatched=%zu (the warm-up clouds', or not a cloud's stamp)\n", rx.perceived_unmatched);
   }
   if (with_monitor) {
     printSummary("cloud_to_speed_scale", clouds, scale_ms);
