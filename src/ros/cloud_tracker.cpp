@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include <boost/make_shared.hpp>
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "workspace_proximity/perception/laser_scan.hpp"
+#include "workspace_proximity/ros/conversions.hpp"
 #include "workspace_proximity/ros/robot_description.hpp"
 #include "workspace_proximity/ros/ros_params.hpp"
 
@@ -157,6 +159,13 @@ CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
       p.views[it->first] = view;
     }
   }
+  pc::ClusterTrackParams& t = p.tracks;
+  t.max_speed = readNumber(pnh, "track_max_speed", t.max_speed, 0.01, 100.0);
+  t.max_accel = readNumber(pnh, "track_max_accel", t.max_accel, 0.0, 1000.0);
+  t.sigma = readNumber(pnh, "cluster_sigma", f.voxel_size, 0.001, 1.0);
+  t.max_merge_gap = readNumber(pnh, "max_merge_gap", t.max_merge_gap, 0.0, 5.0);
+  const std::vector<std::string> track_errors = pc::validate(t);
+  if (!track_errors.empty()) fail("track_max_speed", track_errors.front());
   return p;
 }
 
@@ -184,6 +193,12 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
     view_.push_back(it == params_.views.end() ? nullptr : &it->second);
   }
   markers_ = pnh_.advertise<visualization_msgs::MarkerArray>("clusters", 2);
+  // A track is gone when it missed one frame of every sensor in a row (a round of frames):
+  // a person who leaves is free within one frame per sensor, and a person only one sensor
+  // sees is not deleted at each of the others' frames.
+  params_.tracks.tracker.max_misses = static_cast<int>(names.size());
+  tracks_ = std::make_unique<pc::ClusterTracks>(params_.tracks);
+  objects_ = nh_.advertise<TrackedBoxArray>("perceived_objects", 2);
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("cloud_tracker", this, &CloudTracker::diagnose);
 
@@ -392,7 +407,55 @@ void CloudTracker::finish(int s, const std_msgs::Header& header, const std::stri
   const pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
   health_->frameUsed(s, nowNs(), frame.stats(), robot_problem);
   last_frame_ns_[static_cast<std::size_t>(s)] = nowNs();
+  publishTracks(s, header);
   if (markers_.getNumSubscribers() > 0) publishMarkers(s, header);
+}
+
+void CloudTracker::publishTracks(int s, const std_msgs::Header& header) {
+  const pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
+  // Every sensor's frames go into the one tracker in the order they come (cluster_tracks.hpp:
+  // a late frame is merged at the newest stamp with its noise grown, one beyond
+  // ~max_merge_gap is dropped and counted).
+  if (tracks_->update(toStamp(header.stamp), frame.detections()) == pc::ClusterFrameUse::kTooLate) {
+    ROS_WARN_THROTTLE(5.0, "cloud_tracker: %s: frame more than max_merge_gap %.3f s older than "
+                           "the newest merged frame: not tracked",
+                      health_->name(s).c_str(), params_.tracks.max_merge_gap);
+    return;
+  }
+  // An empty array too: the monitor hears that nothing is there, and that the source lives.
+  // A new message each frame, published as a shared pointer: a monitor nodelet in the same
+  // manager takes it without serialisation (it must not change after publish()).
+  const boost::shared_ptr<TrackedBoxArray> msg = boost::make_shared<TrackedBoxArray>();
+  TrackedBoxArray& out = *msg;
+  out.header.stamp = toTime(tracks_->stamp());
+  out.header.frame_id = params_.fixed_frame;
+  const std::vector<BoxObservation>& tracks = tracks_->tracks();
+  out.boxes.resize(tracks.size());
+  for (std::size_t i = 0; i < tracks.size(); ++i) {
+    const BoxObservation& t = tracks[i];
+    TrackedBox& b = out.boxes[i];
+    b.id.assign(t.id.data(), t.id.size());
+    b.label.assign(t.label.data(), t.label.size());
+    b.pose.position.x = t.position.x();
+    b.pose.position.y = t.position.y();
+    b.pose.position.z = t.position.z();
+    b.pose.orientation.x = t.quaternion.x();
+    b.pose.orientation.y = t.quaternion.y();
+    b.pose.orientation.z = t.quaternion.z();
+    b.pose.orientation.w = t.quaternion.w();
+    b.dimensions.x = t.dimensions.x();
+    b.dimensions.y = t.dimensions.y();
+    b.dimensions.z = t.dimensions.z();
+    // Until its velocity is established a track says so, and its twist is 0 (ignored).
+    b.velocity_unknown = !t.velocity_known;
+    const Eigen::Vector3d v = t.velocity_known ? t.linear_velocity : Eigen::Vector3d::Zero();
+    b.twist.linear.x = v.x();
+    b.twist.linear.y = v.y();
+    b.twist.linear.z = v.z();
+    b.position_error = t.position_error;
+    b.velocity_error = t.velocity_known ? t.velocity_error : 0.0;
+  }
+  objects_.publish(msg);
 }
 
 void CloudTracker::publishMarkers(int s, const std_msgs::Header& header) {
@@ -491,6 +554,12 @@ void CloudTracker::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
     status.add(n + "clusters", st.clusters);
     status.add(n + "clusters over capacity", st.clusters_overflow);
   }
+  const MultiObjectTracker& tracker = tracks_->tracker();
+  status.add("tracks", static_cast<int>(tracks_->tracks().size()));
+  status.add("tracks: live (tentative included)", tracker.stats().live);
+  status.add("frames merged late", tracks_->late());
+  status.add("frames too late to merge", tracks_->tooLate());
+  status.add("clusters beyond the tracker's capacity", tracks_->overflow());
 }
 
 }  // namespace workspace_proximity

@@ -36,6 +36,11 @@ void observe(const TrackedBox& box, BoxObservation* out) {
   out->dimensions = vec(box.dimensions);
   out->linear_velocity = vec(box.twist.linear);
   out->angular_velocity = vec(box.twist.angular);
+  // Zeros (every array published before these fields, and v1 arrays decoded as foreign) say
+  // "the label's settings"; checkBox rejects NaN and negative errors by name.
+  out->position_error = box.position_error;
+  out->velocity_error = box.velocity_error;
+  out->velocity_known = !box.velocity_unknown;
 }
 
 BoxObservation observe(const TrackedBox& box) {

@@ -156,13 +156,12 @@ void ProximityMonitor::onAnyMessage(int i, const topic_tools::ShapeShifter& msg)
   Input& input = inputs_[static_cast<std::size_t>(i)];
   const ros::Time now = ros::Time::now();
   const std::string& type = msg.getDataType();
-  if (type == ros::message_traits::datatype<TrackedBoxArray>()) {
-    if (msg.getMD5Sum() != ros::message_traits::md5sum<TrackedBoxArray>()) {
-      // Another version of this package's own message: never read with this one's layout.
-      bridges_->refuseType(i, type + " with md5 " + msg.getMD5Sum() + ": this monitor reads md5 " +
-                                  ros::message_traits::md5sum<TrackedBoxArray>() +
-                                  " (another version of the package); refused");
-    } else if (input.typed) {
+  // Only this build's TrackedBoxArray switches to the typed subscription; an older version of
+  // it (v1, before the per-box errors) goes through the foreign decoder like any tracker's
+  // type, and an md5 the catalogue does not know is refused there by name.
+  if (type == ros::message_traits::datatype<TrackedBoxArray>() &&
+      msg.getMD5Sum() == ros::message_traits::md5sum<TrackedBoxArray>()) {
+    if (input.typed) {
       return;  // the typed subscription has it (both hear the topic until the switch ends)
     } else {
       // This one copied; the typed subscription takes every later one as the publisher sent it.

@@ -95,7 +95,9 @@ void ForeignObservations::convert(const ForeignTrackArray& in, std::string_view 
         b.id = {};  // refused by checkBox as an empty id: detections go through a tracker
         break;
     }
-    b.label = foreignLabel(t.label);
+    // This package's own old layout names the monitor's labels already: taken as they are.
+    const bool own = in.version != nullptr && in.version->format == ForeignFormat::kTrackedBoxArrayV1;
+    b.label = own ? t.label : foreignLabel(t.label);
     const LabelSettings& label = params.label(std::string(b.label));
     b.position = t.position;
     if (t.has_orientation) b.quaternion = t.quaternion;
@@ -105,7 +107,7 @@ void ForeignObservations::convert(const ForeignTrackArray& in, std::string_view 
     }
     // A floor tracker's height is not a measurement: the box stands on the frame's z = 0.
     if ((t.position_axes & 0b100) == 0) b.position.z() = 0.5 * b.dimensions.z();
-    b.angular_velocity.setZero();
+    b.angular_velocity = t.angular_velocity;  // 0 but for this package's v1 TrackedBoxArray
     if (t.has_position_covariance) b.position_error = threeSigma(t.position_covariance, t.position_axes);
 
     const std::uint64_t key = idKey(t.id_kind, b.id);

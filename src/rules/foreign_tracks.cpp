@@ -34,6 +34,8 @@ constexpr std::size_t kJskBoxV2Min = kJskBoxV1Min + 4 + 4;
 // frame_locked, points[], colors[], text, mesh_resource, mesh_use_embedded_materials.
 constexpr std::size_t kMarkerMin =
     ws::kHeaderMin + 4 + 4 + 4 + 4 + ws::kPose + ws::kPoint + 16 + 8 + 1 + 4 + 4 + 4 + 4 + 1;
+// workspace_proximity/TrackedBox v1: id, label, pose, dimensions, twist.
+constexpr std::size_t kTrackedBoxV1Min = 4 + 4 + ws::kPose + ws::kPoint + ws::kTwist;
 constexpr std::int32_t kMarkerCube = 1, kMarkerSphere = 2, kMarkerCylinder = 3;
 constexpr std::int32_t kMarkerAdd = 0;  // ADD and MODIFY
 
@@ -459,6 +461,21 @@ ForeignRefusal decodePoses(WireReader& r, ForeignTrackArray* out) {
   return readTracks(r, out, ws::kPose, [&](ForeignTrack& t) { readPose(r, &t); });
 }
 
+// This package's TrackedBoxArray before per-box errors (v1): every field as the current
+// message's, the errors left at "the label's" and the velocity known, as v1 publishers meant.
+ForeignRefusal decodeTrackedBoxesV1(WireReader& r, ForeignTrackArray* out) {
+  readHeader(r, &out->stamp, &out->frame_id);
+  return readTracks(r, out, kTrackedBoxV1Min, [&](ForeignTrack& t) {
+    t.id_kind = ForeignIdKind::kText;
+    t.id_text = r.string();
+    t.label = r.string();
+    readBox(r, &t);
+    t.velocity = r.vector3();
+    t.velocity_axes = kAxesAll;
+    t.angular_velocity = r.vector3();
+  });
+}
+
 ForeignRefusal decodeFormat(ForeignFormat format, WireReader& r, ForeignTrackArray* out) {
   switch (format) {
     case ForeignFormat::kPeople: return decodePeople(r, out);
@@ -478,6 +495,7 @@ ForeignRefusal decodeFormat(ForeignFormat format, WireReader& r, ForeignTrackArr
     case ForeignFormat::kJskBoxArrayV2: return decodeJskBoxes(r, out, true);
     case ForeignFormat::kMarkerArray: return decodeMarkers(r, out);
     case ForeignFormat::kPoseArray: return decodePoses(r, out);
+    case ForeignFormat::kTrackedBoxArrayV1: return decodeTrackedBoxesV1(r, out);
   }
   return refuse(out, ForeignRefusal::kUnknownType, "no decoder for this format");
 }
@@ -490,6 +508,7 @@ ForeignRefusal checkTracks(ForeignTrackArray* out) {
     if (!t.position.allFinite()) bad = "position";
     else if (t.has_orientation && !t.quaternion.allFinite()) bad = "orientation";
     else if (!t.velocity.allFinite()) bad = "velocity";
+    else if (!t.angular_velocity.allFinite()) bad = "angular velocity";
     else if (!t.dimensions.allFinite()) bad = "dimensions";
     else if (!t.position_covariance.allFinite()) bad = "position covariance";
     else if (!t.velocity_covariance.allFinite()) bad = "velocity covariance";

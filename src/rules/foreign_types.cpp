@@ -205,6 +205,18 @@ constexpr std::string_view kPoseArray = R"(Header header
 Pose[] poses
 )";
 
+// This package's own TrackedBoxArray before TrackedBox gained position_error, velocity_error
+// and velocity_unknown (foreign_msgs/workspace_proximity/v1): old publishers and recorded bags.
+constexpr std::string_view kTrackedBoxArrayV1 = R"(std_msgs/Header header
+TrackedBox[] boxes
+MSG: workspace_proximity/TrackedBox
+string id
+string label
+geometry_msgs/Pose pose
+geometry_msgs/Vector3 dimensions
+geometry_msgs/Twist twist
+)";
+
 using F = ForeignFormat;
 
 // What a format carries and its layout: the format decides both, so that type names sharing a
@@ -235,6 +247,7 @@ constexpr FormatFacts formatFacts(ForeignFormat format) {
     case F::kJskBoxArrayV2: return {kDetections, kJskV2};
     case F::kMarkerArray: return {kDetections, kMarkerArray};
     case F::kPoseArray: return {kDetections, kPoseArray};
+    case F::kTrackedBoxArrayV1: return {kTracks, kTrackedBoxArrayV1};
   }
   return {kTracks, {}};
 }
@@ -279,6 +292,8 @@ constexpr ForeignVersion kVersions[] = {
     known("visualization_msgs/MarkerArray", "debian", "d155b9ce5188fbaf89745847fd5882d7",
           F::kMarkerArray),
     known("geometry_msgs/PoseArray", "debian", "916c28c5764443f268b296bb671b9d97", F::kPoseArray),
+    known("workspace_proximity/TrackedBoxArray", "v1", "d56a591380bdbf88ec37ec86270fc893",
+          F::kTrackedBoxArrayV1),
 };
 constexpr std::size_t kVersionCount = sizeof(kVersions) / sizeof(kVersions[0]);
 

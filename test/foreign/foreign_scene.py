@@ -94,6 +94,20 @@ def obstacles(m, s, p, v):
     return msg
 
 
+def trackedbox_v1(m, s, p, v):
+    """This package's own TrackedBoxArray before the per-box errors (foreign_msgs/
+    workspace_proximity/v1): what an old publisher or a recorded bag sends. The person's box
+    as the TrackedBoxArray scene gives it (0.6 x 0.6 x 1.8 m, label person)."""
+    msg = header(m.TrackedBoxArray(), s)
+    b = m.TrackedBox(id="100", label="person")
+    b.pose.position = g.Point(*p)
+    b.pose.orientation.w = 1.0
+    b.dimensions = g.Vector3(0.6, 0.6, 1.8)
+    b.twist.linear = g.Vector3(*v)
+    msg.boxes.append(b)
+    return msg
+
+
 FAMILIES = {
     "people": ("people_msgs", {}, people),
     "position_measurements": ("people_msgs", {}, position_measurements),
@@ -107,6 +121,7 @@ FAMILIES = {
     "leg_tracker": ("leg_tracker", {}, leg_tracker),
     "derived_objects": ("derived_object_msgs", {}, derived(False)),
     "derived_objects_covariance": ("derived_object_msgs", {}, derived(True)),
+    "trackedbox_v1": ("workspace_proximity", {"workspace_proximity": "v1"}, trackedbox_v1),
 }
 # Elements without ids: refused by name until the multi-object tracker reads them.
 FAMILIES_WITHOUT_IDS = {"obstacles": ("obstacle_detector", {}, obstacles)}

@@ -41,6 +41,8 @@ def generate(version_dirs):
             names |= {f for f in os.listdir(d) if f.endswith('.msg')}
         files = [next(os.path.join(d, n) for d in path[p] if os.path.exists(os.path.join(d, n)))
                  for n in sorted(names)]
+        if not files:
+            continue  # workspace_proximity: only its v1 folder is stored (msg/ has the current)
         out = os.path.join(root, p, 'msg')
         genpy.generator.MsgGenerator().generate_messages(p, files, out, path)
         genpy.generate_initpy.write_modules(out)

@@ -535,6 +535,56 @@ TEST(ForeignDecoder, LegTracker) {
   EXPECT_EQ(out.tracks[0].label, "person");
 }
 
+// This package's TrackedBoxArray before the per-box errors (issue 23): every field as written,
+// the label as given, the twist (linear and angular) known, the errors left at 0.
+TEST(ForeignDecoder, TrackedBoxArrayV1) {
+  WireWriter w;
+  w.header(3, 50, 7, "world");
+  w.u32(2);
+  w.str("a");
+  w.str("pedestrian");  // not renamed: the monitor's own labels
+  w.vec3(1.0, 2.0, 0.9);
+  w.quat(0.0, 0.0, 0.6, 0.8);
+  w.vec3(0.6, 0.5, 1.8);
+  w.vec3(-0.25, 0.5, 0.0);
+  w.vec3(0.0, 0.0, 0.75);
+  w.str("b");
+  w.str("");
+  w.vec3(-1.0, 0.0, 0.5);
+  w.quat(0.0, 0.0, 0.0, 1.0);
+  w.vec3(1.0, 1.0, 1.0);
+  w.vec3(0.0, 0.0, 0.0);
+  w.vec3(0.0, 0.0, 0.0);
+  const Sample message = {"workspace_proximity/TrackedBoxArray", "d56a591380bdbf88ec37ec86270fc893",
+                          w.bytes};
+  wp::ForeignTrackArray out;
+  ASSERT_TRUE(decodesTracks(message, 2u, &out));
+  EXPECT_EQ(out.version->version, "v1");
+  EXPECT_EQ(out.stamp, wp::Stamp{50} * 1000000000 + 7);
+  EXPECT_EQ(out.frame_id, "world");
+  const wp::ForeignTrack& a = out.tracks[0];
+  EXPECT_EQ(a.id_kind, wp::ForeignIdKind::kText);
+  EXPECT_EQ(a.id_text, "a");
+  EXPECT_EQ(a.label, "pedestrian");
+  expectVec(a.position, 1.0, 2.0, 0.9);
+  EXPECT_TRUE(a.has_orientation);
+  EXPECT_EQ(a.quaternion, Eigen::Vector4d(0.0, 0.0, 0.6, 0.8));
+  expectVec(a.dimensions, 0.6, 0.5, 1.8);
+  EXPECT_EQ(a.dimension_axes, wp::kAxesAll);
+  expectVec(a.velocity, -0.25, 0.5, 0.0);
+  EXPECT_EQ(a.velocity_axes, wp::kAxesAll);
+  expectVec(a.angular_velocity, 0.0, 0.0, 0.75);
+  EXPECT_FALSE(a.has_position_covariance);
+  EXPECT_FALSE(a.has_velocity_covariance);
+  EXPECT_EQ(out.tracks[1].id_text, "b");
+  EXPECT_EQ(out.tracks[1].label, "");
+  for (std::size_t cut = 0; cut < message.bytes.size(); ++cut) {
+    EXPECT_NE(decodePrefix(message.type, message.md5, message.bytes, cut, &out),
+              ForeignRefusal::kNone)
+        << "cut at " << cut;
+  }
+}
+
 TEST(ForeignDecoder, DerivedObjectsHonourDetectionLevelAndClassified) {
   for (bool covariance : {false, true}) {
     SCOPED_TRACE(covariance);

@@ -13,6 +13,7 @@
 #include "workspace_proximity/ros/reconfigure_bridge.hpp"
 #include "workspace_proximity/ros/ssm_publisher.hpp"
 #include "workspace_proximity/ros/twist_filter.hpp"
+#include "workspace_proximity/rules/track_table.hpp"
 
 namespace wp = workspace_proximity;
 
@@ -48,6 +49,91 @@ TEST(Conversions, ObservationViewsTheMessageWithoutCopies) {
   const wp::BoxObservation seen = wp::observe(box);
   EXPECT_EQ(seen.id.data(), box.id.data());
   EXPECT_EQ(seen.label.data(), box.label.data());
+}
+
+// TrackedBox's optional errors (issue 23) reach the track's body: zeros are the label's
+// settings (every array before these fields), a larger own error widens the margin and its
+// growth by the analytic amount, velocity_unknown grows it at the label's max_speed.
+TEST(Conversions, TrackedBoxErrorsWidenTheMarginByTheAnalyticAmount) {
+  wp::MonitorParams p;
+  wp::LabelSettings& person = p.labels["person"];
+  person.margin = 0.1;
+  person.position_error = 0.05;
+  person.velocity_error = 0.2;
+  person.max_accel = 1.0;
+  person.max_speed = 2.0;
+  const wp::LabelTable labels(p);
+  wp::ProximityWorld world;
+  wp::DropCounters drops;
+  wp::TrackTable table(&world, &labels, 10, wp::BoxLimits(), &drops, nullptr);
+
+  // Three boxes, the same but for the new fields; the person walks at 0.5 m/s.
+  std::vector<wp::TrackedBox> msgs(3);
+  const char* ids[] = {"old", "own", "unknown"};
+  for (int i = 0; i < 3; ++i) {
+    msgs[i].id = ids[i];
+    msgs[i].label = "person";
+    msgs[i].pose.position.x = 2.0 * i;
+    msgs[i].pose.orientation.w = 1.0;
+    msgs[i].dimensions.x = msgs[i].dimensions.y = 0.6;
+    msgs[i].dimensions.z = 1.8;
+    msgs[i].twist.linear.x = 0.5;
+  }
+  msgs[1].position_error = 0.3;
+  msgs[1].velocity_error = 0.6;
+  msgs[2].velocity_unknown = true;
+  std::vector<wp::BoxObservation> boxes;
+  for (const wp::TrackedBox& m : msgs) boxes.push_back(wp::observe(m));
+  EXPECT_EQ(boxes[0].position_error, 0.0);
+  EXPECT_TRUE(boxes[0].velocity_known);
+  EXPECT_FALSE(boxes[2].velocity_known);
+
+  constexpr wp::Stamp kSecond = 1000000000;
+  wp::ArrayContext a;
+  a.source = "/boxes";
+  a.stamp = 10 * kSecond;
+  ASSERT_EQ(table.ingest(a, boxes), 3);
+  table.advance(a.stamp + kSecond / 2);  // predicted 0.5 s after the measurement
+  const double s = 0.5;
+  // By hand: margin + max(label's position_error, own); R(s) = min(e s + a s^2 / 2,
+  // (max_speed + |v|) s) with e = max(label's velocity_error, own); unknown: max_speed s.
+  const double margin[] = {0.1 + 0.05, 0.1 + 0.3, 0.1 + 0.05};
+  const double growth[] = {0.2 * s + 0.5 * 1.0 * s * s, 0.6 * s + 0.5 * 1.0 * s * s, 2.0 * s};
+  for (int i = 0; i < 3; ++i) {
+    const wp::Track& t = table.track(table.find(ids[i]));
+    SCOPED_TRACE(ids[i]);
+    EXPECT_NEAR(world.desc(t.handle).margin, margin[i], 1e-12);
+    EXPECT_NEAR(world.growth(t.handle).at(0.0), growth[i], 1e-12);
+  }
+  // The own errors widen the old box's margin by 0.25 m and its growth by 0.2 m at 0.5 s.
+  EXPECT_NEAR(margin[1] - margin[0], 0.25, 1e-12);
+  EXPECT_NEAR(growth[1] - growth[0], 0.2, 1e-12);
+  // An unknown velocity is predicted standing still.
+  EXPECT_EQ(world.motion(table.track(table.find("unknown")).handle).linear_velocity.norm(), 0.0);
+}
+
+// NaN and negative errors are rejected by name; the rest of the box is fine.
+TEST(Conversions, TrackedBoxBadErrorsAreRejectedByName) {
+  wp::TrackedBox box;
+  box.id = "a";
+  box.label = "person";
+  box.pose.orientation.w = 1.0;
+  box.dimensions.x = box.dimensions.y = box.dimensions.z = 1.0;
+  std::string why;
+  ASSERT_EQ(wp::checkBox(wp::observe(box), wp::BoxLimits(), &why), wp::Drop::kCount) << why;
+  box.position_error = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(wp::checkBox(wp::observe(box), wp::BoxLimits(), &why), wp::Drop::kNonFinite);
+  EXPECT_NE(why.find("position_error"), std::string::npos) << why;
+  box.position_error = -0.1;
+  EXPECT_EQ(wp::checkBox(wp::observe(box), wp::BoxLimits(), &why), wp::Drop::kPosition);
+  EXPECT_NE(why.find("position_error"), std::string::npos) << why;
+  box.position_error = 0.0;
+  box.velocity_error = -1.0;
+  EXPECT_EQ(wp::checkBox(wp::observe(box), wp::BoxLimits(), &why), wp::Drop::kSpeed);
+  EXPECT_NE(why.find("velocity_error"), std::string::npos) << why;
+  box.velocity_error = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(wp::checkBox(wp::observe(box), wp::BoxLimits(), &why), wp::Drop::kNonFinite);
+  EXPECT_NE(why.find("velocity_error"), std::string::npos) << why;
 }
 
 TEST(Conversions, StampsRoundTripToTheNanosecond) {

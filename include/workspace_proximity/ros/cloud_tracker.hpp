@@ -4,9 +4,9 @@
 ///   PointCloud2 (~cloud_topics) | LaserScan (~scan_topics)
 ///     -> fields and frame checked (rejected by name) -> tf2: sensor -> ~fixed_frame at the stamp
 ///     -> robot links posed from tf at the stamp (self-filter) -> CloudFrame -> clusters
-///     -> ~clusters (markers), /diagnostics (SensorHealth: DEGRADED reasons by sensor, figures)
-/// The clusters are per frame: no ids kept, no velocity. Feeding them to the monitor needs the
-/// multi-object tracker between (issue 23): not wired here yet.
+///     -> ClusterTracks (one MultiObjectTracker for every sensor's frames, cluster_tracks.hpp)
+///     -> perceived_objects (TrackedBoxArray: label `unknown`, ids, velocities once known,
+///        the filter's 3 sigma errors), ~clusters (markers), /diagnostics (SensorHealth)
 
 #include <map>
 #include <memory>
@@ -21,7 +21,10 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <workspace_proximity/TrackedBoxArray.h>
+
 #include "workspace_proximity/perception/cloud_frame.hpp"
+#include "workspace_proximity/perception/cluster_tracks.hpp"
 #include "workspace_proximity/perception/sensor_health.hpp"
 #include "workspace_proximity/perception/unseen_share.hpp"
 #include "workspace_proximity/rules/monitor_params.hpp"
@@ -53,6 +56,10 @@ struct CloudTrackerParams {
     bool optical = false;
   };
   std::map<std::string, View> views;
+  /// The clusters' tracker: label `unknown`, its max_speed and max_accel (the monitor's
+  /// `unknown` label: 2.0 m/s, 4.0 m/s^2), a cluster centre's noise (default: one voxel),
+  /// the largest stamp gap at which a late sensor's frame is still merged.
+  perception::ClusterTrackParams tracks;
 };
 
 /// Reads the private parameters; throws std::runtime_error naming a bad one.
@@ -72,6 +79,8 @@ class CloudTracker {
   std::string poseRobot(const ros::Time& stamp, perception::CloudFrame* frame);
   void finish(int sensor, const std_msgs::Header& header, const std::string& robot_problem);
   void publishMarkers(int sensor, const std_msgs::Header& header);
+  // The frame's clusters into the tracker, its tracks on perceived_objects.
+  void publishTracks(int sensor, const std_msgs::Header& header);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   // The unseen share of the protective volume from every sensor's latest frame.
   void updateUnseen();
@@ -87,6 +96,8 @@ class CloudTracker {
   std::unique_ptr<perception::SensorHealth> health_;
   std::vector<ros::Subscriber> subs_;
   ros::Publisher markers_;
+  ros::Publisher objects_;  // perceived_objects
+  std::unique_ptr<perception::ClusterTracks> tracks_;
   diagnostic_updater::Updater diagnostics_;
   ros::Timer diag_timer_;
   ros::Timer unseen_timer_;

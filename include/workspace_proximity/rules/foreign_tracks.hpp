@@ -54,7 +54,8 @@ struct ForeignTrack {
   ForeignIdKind id_kind = ForeignIdKind::kNone;
   std::uint64_t id_number = 0;  ///< when id_kind is kNumber
   std::string_view id_text;     ///< when id_kind is kText
-  /// Class name: "person" for the people trackers, derived_object_msgs' classification
+  /// Class name: "person" for the people trackers, the label as given for this package's v1
+  /// TrackedBoxArray, derived_object_msgs' classification
   /// ("pedestrian", "car", ..., "unknown"), "obstacle" for obstacle_detector; empty for
   /// vision_msgs and jsk, which give a number only.
   std::string_view label;
@@ -71,6 +72,8 @@ struct ForeignTrack {
   Eigen::Vector4d quaternion = Eigen::Vector4d(0, 0, 0, 1);  ///< x, y, z, w as received
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();        ///< m/s
   std::uint8_t velocity_axes = kAxesNone;                    ///< kAxesNone: no valid velocity
+  /// rad/s; only this package's own v1 TrackedBoxArray carries one (others: 0).
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
   bool has_position_covariance = false;
   Eigen::Matrix3d position_covariance = Eigen::Matrix3d::Zero();  ///< m^2
   bool has_velocity_covariance = false;

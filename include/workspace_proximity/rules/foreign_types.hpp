@@ -29,6 +29,7 @@ enum class ForeignFormat : std::uint8_t {
   kJskBoxArrayV2,                      ///< with value and label (2015-08 on)
   kMarkerArray,                        ///< visualization_msgs/MarkerArray (CUBE, SPHERE, CYLINDER)
   kPoseArray,                          ///< geometry_msgs/PoseArray
+  kTrackedBoxArrayV1,                  ///< this package's TrackedBoxArray before per-box errors
 };
 
 /// What a type carries: tracks with ids (and maybe velocities), or detections to be associated.

@@ -1,0 +1,91 @@
+#pragma once
+/// The clusters of every sensor's frames as tracks (issue 23), ROS-free: the glue between
+/// CloudFrame's per-frame detections (voxel_clusters.hpp, fixed frame, no ids, no velocity)
+/// and the one MultiObjectTracker (multi_object_tracker.hpp, the tracker the monitor's
+/// detection inputs use) whose confirmed tracks cloud_tracker publishes as TrackedBoxArray.
+///
+/// Several sensors, one tracker: each sensor's frame is associated into the same tracker in
+/// the order frames arrive, at its own stamp. A frame stamped before the tracker's newest
+/// frame (a sensor whose frames come later than another's) is not dropped: it is applied at
+/// the tracker's stamp, its centres' noise grown by what the object may have moved in
+/// between, `max_speed` x the gap taken as a 3 sigma bound (sigma^2 += (max_speed gap / 3)^2);
+/// a gap beyond `max_merge_gap` drops the frame (counted). Nothing waits: no latency is
+/// added to merge sensors.
+///
+/// Every cluster is one detection of label `label` (the monitor's `unknown`: a cluster has no
+/// class), its axis-aligned box, 1 sigma centre noise `sigma` per axis. A track's velocity is
+/// unknown (velocity_known false: the monitor grows it at the label's max_speed) until its
+/// filter's 3 sigma velocity error is at most `tracker.known_velocity_error`; then its
+/// 3 sigma position and velocity errors go with it.
+///
+/// Capacities set up front; update() allocates nothing once warm.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "workspace_proximity/perception/voxel_clusters.hpp"
+#include "workspace_proximity/rules/multi_object_tracker.hpp"
+
+namespace workspace_proximity {
+namespace perception {
+
+struct ClusterTrackParams {
+  std::string label = "unknown";  ///< every track's label (the monitor's settings for it)
+  double max_accel = 4.0;         ///< m/s^2, the label's: the filter's process noise (3 sigma)
+  double max_speed = 2.0;         ///< m/s, the label's: a new track's velocity sigma, late frames
+  double sigma = 0.05;            ///< m, 1 sigma noise of a cluster's centre per axis
+  double max_merge_gap = 0.2;     ///< s: a frame older than the tracker's newest by more is dropped
+  /// The tracker's gating and life (its labels are replaced by the one above). Defaults for
+  /// clusters: a cluster is a track from its first frame (confirm_hits 1: unknown is never
+  /// clear), and a track no sensor saw in `max_misses` frames in a row is gone.
+  TrackerParams tracker = defaultTrackerParams();
+  static TrackerParams defaultTrackerParams() {
+    TrackerParams t;
+    t.confirm_hits = 1;
+    t.max_misses = 1;
+    t.id_prefix = "c";
+    return t;
+  }
+};
+
+/// Problems with `params`, one message each naming the field; empty when usable.
+std::vector<std::string> validate(const ClusterTrackParams& params);
+
+/// What the last update() did with its frame.
+enum class ClusterFrameUse : std::uint8_t {
+  kUsed,      ///< at its own stamp
+  kLate,      ///< at the tracker's newer stamp, its noise grown
+  kTooLate,   ///< older than the tracker's newest by more than max_merge_gap: dropped
+};
+
+class ClusterTracks {
+ public:
+  /// Throws std::invalid_argument when validate(params) finds a problem.
+  explicit ClusterTracks(const ClusterTrackParams& params);
+
+  /// One sensor's frame: its clusters (fixed frame) at `stamp` (ns).
+  ClusterFrameUse update(Stamp stamp, const std::vector<Detection>& clusters);
+  /// The confirmed tracks after the last update, in the fixed frame at stamp() (views into
+  /// the tracker: valid until the next update()).
+  const std::vector<BoxObservation>& tracks() const { return tracker_.tracks(); }
+  /// The tracker's newest frame stamp (ns): the tracks' stamp.
+  Stamp stamp() const { return tracker_.stamp(); }
+  const MultiObjectTracker& tracker() const { return tracker_; }
+  /// Frames applied late (kLate) and dropped (kTooLate) so far.
+  long late() const { return late_; }
+  long tooLate() const { return too_late_; }
+  /// Clusters beyond the tracker's max_detections, so far (not tracked: the node reports it).
+  long overflow() const { return overflow_; }
+
+ private:
+  ClusterTrackParams params_;
+  MultiObjectTracker tracker_;
+  std::vector<workspace_proximity::Detection> detections_;
+  long late_ = 0;
+  long too_late_ = 0;
+  long overflow_ = 0;
+};
+
+}  // namespace perception
+}  // namespace workspace_proximity

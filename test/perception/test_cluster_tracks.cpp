@@ -1,0 +1,191 @@
+// The clusters-to-tracks glue (cluster_tracks.hpp), ROS-free, against hand-worked sequences:
+// a new cluster's numbers by hand, a moving cluster against an independent matrix form of the
+// constant-velocity Kalman filter, a cluster that leaves, two sensors' frames out of stamp
+// order (the late frame's grown noise worked by hand), a frame too late, no allocation.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "allocation_counter.hpp"  // test/shared
+#include "workspace_proximity/perception/cluster_tracks.hpp"
+
+namespace wp = workspace_proximity;
+namespace pc = workspace_proximity::perception;
+
+namespace {
+
+constexpr wp::Stamp kMs = 1000000;
+
+pc::Detection cluster(double x, double y, double z, double sx = 0.6, double sy = 0.6, double sz = 1.8) {
+  pc::Detection d;
+  d.centre = Eigen::Vector3f(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
+  d.size = Eigen::Vector3f(static_cast<float>(sx), static_cast<float>(sy), static_cast<float>(sz));
+  d.points = 100;
+  d.voxels = 50;
+  return d;
+}
+
+// The filter per axis in its textbook matrix form (x = [p, v], F = [1 dt; 0 1], white
+// acceleration Q = s_a^2 [dt^4/4 dt^3/2; dt^3/2 dt^2], H = [1 0]): an oracle written apart from
+// the tracker's scalar expansion.
+struct MatrixFilter {
+  Eigen::Vector2d x;
+  Eigen::Matrix2d P;
+  double sa;
+  MatrixFilter(double p0, double sigma, double v_sigma, double max_accel) : sa(max_accel / 3.0) {
+    x << p0, 0.0;
+    P << sigma * sigma, 0.0, 0.0, v_sigma * v_sigma;
+  }
+  void step(double dt, double z, double sigma) {
+    Eigen::Matrix2d F;
+    F << 1.0, dt, 0.0, 1.0;
+    Eigen::Matrix2d Q;
+    Q << std::pow(dt, 4) / 4.0, std::pow(dt, 3) / 2.0, std::pow(dt, 3) / 2.0, dt * dt;
+    Q *= sa * sa;
+    x = F * x;
+    P = F * P * F.transpose() + Q;
+    const Eigen::RowVector2d H(1.0, 0.0);
+    const double S = (H * P * H.transpose())(0, 0) + sigma * sigma;
+    const Eigen::Vector2d K = P * H.transpose() / S;
+    x += K * (z - x(0));
+    P = (Eigen::Matrix2d::Identity() - K * H) * P;
+  }
+};
+
+}  // namespace
+
+TEST(ClusterTracks, ANewClusterIsATrackWithUnknownVelocityAtOnce) {
+  pc::ClusterTrackParams p;
+  p.sigma = 0.05;
+  p.max_speed = 2.0;
+  pc::ClusterTracks tracks(p);
+  EXPECT_EQ(tracks.update(1000 * kMs, {cluster(1.0, 2.0, 0.9)}), pc::ClusterFrameUse::kUsed);
+  ASSERT_EQ(tracks.tracks().size(), 1u);
+  const wp::BoxObservation& t = tracks.tracks()[0];
+  EXPECT_EQ(t.id, "c1");
+  EXPECT_EQ(t.label, "unknown");
+  EXPECT_NEAR(t.position.x(), 1.0, 1e-6);
+  EXPECT_NEAR(t.position.y(), 2.0, 1e-6);
+  EXPECT_NEAR(t.dimensions.z(), 1.8, 1e-6);
+  // By hand: 3 sigma = 3 x 0.05 m; velocity 3 sigma = 3 x max_speed, above the 1 m/s at which
+  // it counts as known: unknown.
+  EXPECT_NEAR(t.position_error, 0.15, 1e-12);
+  EXPECT_NEAR(t.velocity_error, 6.0, 1e-12);
+  EXPECT_FALSE(t.velocity_known);
+  EXPECT_EQ(tracks.stamp(), 1000 * kMs);
+}
+
+TEST(ClusterTracks, AMovingClusterFollowsTheFilterAndItsVelocityBecomesKnown) {
+  pc::ClusterTrackParams p;
+  pc::ClusterTracks tracks(p);
+  const double v = 1.0, dt = 0.1;  // m/s along x, 10 Hz
+  MatrixFilter oracle(0.5, p.sigma, p.max_speed, p.max_accel);
+  int known_from = -1;
+  for (int k = 0; k <= 30; ++k) {
+    SCOPED_TRACE(k);
+    const double x = 0.5 + v * dt * k;
+    // Centres as the voxel grid gives them (float); the oracle takes the same numbers.
+    const pc::Detection c = cluster(x, 0.0, 0.9);
+    tracks.update((1000 + 100 * k) * kMs, {c});
+    if (k > 0) oracle.step(dt, static_cast<double>(c.centre.x()), p.sigma);
+    ASSERT_EQ(tracks.tracks().size(), 1u);
+    const wp::BoxObservation& t = tracks.tracks()[0];
+    EXPECT_EQ(t.id, "c1");  // one track all along
+    EXPECT_NEAR(t.position.x(), oracle.x(0), 1e-9);
+    EXPECT_NEAR(t.linear_velocity.x(), oracle.x(1), 1e-9);
+    EXPECT_NEAR(t.position_error, 3.0 * std::sqrt(oracle.P(0, 0)), 1e-9);
+    EXPECT_NEAR(t.velocity_error, 3.0 * std::sqrt(oracle.P(1, 1)), 1e-9);
+    EXPECT_EQ(t.velocity_known, 3.0 * std::sqrt(oracle.P(1, 1)) <= 1.0);
+    if (t.velocity_known && known_from < 0) known_from = k;
+    // The truth is within the stated errors once the filter has settled (k >= 3).
+    if (k >= 3) {
+      EXPECT_LE(std::abs(t.position.x() - x), t.position_error);
+      EXPECT_LE(std::abs(t.linear_velocity.x() - v), t.velocity_error);
+    }
+  }
+  EXPECT_GE(known_from, 1);
+  EXPECT_LE(known_from, 5);
+  EXPECT_NEAR(tracks.tracks()[0].linear_velocity.x(), v, 0.05);
+}
+
+TEST(ClusterTracks, AClusterThatLeavesIsGoneInTheNextFrame) {
+  pc::ClusterTracks tracks{pc::ClusterTrackParams()};
+  tracks.update(1000 * kMs, {cluster(1.0, 0.0, 0.9)});
+  ASSERT_EQ(tracks.tracks().size(), 1u);
+  tracks.update(1033 * kMs, {});
+  EXPECT_TRUE(tracks.tracks().empty());
+  // Back again: a new track, a new id, its velocity unknown again.
+  tracks.update(1066 * kMs, {cluster(1.0, 0.0, 0.9)});
+  ASSERT_EQ(tracks.tracks().size(), 1u);
+  EXPECT_EQ(tracks.tracks()[0].id, "c2");
+  EXPECT_FALSE(tracks.tracks()[0].velocity_known);
+}
+
+TEST(ClusterTracks, ALateSensorsFrameIsAppliedAtTheNewestStampWithItsNoiseGrown) {
+  pc::ClusterTrackParams p;
+  p.sigma = 0.05;
+  p.max_speed = 2.0;
+  pc::ClusterTracks tracks(p);
+  // Sensor A at 1.000 s sees the object at x = 1.0; sensor B's frame of 0.950 s comes after.
+  tracks.update(1000 * kMs, {cluster(1.0, 0.0, 0.9)});
+  EXPECT_EQ(tracks.update(950 * kMs, {cluster(1.06, 0.0, 0.9)}), pc::ClusterFrameUse::kLate);
+  EXPECT_EQ(tracks.late(), 1);
+  EXPECT_EQ(tracks.stamp(), 1000 * kMs);
+  ASSERT_EQ(tracks.tracks().size(), 1u);
+  // By hand: B's variance 0.05^2 + (2 x 0.05 / 3)^2; no time passes (dt = 0), so the update is
+  // the variance-weighted mean of A's estimate (variance 0.05^2) and B's centre.
+  const double pa = 0.05 * 0.05;
+  const double rb = pa + std::pow(2.0 * 0.05 / 3.0, 2);
+  const double gain = pa / (pa + rb);
+  const double x = 1.0 + gain * (static_cast<double>(1.06f) - 1.0);
+  const wp::BoxObservation& t = tracks.tracks()[0];
+  EXPECT_NEAR(t.position.x(), x, 1e-6);
+  EXPECT_NEAR(t.position_error, 3.0 * std::sqrt((1.0 - gain) * pa), 1e-9);
+}
+
+TEST(ClusterTracks, AFrameBeyondTheMergeGapIsDroppedAndCounted) {
+  pc::ClusterTrackParams p;
+  p.max_merge_gap = 0.2;
+  pc::ClusterTracks tracks(p);
+  tracks.update(1000 * kMs, {cluster(1.0, 0.0, 0.9)});
+  EXPECT_EQ(tracks.update(700 * kMs, {}), pc::ClusterFrameUse::kTooLate);
+  EXPECT_EQ(tracks.tooLate(), 1);
+  ASSERT_EQ(tracks.tracks().size(), 1u);  // the empty frame changed nothing
+  EXPECT_EQ(tracks.stamp(), 1000 * kMs);
+}
+
+TEST(ClusterTracks, BadParametersAreNamed) {
+  pc::ClusterTrackParams p;
+  EXPECT_TRUE(pc::validate(p).empty());
+  p.sigma = 0.0;
+  ASSERT_FALSE(pc::validate(p).empty());
+  EXPECT_NE(pc::validate(p).front().find("sigma"), std::string::npos);
+  p = pc::ClusterTrackParams();
+  p.tracker.max_misses = 0;
+  ASSERT_FALSE(pc::validate(p).empty());
+  EXPECT_NE(pc::validate(p).front().find("max_misses"), std::string::npos);
+  EXPECT_THROW(pc::ClusterTracks{p}, std::invalid_argument);
+}
+
+TEST(ClusterTracks, SteadyStateFramesAllocateNothing) {
+  pc::ClusterTracks tracks{pc::ClusterTrackParams()};
+  std::vector<pc::Detection> frame = {cluster(1.0, 0.0, 0.9), cluster(-1.0, 0.5, 0.9),
+                                      cluster(0.0, -1.5, 0.9)};
+  for (int k = 0; k < 5; ++k) tracks.update((1000 + 33 * k) * kMs, frame);
+  const long before = wp_test::allocationCount();
+  for (int k = 5; k < 50; ++k) {
+    for (pc::Detection& d : frame) d.centre.x() += 0.03f;
+    tracks.update((1000 + 33 * k) * kMs, frame);
+  }
+  EXPECT_EQ(wp_test::allocationCount() - before, 0);
+  EXPECT_EQ(tracks.tracks().size(), 3u);
+}
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
