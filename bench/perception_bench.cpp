@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 #include <limits>
 #include <random>
@@ -81,7 +82,10 @@ std::string machine() {
   std::string l1;
   load >> l1;
   std::ostringstream s;
-  s << model << ", " << std::thread::hardware_concurrency() << " cores, load average " << l1
+  char when[32];
+  const std::time_t now = std::time(nullptr);
+  std::strftime(when, sizeof when, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  s << model << ", " << std::thread::hardware_concurrency() << " cores; " << when << "; load average " << l1
     << " at the start";
   return s.str();
 }
