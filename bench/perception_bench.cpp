@@ -1,8 +1,9 @@
 // Perception benchmark (issue 23): the front end's per-frame rules on one core.
-//   1. One 640 x 480 organised cloud (307 200 points), cloud in to clusters out
-//      (CloudFrame::process: transform, NaNs, crop, floor, self-filter, voxels, clusters).
+//   1. One 640 x 480 organised cloud (307 200 points), cloud in to tracked boxes out
+//      (CloudFrame::process: transform, NaNs, crop, floor, self-filter, voxels, clusters; then
+//      ClusterTracks::update, as cloud_tracker does before it publishes perceived_objects).
 //   2. The unseen share of the protective volume for that frame (UnseenShare::compute).
-//   3. A 1 000-beam floor scan, ranges in to clusters out (scanToPoints + CloudFrame::process).
+//   3. A 1 000-beam floor scan, ranges in to tracked boxes out (processScan + ClusterTracks).
 //   4. The peers on the same frame, in the same rounds as 1 (alternating, order rotated each
 //      round): PCL's VoxelGrid + EuclideanClusterExtraction when built with
 //      -DWP_BENCH_PERCEPTION_PEERS=ON, octomap's OcTree::insertPointCloud when liboctomap-dev is
@@ -30,6 +31,7 @@
 #include <vector>
 
 #include "workspace_proximity/perception/cloud_frame.hpp"
+#include "workspace_proximity/perception/cluster_tracks.hpp"
 #include "workspace_proximity/perception/laser_scan.hpp"
 #include "workspace_proximity/perception/unseen_share.hpp"
 #include "perception_peers.hpp"
@@ -209,7 +211,7 @@ int main(int argc, char** argv) {
   peer_settings.min_cluster_size = 1;
   peer_settings.max_range = 6.0f;
   std::vector<Contestant> contestants;
-  contestants.push_back({Kind::kOurs, "ours: CloudFrame::process", "transform, NaNs, crop, floor, self-filter, voxels, clusters", 1, {}, {}, {}});
+  contestants.push_back({Kind::kOurs, "ours: CloudFrame::process + ClusterTracks::update", "transform, NaNs, crop, floor, self-filter, voxels, clusters, tracks", 1, {}, {}, {}});
 #ifdef WP_BENCH_PCL
   peers::PclPeer pcl_peer(peer_frame, peer_settings);
   contestants.push_back({Kind::kPcl, "PCL 1.13: VoxelGrid + EuclideanClusterExtraction",
@@ -223,6 +225,9 @@ int main(int argc, char** argv) {
   contestants.push_back({Kind::kOctomapWhole, "octomap 1.9: OcTree::insertPointCloud, whole frame", "every finite point of the frame, rays from the sensor, 5 cm, max range 6 m, one persistent tree", octomap_every, {}, {}, {}});
 #endif
   const int n_contestants = static_cast<int>(contestants.size());
+  // Ours goes on to boxes with ids and velocities, as cloud_tracker publishes them: the
+  // clusters into the tracker (pc::ClusterTracks, its defaults).
+  pc::ClusterTracks cloud_tracks{pc::ClusterTrackParams()};
   // One round runs every contestant once (the octomap rows every octomap_every-th round), in
   // an order rotated by one each round, so that whatever the machine does meanwhile falls on
   // all of them alike.
@@ -236,6 +241,7 @@ int main(int argc, char** argv) {
         const auto t0 = Clock::now();
         frame.setRobot(links.data(), static_cast<int>(links.size()), 0.01);
         frame.process(view, cam_f);
+        cloud_tracks.update(static_cast<wp::Stamp>(i) * 33333333, frame.detections());  // 30 Hz
         const auto t1 = Clock::now();
         unseen.compute(links.data(), static_cast<int>(links.size()), ssm_reach, params.self_padding,
                        params.floor_height + params.floor_tolerance, &sight, 1);
@@ -290,10 +296,12 @@ int main(int argc, char** argv) {
   const Eigen::Isometry3f scan_pose(Eigen::Translation3f(scanner.cast<float>()) *
                                     Eigen::AngleAxisf(static_cast<float>(M_PI / 2), Eigen::Vector3f::UnitZ()));
   pc::ScanResult sr;
+  pc::ClusterTracks scan_tracks{pc::ClusterTrackParams()};
   for (int i = 0; i < frames * 10 + 10; ++i) {
     const auto t0 = Clock::now();
     frame.setRobot(links.data(), static_cast<int>(links.size()), 0.01);
     frame.processScan(scan, band, scan_pose);
+    scan_tracks.update(static_cast<wp::Stamp>(i) * 25000000, frame.detections());  // 40 Hz
     sr = frame.scanResult();
     const auto t1 = Clock::now();
     if (i >= 10) scan_ms.push_back(ms(t1 - t0));
@@ -309,13 +317,13 @@ int main(int argc, char** argv) {
     << ssm_reach << " m).\n\n"
     << "| stage | input | median ms | p90 ms | p99 ms | target |\n|---|---|---:|---:|---:|---|\n";
   char line[512];
-  std::snprintf(line, sizeof line, "| cloud in -> clusters out | 640 x 480 organised (307 200 points) | %.2f | %.2f | %.2f | <= 5 ms median |\n",
+  std::snprintf(line, sizeof line, "| cloud in -> tracked boxes out | 640 x 480 organised (307 200 points) | %.2f | %.2f | %.2f | <= 5 ms median |\n",
                 percentile(cloud_ms, 0.5), percentile(cloud_ms, 0.9), percentile(cloud_ms, 0.99));
   o << line;
   std::snprintf(line, sizeof line, "| unseen share of the protective volume | %lld voxels within R, 1 camera | %.2f | %.2f | %.2f | - |\n",
                 static_cast<long long>(us.protective), percentile(unseen_ms, 0.5), percentile(unseen_ms, 0.9), percentile(unseen_ms, 0.99));
   o << line;
-  std::snprintf(line, sizeof line, "| scan in -> clusters out | 1 000 beams x %d layers | %.3f | %.3f | %.3f | <= 0.5 ms median |\n",
+  std::snprintf(line, sizeof line, "| scan in -> tracked boxes out | 1 000 beams x %d layers | %.3f | %.3f | %.3f | <= 0.5 ms median |\n",
                 band.layers(), percentile(scan_ms, 0.5), percentile(scan_ms, 0.9), percentile(scan_ms, 0.99));
   o << line << "\n";
   // The peers on the same frame, in the same rounds: ratio = the row's median (mean, p99) /
@@ -373,7 +381,8 @@ int main(int argc, char** argv) {
     << us.share << "; " << us.outside_fov << " outside the view, " << us.shadowed << " shadowed; "
     << us.walks << " lines of sight walked).\n"
     << "Scan: " << sr.beams << " valid beams, " << sr.points << " points, " << ss.clusters
-    << " clusters.\n";
+    << " clusters; tracks: " << cloud_tracks.tracks().size() << " from the cloud, " << scan_tracks.tracks().size()
+    << " from the scan.\n";
   std::fputs(o.str().c_str(), stdout);
   if (!out_path.empty()) std::ofstream(out_path) << o.str();
   return 0;
