@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <limits>
 #include <stdexcept>
 
 #include <boost/make_shared.hpp>
@@ -129,35 +131,58 @@ CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
   p.ssm_reach = readNumber(pnh, "ssm_reach", p.ssm_reach, 0.0, 100.0);
   p.unseen_limit = readNumber(pnh, "unseen_limit", p.unseen_limit, 0.0, 1.0);
   p.unseen_rate = readNumber(pnh, "unseen_rate", p.unseen_rate, 0.1, 100.0);
+  p.status_rate = readNumber(pnh, "status_rate", p.status_rate, 0.1, 1000.0);
+  const std::string unseen = pnh.param<std::string>("unseen", "ignore");
+  if (unseen != "ignore" && unseen != "occupied") fail("unseen", "must be 'ignore' or 'occupied'");
+  p.unseen_occupied = unseen == "occupied";
+  p.unseen_max_boxes = static_cast<int>(readNumber(pnh, "unseen_max_boxes", p.unseen_max_boxes, 1, 10000));
   XmlRpc::XmlRpcValue views;
   if (pnh.getParam("sensor_fov", views)) {
     if (views.getType() != XmlRpc::XmlRpcValue::TypeStruct) fail("sensor_fov", "must map topics to views");
-    for (auto it = views.begin(); it != views.end(); ++it) {
-      const std::string where = "sensor_fov/" + it->first;
-      const XmlRpc::XmlRpcValue& v = it->second;
-      if (v.getType() != XmlRpc::XmlRpcValue::TypeStruct) fail(where, "must be {azimuth, elevation, range, optical}");
-      CloudTrackerParams::View view;
-      auto pair = [&](const char* key, double* lo, double* hi) {
-        if (!v.hasMember(key)) fail(where, std::string("needs ") + key + ": [min, max]");
-        const XmlRpc::XmlRpcValue& x = const_cast<XmlRpc::XmlRpcValue&>(v)[key];
-        if (x.getType() != XmlRpc::XmlRpcValue::TypeArray || x.size() != 2) fail(where + "/" + key, "must be [min, max]");
-        *lo = number(x[0], where + "/" + key);
-        *hi = number(x[1], where + "/" + key);
-        if (!std::isfinite(*lo) || !std::isfinite(*hi) || *lo > *hi) fail(where + "/" + key, "must be finite, min <= max");
-      };
-      pair("azimuth", &view.fov.azimuth_min, &view.fov.azimuth_max);
-      pair("elevation", &view.fov.elevation_min, &view.fov.elevation_max);
-      pair("range", &view.fov.range_min, &view.fov.range_max);
-      if (v.hasMember("optical")) {
-        const XmlRpc::XmlRpcValue& o = const_cast<XmlRpc::XmlRpcValue&>(v)["optical"];
-        if (o.getType() != XmlRpc::XmlRpcValue::TypeBoolean) fail(where + "/optical", "must be true or false");
-        view.optical = static_cast<bool>(const_cast<XmlRpc::XmlRpcValue&>(o));
+    // The parameter server splits keys at '/': a topic "cam/points" arrives as {cam: {points:
+    // view}}. A struct with "azimuth" is a view; any other is a level of its topic's name.
+    // (A key with a leading '/' is put outside the node's namespace by rosparam: write the
+    // topic without it; "cam/points" is matched against "/cam/points" too.)
+    std::function<void(const XmlRpc::XmlRpcValue&, const std::string&)> collect;
+    collect = [&](const XmlRpc::XmlRpcValue& level, const std::string& path) {
+      for (auto it = const_cast<XmlRpc::XmlRpcValue&>(level).begin();
+           it != const_cast<XmlRpc::XmlRpcValue&>(level).end(); ++it) {
+        const std::string name = path.empty() ? it->first : path + "/" + it->first;
+        const std::string where = "sensor_fov/" + name;
+        const XmlRpc::XmlRpcValue& v = it->second;
+        if (v.getType() != XmlRpc::XmlRpcValue::TypeStruct) fail(where, "must be {azimuth, elevation, range, optical}");
+        if (!v.hasMember("azimuth") && !v.hasMember("elevation") && !v.hasMember("range")) {
+          collect(v, name);
+          continue;
+        }
+        CloudTrackerParams::View view;
+        auto pair = [&](const char* key, double* lo, double* hi) {
+          if (!v.hasMember(key)) fail(where, std::string("needs ") + key + ": [min, max]");
+          const XmlRpc::XmlRpcValue& x = const_cast<XmlRpc::XmlRpcValue&>(v)[key];
+          if (x.getType() != XmlRpc::XmlRpcValue::TypeArray || x.size() != 2) fail(where + "/" + key, "must be [min, max]");
+          *lo = number(x[0], where + "/" + key);
+          *hi = number(x[1], where + "/" + key);
+          if (!std::isfinite(*lo) || !std::isfinite(*hi) || *lo > *hi) fail(where + "/" + key, "must be finite, min <= max");
+        };
+        pair("azimuth", &view.fov.azimuth_min, &view.fov.azimuth_max);
+        pair("elevation", &view.fov.elevation_min, &view.fov.elevation_max);
+        pair("range", &view.fov.range_min, &view.fov.range_max);
+        if (v.hasMember("optical")) {
+          const XmlRpc::XmlRpcValue& o = const_cast<XmlRpc::XmlRpcValue&>(v)["optical"];
+          if (o.getType() != XmlRpc::XmlRpcValue::TypeBoolean) fail(where + "/optical", "must be true or false");
+          view.optical = static_cast<bool>(const_cast<XmlRpc::XmlRpcValue&>(o));
+        }
+        std::string topic;
+        for (const std::vector<std::string>* list : {&p.cloud_topics, &p.scan_topics}) {
+          for (const std::string& t : *list) {
+            if (t == name || t == "/" + name) topic = t;
+          }
+        }
+        if (topic.empty()) fail(where, "not one of ~cloud_topics or ~scan_topics");
+        p.views[topic] = view;
       }
-      const bool known = std::count(p.cloud_topics.begin(), p.cloud_topics.end(), it->first) +
-                         std::count(p.scan_topics.begin(), p.scan_topics.end(), it->first) > 0;
-      if (!known) fail(where, "not one of ~cloud_topics or ~scan_topics");
-      p.views[it->first] = view;
-    }
+    };
+    collect(views, "");
   }
   pc::ClusterTrackParams& t = p.tracks;
   t.max_speed = readNumber(pnh, "track_max_speed", t.max_speed, 0.01, 100.0);
@@ -185,9 +210,15 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
   }
   health_ = std::make_unique<pc::SensorHealth>(names, params_.source_timeout, nowNs());
   unseen_.configure(frames_.front()->grid());
+  if (params_.unseen_occupied) {
+    unseen_boxes_ = std::make_unique<pc::UnseenBoxes>(params_.unseen_max_boxes);
+    unseen_boxes_->configure(frames_.front()->grid());
+    for (int k = 0; k < params_.unseen_max_boxes; ++k) unseen_ids_.push_back("unseen_" + std::to_string(k + 1));
+  }
   sights_.resize(names.size());
   sensor_pose_.assign(names.size(), Eigen::Isometry3d::Identity());
   last_frame_ns_.assign(names.size(), -1);
+  last_stamp_.assign(names.size(), ros::Time());
   for (const std::string& n : names) {
     const auto it = params_.views.find(n);
     view_.push_back(it == params_.views.end() ? nullptr : &it->second);
@@ -199,6 +230,7 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
   params_.tracks.tracker.max_misses = static_cast<int>(names.size());
   tracks_ = std::make_unique<pc::ClusterTracks>(params_.tracks);
   objects_ = nh_.advertise<TrackedBoxArray>("perceived_objects", 2);
+  status_ = nh_.advertise<PerceptionStatus>("perception_status", 2);
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("cloud_tracker", this, &CloudTracker::diagnose);
 
@@ -216,6 +248,8 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
         params_.scan_topics[j], 2, [this, s](const sensor_msgs::LaserScanConstPtr& m) { onScan(s, m); }));
   }
   diag_timer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
+  status_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.status_rate),
+                                  [this](const ros::TimerEvent&) { publishStatus(); });
   unseen_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.unseen_rate),
                                   [this](const ros::TimerEvent&) { updateUnseen(); });
 }
@@ -249,12 +283,23 @@ void CloudTracker::updateUnseen() {
       sight.fov.pose.linear() = sensor_pose_[s].linear() * optical_body;
     }
     sight.grid = &frames_[s]->grid();
+    if (count == 1 || last_stamp_[s] < unseen_stamp_) unseen_stamp_ = last_stamp_[s];
   }
+  if (count == 0) unseen_stamp_ = ros::Time::now();
   unseen_result_ = unseen_.compute(links_.data(), static_cast<int>(links_.size()), params_.ssm_reach,
                                    params_.frame.self_padding,
                                    params_.frame.floor_height + params_.frame.floor_tolerance,
                                    sights_.data(), count);
   unseen_problem_ = unseen_result_.refused ? "unseen share unknown: a robot link's pose or shape refused" : "";
+  if (unseen_boxes_ != nullptr) {
+    // ~unseen: occupied: what no sensor sees near the robot is taken as an object there. With
+    // the share unknown the status is DEGRADED (and the scale at degraded_scale) anyway.
+    if (unseen_problem_.empty()) {
+      unseen_boxes_->build(frames_.front()->grid(), unseen_.unseenCells());
+    } else {
+      unseen_boxes_->build(frames_.front()->grid(), {});
+    }
+  }
   if (markers_.getNumSubscribers() == 0 || !unseen_problem_.empty()) return;
   // The unseen voxels of the protective volume, grey.
   const perception::VoxelGrid& grid = frames_.front()->grid();
@@ -407,6 +452,7 @@ void CloudTracker::finish(int s, const std_msgs::Header& header, const std::stri
   const pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
   health_->frameUsed(s, nowNs(), frame.stats(), robot_problem);
   last_frame_ns_[static_cast<std::size_t>(s)] = nowNs();
+  last_stamp_[static_cast<std::size_t>(s)] = header.stamp;
   publishTracks(s, header);
   if (markers_.getNumSubscribers() > 0) publishMarkers(s, header);
 }
@@ -454,6 +500,27 @@ void CloudTracker::publishTracks(int s, const std_msgs::Header& header) {
     b.twist.linear.z = v.z();
     b.position_error = t.position_error;
     b.velocity_error = t.velocity_known ? t.velocity_error : 0.0;
+  }
+  if (unseen_boxes_ != nullptr) {
+    // The unseen boxes of the latest unseen share, velocity unknown: the monitor grows them at
+    // the `unseen` label's max_speed, so a person in the arm's shadow stops the arm.
+    const std::vector<pc::CellBox>& boxes = unseen_boxes_->boxes();
+    for (std::size_t k = 0; k < boxes.size(); ++k) {
+      TrackedBox& b = out.boxes.emplace_back();
+      b.id = unseen_ids_[k];
+      b.label = "unseen";
+      b.pose.position.x = boxes[k].centre.x();
+      b.pose.position.y = boxes[k].centre.y();
+      b.pose.position.z = boxes[k].centre.z();
+      b.pose.orientation.w = 1.0;
+      b.dimensions.x = boxes[k].size.x();
+      b.dimensions.y = boxes[k].size.y();
+      b.dimensions.z = boxes[k].size.z();
+      b.velocity_unknown = true;
+      // Seen (not seen) at unseen_stamp_, published at the array's later stamp: what was
+      // there may have moved in between, at most track_max_speed.
+      b.position_error = params_.tracks.max_speed * std::max(0.0, (out.header.stamp - unseen_stamp_).toSec());
+    }
   }
   objects_.publish(msg);
 }
@@ -512,17 +579,32 @@ void CloudTracker::publishMarkers(int s, const std_msgs::Header& header) {
   markers_.publish(marker_msg_);
 }
 
-void CloudTracker::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
-  std::vector<std::string> reasons;
-  health_->degradedReasons(nowNs(), &reasons);
+void CloudTracker::degradedReasons(std::vector<std::string>* reasons) {
+  health_->degradedReasons(nowNs(), reasons);
   char share[160];
   if (!unseen_problem_.empty()) {
-    reasons.push_back(unseen_problem_);
+    reasons->push_back(unseen_problem_);
   } else if (unseen_result_.share > params_.unseen_limit) {
     std::snprintf(share, sizeof share, "unseen share %.3f of the protective volume above unseen_limit %.3f",
                   unseen_result_.share, params_.unseen_limit);
-    reasons.push_back(share);
+    reasons->push_back(share);
   }
+}
+
+void CloudTracker::publishStatus() {
+  const boost::shared_ptr<PerceptionStatus> msg = boost::make_shared<PerceptionStatus>();
+  msg->header.stamp = ros::Time::now();
+  msg->header.frame_id = params_.fixed_frame;
+  degradedReasons(&msg->reasons);
+  msg->degraded = !msg->reasons.empty();
+  msg->unseen_share = unseen_problem_.empty() ? unseen_result_.share
+                                              : std::numeric_limits<double>::quiet_NaN();
+  status_.publish(msg);
+}
+
+void CloudTracker::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  std::vector<std::string> reasons;
+  degradedReasons(&reasons);
   if (reasons.empty()) {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "seeing");
   } else {

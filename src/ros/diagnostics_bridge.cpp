@@ -64,6 +64,10 @@ void diagnose(const MonitorBridges& bridges, Stamp now, const std::string& finge
     status->add("speed scale reason", ssm.reason);
     status->addf("speed and separation reach (m)", "%.2f", counts.ssm_reach);
   }
+  if (monitor.perception().size() > 0) {
+    // NaN: unknown (a front end silent, or its share not computed yet).
+    status->addf("unseen share", "%.3f", report.unseen_share);
+  }
   const SourceTable& sources = monitor.sources();
   for (int i = 0; i < sources.size(); ++i) {
     const Source& s = sources.source(i);

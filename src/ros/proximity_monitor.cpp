@@ -6,6 +6,8 @@
 #include <stdexcept>
 
 #include "workspace_proximity/rules/config_fingerprint.hpp"
+#include <workspace_proximity/PerceptionStatus.h>
+
 #include "workspace_proximity/ros/conversions.hpp"
 #include "workspace_proximity/ros/diagnostics_bridge.hpp"
 #include "workspace_proximity/ros/reconfigure_bridge.hpp"
@@ -91,6 +93,16 @@ ProximityMonitor::ProximityMonitor(const ros::NodeHandle& nh, const ros::NodeHan
           onAnyMessage(static_cast<int>(i), *msg);
         },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+  }
+  // Perception front ends' health (issue 23): a degraded or silent one makes the status
+  // DEGRADED (Monitor::perception, perception_health.hpp).
+  for (std::size_t i = 0; i < params_.perception_status_topics.size(); ++i) {
+    subscribers_.push_back(nh_.subscribe<PerceptionStatus>(
+        params_.perception_status_topics[i], 2,
+        [this, i](const PerceptionStatus::ConstPtr& msg) {
+          bridges_->onPerceptionStatus(static_cast<int>(i), toStamp(ros::Time::now()),
+                                       msg->degraded, msg->reasons, msg->unseen_share);
+        }));
   }
   diagnostics_.setHardwareID("workspace_proximity");
   diagnostics_.add("proximity monitor", [this](diagnostic_updater::DiagnosticStatusWrapper& s) {

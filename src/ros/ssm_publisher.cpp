@@ -35,6 +35,7 @@ void fillSafetyStatus(const CycleReport& report, const ProximityWorld& world,
   out->approach_speed = v.approach_speed;
   out->status = report.degraded ? SafetyStatus::DEGRADED : SafetyStatus::OK;
   out->reason = v.reason;
+  out->unseen_share = report.unseen_share;
   if (v.latch != nullptr) {
     const LatchState& l = *v.latch;
     out->stopped = l.stopped;

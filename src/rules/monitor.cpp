@@ -22,7 +22,8 @@ Monitor::Monitor(const MonitorParams& params, std::vector<RobotBodySpec> robot,
       sources_(sources, qualify),
       tracks_(&world_, &labels_, params_.max_tracks, BoxLimits(), &drops_, sink),
       robot_(&world_, std::move(robot), params_.robot_margin),
-      ssm_(params_.ssm) {}
+      ssm_(params_.ssm),
+      perception_(params_.perception_status_topics) {}
 
 namespace {
 
@@ -103,6 +104,7 @@ void Monitor::reset() {
   tracks_.clear();
   robot_.clear();
   sources_.reset();
+  perception_.reset();
   ssm_.reset();
 }
 
@@ -142,6 +144,9 @@ void Monitor::buildStatus(Stamp now) {
                        params_.track_timeout, &report_.status_lines);
   robot_.statusLines(&report_.status_lines);
   for (const std::string& line : permanent_issues_) report_.status_lines.push_back(line);
+  // A perception front end degraded or silent (as a source: ~source_timeout) is DEGRADED.
+  perception_.statusLines(now, params_.source_timeout, &report_.status_lines);
+  report_.unseen_share = perception_.unseenShare(now, params_.source_timeout);
   report_.degraded = !report_.status_lines.empty();
 }
 

@@ -31,6 +31,8 @@ constexpr ParamRow kParams[] = {
      "tracked objects kept at most; beyond it the ones nearest the robot win"},
     {"input_topics", WP_M(input_topics), kWiring, 0, 0, nullptr, "", "",
      "TrackedBoxArray topics; empty: the single topic tracked_objects"},
+    {"perception_status_topics", WP_M(perception_status_topics), kWiring, 0, 0, nullptr, "", "",
+     "PerceptionStatus topics of perception front ends; a degraded or silent one: DEGRADED"},
     {"cycle_trigger", WP_M(cycle_trigger), kWiring, 0, 0, nullptr, "", "",
      "when a cycle runs: 'timer' (every 1 / rate s) or 'input' (on an array of trigger_source)"},
     {"trigger_source", WP_M(trigger_source), kWiring, 0, 0, nullptr, "", "",

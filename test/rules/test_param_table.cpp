@@ -174,13 +174,13 @@ TEST(ParamTable, ValidateAppliesEachLabelRangeToLabelsAndTheRobotsThresholds) {
 TEST(ParamTable, KeepWiringKeepsWhatSetParamsRestoredByHand) {
   // Monitor::setParams restored these 12 by hand before the table; require_all_links,
   // use_joint_states and trajectory_topic are fixed at start-up by the node too, and so is
-  // audit_log (the file opened at start-up).
+  // audit_log (the file opened at start-up), and perception_status_topics (subscribed then).
   const std::set<std::string> wiring = {
       "fixed_frame", "input_topics", "use_robot_description", "robot_description_param",
       "robot_bodies", "cycle_trigger", "trigger_source", "ssm/enabled",
       "ssm/stop_trajectory_topics", "ssm/stop_event_topics", "ssm/cmd_vel_in", "ssm/cmd_vel_out",
       "ssm/halt_service", "ssm/halt_topic", "require_all_links", "use_joint_states", "trajectory_topic",
-      "audit_log"};
+      "audit_log", "perception_status_topics"};
   std::set<std::string> wiring_rows;
   for (const wp::ParamRow& row : wp::paramTable()) {
     if (row.tuning == wp::Tuning::kWiring) wiring_rows.insert(row.name);

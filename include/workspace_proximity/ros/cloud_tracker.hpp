@@ -21,11 +21,13 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <workspace_proximity/PerceptionStatus.h>
 #include <workspace_proximity/TrackedBoxArray.h>
 
 #include "workspace_proximity/perception/cloud_frame.hpp"
 #include "workspace_proximity/perception/cluster_tracks.hpp"
 #include "workspace_proximity/perception/sensor_health.hpp"
+#include "workspace_proximity/perception/unseen_boxes.hpp"
 #include "workspace_proximity/perception/unseen_share.hpp"
 #include "workspace_proximity/rules/monitor_params.hpp"
 
@@ -51,6 +53,11 @@ struct CloudTrackerParams {
   double ssm_reach = 1.5;
   double unseen_limit = 0.3;     ///< share above which the status is DEGRADED
   double unseen_rate = 5.0;      ///< Hz
+  double status_rate = 10.0;     ///< Hz, perception_status (PerceptionStatus) for the monitor
+  /// ~unseen: "ignore", or "occupied": the unseen protective voxels go to the monitor as boxes
+  /// (label `unseen`, velocity unknown) beside the tracks, at most `unseen_max_boxes`.
+  bool unseen_occupied = false;
+  int unseen_max_boxes = 64;
   struct View {
     perception::SensorFov fov;   ///< pose unused: the sensor's frame at its frame's stamp
     bool optical = false;
@@ -82,6 +89,10 @@ class CloudTracker {
   // The frame's clusters into the tracker, its tracks on perceived_objects.
   void publishTracks(int sensor, const std_msgs::Header& header);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+  // Every reason the front end is DEGRADED now (each naming its sensor or the unseen share).
+  void degradedReasons(std::vector<std::string>* reasons);
+  // perception_status: the reasons and the unseen share, for the monitor.
+  void publishStatus();
   // The unseen share of the protective volume from every sensor's latest frame.
   void updateUnseen();
   std::int64_t nowNs() const { return static_cast<std::int64_t>(ros::Time::now().toNSec()); }
@@ -101,6 +112,8 @@ class CloudTracker {
   diagnostic_updater::Updater diagnostics_;
   ros::Timer diag_timer_;
   ros::Timer unseen_timer_;
+  ros::Timer status_timer_;
+  ros::Publisher status_;  // perception_status
   perception::UnseenShare unseen_{64};  // sensors beyond 64 see nothing there (counted unseen)
   std::vector<perception::SensorSight> sights_;
   std::vector<Eigen::Isometry3d> sensor_pose_;      // per sensor: its frame at its last frame
@@ -108,6 +121,10 @@ class CloudTracker {
   std::vector<const CloudTrackerParams::View*> view_;  // per sensor, or null
   std::string unseen_problem_ = "not computed yet";  // "" when the share below is current
   perception::UnseenResult unseen_result_;
+  std::unique_ptr<perception::UnseenBoxes> unseen_boxes_;  // ~unseen: occupied
+  std::vector<std::string> unseen_ids_;                    // "unseen_<k>", made once
+  std::vector<ros::Time> last_stamp_;  // per sensor: the stamp of its last used frame
+  ros::Time unseen_stamp_;             // the oldest frame stamp the unseen share was made from
   visualization_msgs::MarkerArray marker_msg_;
 };
 

@@ -93,6 +93,11 @@ class MonitorBridges : private CycleFeed {
   void setParams(const MonitorParams& params) { monitor_.setParams(params); }
   /// Monitor::addPermanentIssue.
   void addPermanentIssue(const std::string& line) { monitor_.addPermanentIssue(line); }
+  /// A perception front end's status (~perception_status_topics[i]): PerceptionHealth.
+  void onPerceptionStatus(int i, Stamp now, bool degraded, const std::vector<std::string>& reasons,
+                          double unseen_share) {
+    monitor_.perception().onStatus(i, now, degraded, reasons, unseen_share);
+  }
 
   const Monitor& monitor() const { return monitor_; }
   /// The stop latch (reset, mute, joint speeds): Monitor::latch.

@@ -5,6 +5,7 @@
 /// fresh data (OK) or not (DEGRADED, with one line per reason). No output reads another's.
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,9 @@ struct CycleReport {
   std::vector<ReportedBody> bodies;  ///< live bodies: tracks, then robot bodies present
   bool degraded = false;
   std::vector<std::string> status_lines;  ///< one per reason the status is DEGRADED
+  /// Share of the protective volume no sensor saw, from ~perception_status_topics (the
+  /// largest); NaN without perception front ends, or while one's is unknown.
+  double unseen_share = std::numeric_limits<double>::quiet_NaN();
   WorldStats stats;
   SsmVerdict ssm;  ///< speed and separation monitoring: the speed scale and why
 

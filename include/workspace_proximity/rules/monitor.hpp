@@ -16,6 +16,7 @@
 #include "workspace_proximity/rules/drop.hpp"
 #include "workspace_proximity/rules/level_policy.hpp"
 #include "workspace_proximity/rules/monitor_params.hpp"
+#include "workspace_proximity/rules/perception_health.hpp"
 #include "workspace_proximity/rules/robot_bodies.hpp"
 #include "workspace_proximity/rules/source_table.hpp"
 #include "workspace_proximity/rules/ssm_cycle.hpp"
@@ -95,6 +96,10 @@ class Monitor {
   /// A problem that lasts as long as the node runs (e.g. a robot link that cannot be
   /// modelled): every cycle's status is DEGRADED with this line.
   void addPermanentIssue(const std::string& line) { permanent_issues_.push_back(line); }
+  /// The perception front ends' statuses (~perception_status_topics, in that order): the
+  /// bridges report each one received; the cycle's status and unseen share follow them.
+  PerceptionHealth& perception() { return perception_; }
+  const PerceptionHealth& perception() const { return perception_; }
 
   /// New parameters from now on (live tuning): horizon, timeouts, label margins and thresholds,
   /// the robot margin, pair rules and the track cap take effect at the next cycle; a changed
@@ -142,6 +147,7 @@ class Monitor {
   RobotBodies robot_;
   SsmCycle ssm_;
   std::vector<std::string> permanent_issues_;
+  PerceptionHealth perception_;
   CycleReport report_;
   std::string detail_;  // scratch for rejections
 

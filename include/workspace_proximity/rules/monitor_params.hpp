@@ -60,6 +60,9 @@ struct MonitorParams {
   double horizon = 2.0;         ///< s
   double track_timeout = 0.5;   ///< s
   std::vector<std::string> input_topics;  ///< empty: the single topic "tracked_objects"
+  /// Perception front ends' PerceptionStatus topics (cloud_tracker's perception_status): a
+  /// degraded or silent one makes the status DEGRADED (perception_health.hpp).
+  std::vector<std::string> perception_status_topics;
   double stale_after = 0.25;    ///< s; pairs with a track older than this are marked stale
   double source_timeout = 1.0;  ///< s without an array from a source -> DEGRADED
   double max_future = 0.5;      ///< s; arrays stamped further ahead of the clock are dropped
