@@ -290,6 +290,24 @@ int main(int argc, char** argv) {
     next_cloud = used + 1;
   }
   printSummary("cloud_to_perceived_objects", clouds, rx.perceived_ms);
+  // Where the slow ones fall: clouds more than 3 ms over the median to perceived_objects, by
+  // their index modulo 6 (a 5 Hz timer on the front end's queue keeps one phase against 30 Hz
+  // clouds: its collisions land on one residue).
+  if (!rx.perceived.empty()) {
+    const double median = percentile(rx.perceived_ms, 0.5);
+    int by_phase[6] = {0, 0, 0, 0, 0, 0};
+    int slow = 0;
+    for (std::size_t c = 0; c < rx.stamp_order.size(); ++c) {
+      const auto it = rx.perceived.find(rx.stamp_order[c]);
+      if (it == rx.perceived.end()) continue;
+      if ((it->second - rx.published_order[c]) * 1e3 > median + 3.0) {
+        ++slow;
+        ++by_phase[c % 6];
+      }
+    }
+    std::printf("note slow_perceived=%d (over median + 3 ms) by cloud index mod 6: %d %d %d %d %d %d\n", slow,
+                by_phase[0], by_phase[1], by_phase[2], by_phase[3], by_phase[4], by_phase[5]);
+  }
   if (rx.perceived_unmatched > 0) {
     std::printf("note perceived_objects unmatched=%zu (the warm-up clouds', or not a cloud's stamp)\n", rx.perceived_unmatched);
   }
