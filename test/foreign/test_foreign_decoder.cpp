@@ -570,17 +570,62 @@ TEST(ForeignDecoder, DerivedObjectsHonourDetectionLevelAndClassified) {
   }
 }
 
-TEST(ForeignDecoder, ObstacleCircles) {
+// obstacle_detector: the segment (0,0)-(1,0) and two circles (radius 0.5 with true_radius
+// 0.3; radius 0.8 with true_radius 0.6). Tracks in wire order: segments, then circles.
+TEST(ForeignDecoder, ObstacleSegmentsAndCircles) {
   wp::ForeignTrackArray out;
   const Sample message = obstacles();
-  ASSERT_TRUE(decodesTracks(message, 2u, &out));
-  EXPECT_EQ(out.ignored, 1u);
-  EXPECT_EQ(out.tracks[0].id_kind, wp::ForeignIdKind::kNone);
-  expectVec(out.tracks[0].position, 2, 3, 0);
-  expectVec(out.tracks[0].velocity, 0.4, 0, 0);
-  expectVec(out.tracks[0].dimensions, 0.6, 0.6, 0);  // the true radius, not the margin's
-  EXPECT_EQ(out.tracks[0].dimension_axes, wp::kAxesXY);
-  expectVec(out.tracks[1].dimensions, 1.2, 1.2, 0);
+  ASSERT_TRUE(decodesTracks(message, 3u, &out));
+  EXPECT_EQ(out.version->family, wp::ForeignFamily::kDetections);  // no ids: the tracker's
+  EXPECT_EQ(out.ignored, 0u);
+  const wp::ForeignTrack& s = out.tracks[0];
+  EXPECT_EQ(s.id_kind, wp::ForeignIdKind::kNone);
+  EXPECT_EQ(s.label, "segment");
+  expectVec(s.position, 0.5, 0, 0);  // the midpoint
+  EXPECT_EQ(s.position_axes, wp::kAxesXY);  // no z: obstacle_detector writes x and y
+  EXPECT_EQ(s.quaternion, Eigen::Vector4d(0, 0, 0, 1));  // along x: yaw 0
+  EXPECT_NEAR(s.dimensions.x(), 1.0, 1e-15);
+  EXPECT_EQ(s.dimension_axes, 0b001);  // the length only: thickness, height the label's
+  EXPECT_EQ(s.velocity_axes, wp::kAxesNone);
+  const wp::ForeignTrack& c = out.tracks[1];
+  EXPECT_EQ(c.id_kind, wp::ForeignIdKind::kNone);
+  EXPECT_TRUE(c.label.empty());
+  expectVec(c.position, 2, 3, 0);
+  EXPECT_EQ(c.position_axes, wp::kAxesXY);
+  // The message says 0.4 m/s, which obstacle_detector cannot tell from "not measured": unknown.
+  EXPECT_EQ(c.velocity_axes, wp::kAxesNone);
+  expectVec(c.velocity, 0, 0, 0);
+  expectVec(c.dimensions, 0.6, 0.6, 0);  // the true radius, not the margin's
+  EXPECT_EQ(c.dimension_axes, wp::kAxesXY);
+  expectVec(out.tracks[2].dimensions, 1.2, 1.2, 0);
+}
+
+// A segment's yaw and length, and the circle's radius where true_radius is not in (0, radius].
+TEST(ForeignDecoder, ObstacleSegmentYawAndInconsistentRadii) {
+  WireWriter w;
+  w.header(1, 2, 0, "map");
+  w.u32(1);
+  w.vec3(1, 1, 0);
+  w.vec3(1, 3, 0);  // along +y: yaw pi/2, length 2
+  w.u32(2);
+  w.vec3(0, 0, 0);
+  w.vec3(0, 0, 0);
+  w.f64(0.5);
+  w.f64(0.0);  // no true radius: the radius
+  w.vec3(0, 0, 0);
+  w.vec3(0, 0, 0);
+  w.f64(0.5);
+  w.f64(0.7);  // larger than radius: the radius
+  wp::ForeignTrackArray out;
+  const Sample message{"obstacle_detector/Obstacles", kObstaclesMd5, w.bytes};
+  ASSERT_TRUE(decodesTracks(message, 3u, &out));
+  expectVec(out.tracks[0].position, 1, 2, 0);
+  const double h = std::sqrt(0.5);
+  EXPECT_NEAR(out.tracks[0].quaternion.z(), h, 1e-15);
+  EXPECT_NEAR(out.tracks[0].quaternion.w(), h, 1e-15);
+  EXPECT_NEAR(out.tracks[0].dimensions.x(), 2.0, 1e-15);
+  expectVec(out.tracks[1].dimensions, 1.0, 1.0, 0);
+  expectVec(out.tracks[2].dimensions, 1.0, 1.0, 0);
 }
 
 TEST(ForeignDecoder, Detection3DArray) {
