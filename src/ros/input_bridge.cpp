@@ -199,6 +199,11 @@ class InputBridge::ForeignPlacement final : public ArrayPlacement {
         monitor.drop(Drop::kOutOfOrder, source_, "detections stamped before the previous message");
         return false;
       }
+      if (f.detections->skippedFrame() > 0) {
+        monitor.drop(Drop::kFrame, source_,
+                     std::to_string(f.detections->skippedFrame()) +
+                         " detections in another frame than the message's '" + frame_ + "'");
+      }
       fixed_from_frame->setIdentity();
       *boxes = &f.detections->tracks();
       return true;

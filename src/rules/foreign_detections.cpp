@@ -44,9 +44,18 @@ DetectionRefusal ForeignDetections::ingest(const ForeignTrackArray& array,
   const Eigen::Matrix3d rotation = fixed_from_frame.linear();
   const Eigen::Quaterniond frame_rotation(rotation);
   detections_.clear();
+  skipped_frame_ = 0;
+  // The message's frame as the input bridge places it: its header's, else its first element's.
+  const std::string_view frame = !array.frame_id.empty() || array.tracks.empty()
+                                     ? array.frame_id
+                                     : array.tracks.front().frame_id;
   const std::size_t room = static_cast<std::size_t>(params_.tracker.max_detections);
   for (const ForeignTrack& t : array.tracks) {
     if (detections_.size() >= room) break;  // the tracker would drop them: counted there
+    if (t.frame_id != frame) {
+      ++skipped_frame_;
+      continue;
+    }
     Detection d;
     const bool segment = t.label == kSegment;
     Eigen::Vector3d centre = t.position;

@@ -400,6 +400,35 @@ TEST(ForeignDetections, AShortSegmentTakesTheLeastLengthAndSegmentsKeepToTheirLa
   EXPECT_NE(segment->id, circle->id);
 }
 
+TEST(ForeignDetections, DetectionsInAnotherFrameAreSkippedAndCounted) {
+  // Detection3D and jsk boxes have headers of their own: one naming another frame than the
+  // message's is skipped (one message, one transform), never placed with the message's pose.
+  const Sequence s = readSequence("walk_detections3d");
+  wp::ForeignTrackArray array;
+  ASSERT_EQ(wp::decodeForeignTracks(s.type, s.md5, s.frames[0].bytes.data(),
+                                    s.frames[0].bytes.size(), &array),
+            wp::ForeignRefusal::kNone);
+  ASSERT_EQ(array.tracks.size(), 2u);
+  wp::ForeignDetectionParams p = params();
+  p.tracker.confirm_hits = 1;
+  wp::ForeignDetections same(p);
+  ASSERT_EQ(same.ingest(array, Eigen::Isometry3d::Identity()), wp::DetectionRefusal::kNone);
+  EXPECT_EQ(same.tracks().size(), 2u);
+  EXPECT_EQ(same.skippedFrame(), 0u);
+  array.tracks[1].frame_id = "elsewhere";
+  wp::ForeignDetections other(p);
+  ASSERT_EQ(other.ingest(array, Eigen::Isometry3d::Identity()), wp::DetectionRefusal::kNone);
+  EXPECT_EQ(other.skippedFrame(), 1u);
+  ASSERT_EQ(other.tracks().size(), 1u);
+  EXPECT_LT((other.tracks()[0].position - array.tracks[0].position).norm(), 1e-12);
+  // An empty array frame: the first element's is the message's (as the input bridge places it).
+  array.frame_id = {};
+  wp::ForeignDetections first(p);
+  ASSERT_EQ(first.ingest(array, Eigen::Isometry3d::Identity()), wp::DetectionRefusal::kNone);
+  EXPECT_EQ(first.skippedFrame(), 1u);
+  EXPECT_EQ(first.tracks().size(), 1u);
+}
+
 TEST(ForeignDetections, NoAllocationOnceWarm) {
   const Sequence s = readSequence("walk_detections3d");
   wp::ForeignDetections detections(params());

@@ -63,6 +63,11 @@ class ForeignDetections {
   /// Allocation-free once warm (up to the tracker's max_detections).
   DetectionRefusal ingest(const ForeignTrackArray& array, const Eigen::Isometry3d& fixed_from_frame);
 
+  /// Detections of the last ingest() skipped because their own header names another frame
+  /// than the message's (its header's, or where that is empty its first element's): one
+  /// message, one transform, so they are never placed with another frame's pose.
+  std::size_t skippedFrame() const { return skipped_frame_; }
+
   /// The confirmed tracks after the last ingest(), in the fixed frame at stamp() (views into
   /// the tracker: valid until the next ingest()).
   const std::vector<BoxObservation>& tracks() const { return tracker_.tracks(); }
@@ -73,6 +78,7 @@ class ForeignDetections {
   ForeignDetectionParams params_;
   MultiObjectTracker tracker_;
   std::vector<Detection> detections_;
+  std::size_t skipped_frame_ = 0;
 };
 
 }  // namespace workspace_proximity
