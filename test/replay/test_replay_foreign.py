@@ -23,6 +23,9 @@ sightings for a finite difference):
   post and a tracker id (t<n>), its contact instant never later than the analytic one (a new
   track's unknown velocity and the filter's errors may bring it earlier), and as many tracks
   as the scene has objects;
+- a spencer track with a position covariance (3 sigma 0.3045 m): its contact instant 1.24 s
+  earlier (the analytic one with that error rounded up to 0.31 m as margin) within 1 ms, and
+  its raw scale the formula's with what the error exceeds Z_d taken off the separation;
 - a foreign topic whose frame is never on tf ends the replay with exit status 5 naming it;
 - a bag of a known type with another md5 (one more field) is refused naming the field, and
   one of an unknown type name is refused naming it (exit status 4, a message, no crash).
@@ -30,6 +33,7 @@ sightings for a finite difference):
     test_replay_foreign.py REPLAY_BAG [unittest args]
 """
 import csv
+import math
 import os
 import shutil
 import subprocess
@@ -56,6 +60,7 @@ T0 = 100.0
 CONTACT = T0 + (START_X - 0.3 - 0.5) / SPEED
 SKIP = 0.5
 TRACKS = {"obstacles": 2}  # the person and the wall segment
+VARIANCE = 0.0103  # m^2: test_a_covariance_widens_the_margin
 CONFIGS = [os.path.join(ROOT, "test", "ros", "fixtures", "common_params.yaml"),
            os.path.join(ROOT, "test", "ros", "fixtures", "foreign_params.yaml")]
 
@@ -190,6 +195,46 @@ class ReplayForeign(unittest.TestCase):
             self.assertLessEqual(instant, CONTACT + 5e-3, "%s: late at %s" % (family, c["stamp"]))
             self.assertEqual(int(c["tracks"]), TRACKS.get(family, 1), "%s at %s" % (
                 family, c["stamp"]))
+
+    def test_a_covariance_widens_the_margin(self):
+        # spencer v2 with a position variance of 0.0103 m^2 on x, y and z: the track's own 3
+        # sigma position error is 3 sqrt(0.0103) = 0.3045 m, which the margin takes rounded up
+        # to the centimetre, 0.31 m (docs/node.md: "A track's own uncertainty"; the label's is
+        # 0), so the faces' gap 0.8 - 0.25 t closes at t = 1.96 s instead of 3.2 s; speed and
+        # separation take what the error exceeds Z_d (0.1 m) off the separation.
+        sys.path.insert(0, os.path.join(ROOT, "test", "ros"))
+        from wp_node_testlib import ssm_scale
+        package, versions, plain = FAMILIES["spencer_v2"]
+
+        def covariant(m, s, p, v):
+            msg = plain(m, s, p, v)
+            cov = [0.0] * 36
+            cov[0] = cov[7] = cov[14] = VARIANCE
+            msg.tracks[0].pose.covariance = cov
+            return msg
+        root = make_fixtures.generate(versions)
+        try:
+            events, cycles = self.replay("covariance", make_fixtures.load(root, package), covariant)
+        finally:
+            shutil.rmtree(root)
+        error = 3.0 * math.sqrt(VARIANCE)
+        margin = math.ceil(100.0 * error) / 100.0
+        contact = T0 + (START_X - 0.3 - 0.5 - margin) / SPEED
+        steady = [c for c in cycles if T0 + SKIP <= float(c["stamp"]) <= T0 + 3.0]
+        self.assertGreater(len(steady), 40)
+        by_stamp = {e["stamp"]: e for e in events}
+        scaled = 0
+        for c in steady:
+            self.assertEqual(c["status"], "OK", c["details"])
+            stamp = float(c["stamp"])
+            instant = stamp + float(by_stamp[c["stamp"]]["time_to_contact"])
+            self.assertAlmostEqual(instant, max(contact, stamp), delta=1e-3, msg=c["stamp"])
+            if c["separation"] != "":
+                scaled += 1
+                self.assertAlmostEqual(float(c["raw_scale"]),
+                                       ssm_scale(float(c["separation"]) - (error - 0.1), SPEED),
+                                       delta=1e-6)
+        self.assertGreater(scaled, 10)
 
     def test_a_frame_without_tf_is_reported(self):
         # As for TrackedBoxArray: the replay ends with exit status 5 naming the frame.
