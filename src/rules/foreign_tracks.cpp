@@ -414,15 +414,21 @@ ForeignRefusal decodeDetections3D(WireReader& r, ForeignTrackArray* out) {
   return readTracks(r, out, kDetection3DMin, [&](ForeignTrack& t) {
     readElementHeader(r, &t);
     // results[].id is a class id (and users overload it): a label number, never a track id.
+    // The best hypothesis' pose covariance is the detection's position covariance (its
+    // measurement noise in the tracker; all zeros, as many publishers leave it: the default).
     const std::uint32_t results = r.arrayLength(kHypothesisBytes);
     double best = 0.0;
+    double covariance[36];
     for (std::uint32_t k = 0; k < results && r.ok(); ++k) {
       const std::int64_t id = r.i64();
       const double score = r.f64();
-      r.skip(ws::kPoseWithCovariance);
+      r.skip(ws::kPose);
+      r.f64s(covariance, 36);
       if (!t.has_label_number || score > best) {
         t.has_label_number = true;
         t.label_number = id;
+        t.position_covariance = block3(covariance, 6);
+        t.has_position_covariance = true;
         best = score;
       }
     }

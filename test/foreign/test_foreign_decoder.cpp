@@ -277,12 +277,17 @@ Sample detections3D() {
   w.f64(0.2);
   w.vec3(0, 0, 0);
   w.quat(0, 0, 0, 1);
-  w.f64s(std::vector<double>(36, 0.0).data(), 36);
+  w.f64s(std::vector<double>(36, 1.0).data(), 36);  // not the best hypothesis: not read
   w.i64(5);
   w.f64(0.9);
   w.vec3(0, 0, 0);
   w.quat(0, 0, 0, 1);
-  w.f64s(std::vector<double>(36, 0.0).data(), 36);
+  std::vector<double> covariance(36, 0.0);
+  covariance[0] = 0.04;
+  covariance[7] = 0.01;
+  covariance[14] = 0.09;
+  covariance[35] = 7.0;  // a rotation's: not a position's
+  w.f64s(covariance.data(), 36);
   w.vec3(1, 2, 3);  // bbox centre
   w.quat(0, 0, 0.6, 0.8);
   w.vec3(0.5, 0.6, 1.7);
@@ -636,6 +641,8 @@ TEST(ForeignDecoder, Detection3DArray) {
   EXPECT_EQ(a.id_kind, wp::ForeignIdKind::kNone);  // results[].id is no track id
   ASSERT_TRUE(a.has_label_number);
   EXPECT_EQ(a.label_number, 5);  // the best score's
+  ASSERT_TRUE(a.has_position_covariance);  // and its pose's covariance, the position block
+  EXPECT_EQ(a.position_covariance, Eigen::Vector3d(0.04, 0.01, 0.09).asDiagonal().toDenseMatrix());
   EXPECT_EQ(a.stamp, 81 * 1000000000LL);
   EXPECT_EQ(a.frame_id, "camera");
   expectVec(a.position, 1, 2, 3);
@@ -643,6 +650,7 @@ TEST(ForeignDecoder, Detection3DArray) {
   expectVec(a.dimensions, 0.5, 0.6, 1.7);
   EXPECT_EQ(a.velocity_axes, wp::kAxesNone);
   EXPECT_FALSE(out.tracks[1].has_label_number);
+  EXPECT_FALSE(out.tracks[1].has_position_covariance);
   expectVec(out.tracks[1].position, -1, -2, 0.5);
 }
 
