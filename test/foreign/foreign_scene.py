@@ -151,11 +151,12 @@ def poses(m, s, p, v):
 def obstacles(m, s, p, v):
     """obstacle_detector: the person as a circle (true_radius 0.3: 0.6 m across; radius 0.55
     with obstacle_detector's default 0.25 margin; its velocity field set, never read: the
-    monitor's tracker measures it) and a static wall segment 12 m behind the post, beyond any
-    growth's reach within the 5 s horizon (2 m/s), so the scene's only pair stays the person's."""
+    monitor's tracker measures it) and a static wall segment 30 m behind the post, beyond the
+    reach of both its and the person's growth within the 5 s horizon (at most 2 m/s + their
+    speed each), so the scene's only pair stays the person's and the post's."""
     msg = header(m.Obstacles(), s)
-    msg.segments.append(m.SegmentObstacle(first_point=g.Point(-14.0, -1.0, 0.0),
-                                          last_point=g.Point(-14.0, 1.0, 0.0)))
+    msg.segments.append(m.SegmentObstacle(first_point=g.Point(-30.0, -1.0, 0.0),
+                                          last_point=g.Point(-30.0, 1.0, 0.0)))
     msg.circles.append(m.CircleObstacle(center=g.Point(p[0], p[1], 0.0), velocity=g.Vector3(*v),
                                         radius=0.55, true_radius=0.3))
     return msg

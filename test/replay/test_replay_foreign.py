@@ -19,10 +19,13 @@ sightings for a finite difference):
   analytic one (the faces meet 3.2 s after the start) within 1 ms;
 - at every cycle stamp both replays share (the same grid: the same bag start), status,
   separation, approach speed and raw scale equal the TrackedBoxArray replay's within 1e-6;
-- for the types without ids, from 1 s on: every cycle OK, with the pair's event between the
-  post and a tracker id (t<n>), its contact instant never later than the analytic one (a new
-  track's unknown velocity and the filter's errors may bring it earlier), and as many tracks
-  as the scene has objects;
+- for the types without ids (with the labels of test/ros/fixtures/obstacle_params.yaml), from
+  1 s on: every cycle OK, with the pair's event between the post and a tracker id (t<n>), its
+  contact instant never later than the analytic one (a new track's unknown velocity and the
+  filter's errors may bring it earlier), and as many tracks as the scene has objects; from
+  1.5 s on, beside the twin bag (the person as a TrackedBoxArray box of label unknown): the
+  same contact instant (1 ms) and separation (1 mm), the approach speed plus the tracker's own
+  steady 3 sigma velocity error 0.4472 m/s (2 mm/s), raw_scale the formula's (1e-6);
 - a spencer track with a position covariance (3 sigma 0.3045 m): its contact instant 1.24 s
   earlier (the analytic one with that error rounded up to 0.31 m as margin) within 1 ms, and
   its raw scale the formula's with what the error exceeds Z_d taken off the separation;
@@ -61,14 +64,16 @@ CONTACT = T0 + (START_X - 0.3 - 0.5) / SPEED
 SKIP = 0.5
 TRACKS = {"obstacles": 2}  # the person and the wall segment
 VARIANCE = 0.0103  # m^2: test_a_covariance_widens_the_margin
+TRACKER_LABELS = os.path.join(ROOT, "test", "ros", "fixtures", "obstacle_params.yaml")
+TRACKER_V_ERR = 0.4472  # the tracker's steady 3 sigma velocity error at 20 Hz with 5 cm noise
 CONFIGS = [os.path.join(ROOT, "test", "ros", "fixtures", "common_params.yaml"),
            os.path.join(ROOT, "test", "ros", "fixtures", "foreign_params.yaml")]
 
 
-def boxes_builder():
+def boxes_builder(label="person"):
     sys.path.insert(0, os.path.join(ROOT, "test", "ros"))
     from wp_node_testlib import Track, TrackedBoxArray
-    person = Track("100", "person", (START_X, 0.0, HEIGHT), (0.6, 0.6, 1.8),
+    person = Track("100", label, (START_X, 0.0, HEIGHT), (0.6, 0.6, 1.8),
                    velocity=(-SPEED, 0.0, 0.0))
     person.set_t0(genpy.Time.from_sec(T0))
 
@@ -112,17 +117,21 @@ class ReplayForeign(unittest.TestCase):
         with open(os.path.join(cls.tmp, "topics.yaml"), "w") as f:
             f.write("input_topics: [/people]\n")
         cls.boxes = cls.replay(cls, "boxes", None, boxes_builder())
+        # The twin of the types without ids: the person as a box of label unknown, whose
+        # growth bounds (obstacle_params.yaml) exceed the tracker's own errors.
+        cls.unknown_boxes = cls.replay(cls, "unknown_boxes", None, boxes_builder("unknown"),
+                                       configs=[TRACKER_LABELS])
 
     @classmethod
     def tearDownClass(cls):
         shutil.rmtree(cls.tmp)
 
-    def replay(self, name, m, build, cls=None, expect_ok=True):
+    def replay(self, name, m, build, cls=None, expect_ok=True, configs=()):
         bag = os.path.join(self.tmp, name + ".bag")
         write_bag(bag, m, build, cls)
         out = os.path.join(self.tmp, "out-" + name)
         cmd = [REPLAY_BAG, bag, "--out", out, "--no-report"]
-        for c in CONFIGS + [os.path.join(self.tmp, "topics.yaml")]:
+        for c in CONFIGS + list(configs) + [os.path.join(self.tmp, "topics.yaml")]:
             cmd += ["--config", c]
         run = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=120)
         if not expect_ok:
@@ -170,11 +179,19 @@ class ReplayForeign(unittest.TestCase):
     def check_detections(self, family):
         # Through the multi-object tracker: ids are its own; a new track's velocity is unknown
         # (it grows at the label's speed) and a known one carries the filter's error, so the
-        # predicted contact may come early, never late.
+        # predicted contact may come early, never late. With the labels of obstacle_params.yaml
+        # (growth bounds above the tracker's own errors) its twin is the person as a
+        # TrackedBoxArray box of label unknown: from 1.5 s on (the filter converged on the
+        # noise-free walk) the same contact instant (1 ms) and separation (1 mm), and the
+        # approach speed plus the tracker's own steady 3 sigma velocity error, which speed and
+        # separation add (2 mm/s); raw_scale the formula's (1e-6).
+        sys.path.insert(0, os.path.join(ROOT, "test", "ros"))
+        from wp_node_testlib import ssm_scale
         package, versions, build = DETECTION_FAMILIES[family]
         root = make_fixtures.generate(versions)
         try:
-            events, cycles = self.replay(family, load_module(make_fixtures, root, package), build)
+            events, cycles = self.replay(family, load_module(make_fixtures, root, package), build,
+                                         configs=[TRACKER_LABELS])
         finally:
             shutil.rmtree(root)
         steady = [c for c in cycles if T0 + 1.0 <= float(c["stamp"]) <= T0 + 3.0]
@@ -182,6 +199,9 @@ class ReplayForeign(unittest.TestCase):
         by_stamp = {}
         for e in events:
             by_stamp.setdefault(e["stamp"], []).append(e)
+        twin_cycles = {c["stamp"]: c for c in self.unknown_boxes[1]}
+        twin_events = {e["stamp"]: e for e in self.unknown_boxes[0]}
+        compared = 0
         for c in steady:
             self.assertEqual(c["status"], "OK", "%s: %s" % (family, c["details"]))
             evs = by_stamp.get(c["stamp"], [])
@@ -195,6 +215,22 @@ class ReplayForeign(unittest.TestCase):
             self.assertLessEqual(instant, CONTACT + 5e-3, "%s: late at %s" % (family, c["stamp"]))
             self.assertEqual(int(c["tracks"]), TRACKS.get(family, 1), "%s at %s" % (
                 family, c["stamp"]))
+            twin = twin_cycles.get(c["stamp"])
+            if float(c["stamp"]) < T0 + 1.5 or twin is None:
+                continue
+            compared += 1
+            where = "%s at %s" % (family, c["stamp"])
+            twin_instant = float(c["stamp"]) + float(twin_events[c["stamp"]]["time_to_contact"])
+            self.assertAlmostEqual(instant, twin_instant, delta=1e-3, msg=where)
+            self.assertAlmostEqual(float(c["separation"]), float(twin["separation"]), delta=1e-3,
+                                   msg=where)
+            self.assertAlmostEqual(float(c["approach_speed"]),
+                                   float(twin["approach_speed"]) + TRACKER_V_ERR, delta=2e-3,
+                                   msg=where)
+            self.assertAlmostEqual(float(c["raw_scale"]),
+                                   ssm_scale(float(c["separation"]), float(c["approach_speed"])),
+                                   delta=1e-6, msg=where)
+        self.assertGreater(compared, 20, family)
 
     def test_a_covariance_widens_the_margin(self):
         # spencer v2 with a position variance of 0.0103 m^2 on x, y and z: the track's own 3
