@@ -10,6 +10,26 @@
 #include "workspace_proximity/ros/conversions.hpp"
 
 namespace workspace_proximity {
+namespace {
+
+// The detections' tracker from the labels: `unknown` (every detection, obstacle_detector's
+// circles) and `segment` (obstacle_detector's segments) give the process noise and a new
+// track's speed where set (else 4 m/s^2 and 2 m/s), and the sizes: `unknown`'s for a missing
+// extent, `segment`'s size_x (least length), size_y (thickness) and size_z (height).
+ForeignDetectionParams detectionParams(const MonitorParams& params) {
+  ForeignDetectionParams p;
+  const LabelSettings& unknown = params.label(p.label);
+  if (unknown.max_accel > 0.0) p.max_accel = unknown.max_accel;
+  if (unknown.max_speed > 0.0) p.max_speed = unknown.max_speed;
+  p.default_dimensions = Eigen::Vector3d(unknown.size_x, unknown.size_y, unknown.size_z);
+  const LabelSettings& segment = params.label(p.segment_label);
+  if (segment.max_accel > 0.0) p.segment_max_accel = segment.max_accel;
+  if (segment.max_speed > 0.0) p.segment_max_speed = segment.max_speed;
+  p.segment_size = Eigen::Vector3d(segment.size_x, segment.size_y, segment.size_z);
+  return p;
+}
+
+}  // namespace
 
 InputBridge::InputBridge(Monitor* monitor, tf2::BufferCore* tf, const std::string& fixed_frame)
     : monitor_(monitor),
@@ -117,14 +137,6 @@ bool InputBridge::onForeign(int source, std::string_view type, std::string_view 
     monitor_->refuseType(source, f.decoded.detail);
     return true;
   }
-  // obstacle_detector's circles have no ids and are not in the detections family the
-  // tracker reads: refused by name, never taken as clear.
-  if (refusal == ForeignRefusal::kNone && f.decoded.version->format == ForeignFormat::kObstacles) {
-    monitor_->refuseType(source, std::string(type) +
-                                     ": circles without ids are not read yet (the multi-object "
-                                     "tracker reads the detection types only)");
-    return true;
-  }
   monitor_->acceptType(source);
   if (refusal != ForeignRefusal::kNone) {
     monitor_->drop(Drop::kMalformed, source,
@@ -133,12 +145,7 @@ bool InputBridge::onForeign(int source, std::string_view type, std::string_view 
   }
   f.waiting_detections = f.decoded.version->family == ForeignFamily::kDetections;
   if (f.waiting_detections && !f.detections) {
-    // The `unknown` label's bounds drive the tracker (its defaults where the label has none).
-    const LabelSettings& unknown = monitor_->params().label("unknown");
-    ForeignDetectionParams p;
-    if (unknown.max_accel > 0.0) p.max_accel = unknown.max_accel;
-    if (unknown.max_speed > 0.0) p.max_speed = unknown.max_speed;
-    f.detections = std::make_unique<ForeignDetections>(p);
+    f.detections = std::make_unique<ForeignDetections>(detectionParams(monitor_->params()));
   }
   waiting_[static_cast<std::size_t>(source)].foreign = true;
   return arrive(source, now);
@@ -261,6 +268,11 @@ class InputBridge::ForeignPlacement final : public ArrayPlacement {
       if (f.detections->ingest(f.decoded, *fixed_from_frame) != DetectionRefusal::kNone) {
         monitor.drop(Drop::kOutOfOrder, source_, "detections stamped before the previous message");
         return false;
+      }
+      if (f.detections->skippedFrame() > 0) {
+        monitor.drop(Drop::kFrame, source_,
+                     std::to_string(f.detections->skippedFrame()) +
+                         " detections in another frame than the message's '" + frame_ + "'");
       }
       fixed_from_frame->setIdentity();
       *boxes = &f.detections->tracks();

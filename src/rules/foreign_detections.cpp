@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include "workspace_proximity/body.hpp"
 
@@ -11,6 +12,7 @@ namespace {
 TrackerParams trackerParams(const ForeignDetectionParams& p) {
   TrackerParams t = p.tracker;
   t.labels.assign(1, TrackerLabel{p.label, p.max_accel, p.max_speed});
+  t.labels.push_back(TrackerLabel{p.segment_label, p.segment_max_accel, p.segment_max_speed});
   return t;
 }
 
@@ -21,6 +23,10 @@ double sigmaOf(const ForeignTrack& t, double fallback) {
   const double largest = t.position_covariance.diagonal().maxCoeff();
   return largest > 0.0 ? std::sqrt(largest) : fallback;
 }
+
+// The decoder's name for obstacle_detector's segments (foreign_tracks.cpp).
+constexpr std::string_view kSegment = "segment";
+constexpr int kDetectionLabel = 0, kSegmentLabel = 1;  // indices into the tracker's labels
 
 }  // namespace
 
@@ -38,18 +44,38 @@ DetectionRefusal ForeignDetections::ingest(const ForeignTrackArray& array,
   const Eigen::Matrix3d rotation = fixed_from_frame.linear();
   const Eigen::Quaterniond frame_rotation(rotation);
   detections_.clear();
+  skipped_frame_ = 0;
+  // The message's frame as the input bridge places it: its header's, else its first element's.
+  const std::string_view frame = !array.frame_id.empty() || array.tracks.empty()
+                                     ? array.frame_id
+                                     : array.tracks.front().frame_id;
   const std::size_t room = static_cast<std::size_t>(params_.tracker.max_detections);
   for (const ForeignTrack& t : array.tracks) {
     if (detections_.size() >= room) break;  // the tracker would drop them: counted there
-    Detection d;
-    d.position = fixed_from_frame * t.position;
-    for (int k = 0; k < 3; ++k) {
-      const bool given = (t.dimension_axes >> k) & 1;
-      const double size = t.dimensions[k];
-      // A flat or missing extent is no extent: the label's default holds an object there.
-      d.dimensions[k] = given && size >= 2.0 * Limits::kMinSize ? size
-                                                                : params_.default_dimensions[k];
+    if (t.frame_id != frame) {
+      ++skipped_frame_;
+      continue;
     }
+    Detection d;
+    const bool segment = t.label == kSegment;
+    Eigen::Vector3d centre = t.position;
+    if (segment) {
+      // A thin box along the segment: its length (at least the least one), the label's
+      // thickness and height.
+      d.dimensions = params_.segment_size;
+      d.dimensions.x() = std::max(t.dimensions.x(), params_.segment_size.x());
+    } else {
+      for (int k = 0; k < 3; ++k) {
+        const bool given = (t.dimension_axes >> k) & 1;
+        const double size = t.dimensions[k];
+        // A flat or missing extent is no extent: the label's default holds an object there.
+        d.dimensions[k] = given && size >= 2.0 * Limits::kMinSize ? size
+                                                                  : params_.default_dimensions[k];
+      }
+    }
+    // No height measured: the object stands on the frame's z = 0.
+    if ((t.position_axes & 0b100) == 0) centre.z() = 0.5 * d.dimensions.z();
+    d.position = fixed_from_frame * centre;
     Eigen::Quaterniond q = frame_rotation;
     if (t.has_orientation) {
       const Eigen::Vector4d& v = t.quaternion;
@@ -60,7 +86,7 @@ DetectionRefusal ForeignDetections::ingest(const ForeignTrackArray& array,
     }
     d.quaternion = Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
     d.sigma = sigmaOf(t, params_.default_sigma);
-    d.label = 0;
+    d.label = segment ? kSegmentLabel : kDetectionLabel;
     detections_.push_back(d);
   }
   // The tracker counts what it drops or rejects; ids in the message are never read.

@@ -62,6 +62,26 @@ const ForeignObservations::Sighting* ForeignObservations::findPrevious(std::uint
   return it != previous_.end() && it->key == key ? &*it : nullptr;
 }
 
+void ForeignObservations::differenceVelocity(const ForeignTrack& t, std::uint64_t key,
+                                             bool no_id, const LabelSettings& label,
+                                             double track_timeout, BoxObservation* b) const {
+  // No velocity in the message: the difference of the last two sightings of this id.
+  const Sighting* last = no_id ? nullptr : findPrevious(key);
+  const double dt = last ? secondsBetween(last->stamp, t.stamp) : 0.0;
+  // Two position errors over dt bound the difference's error (3 sigma each, added); a
+  // difference less certain than the label's unknown-velocity speed says nothing more.
+  const double error = dt > 0.0 ? 2.0 * b->position_error / dt : 0.0;
+  if (last != nullptr && dt >= kMinDifferenceTime && dt <= track_timeout &&
+      error <= unknownVelocitySpeed(label)) {
+    b->linear_velocity = (t.position - last->position) / dt;
+    b->velocity_known = true;
+    b->velocity_error = error;
+  } else {
+    b->linear_velocity.setZero();
+    b->velocity_known = false;
+  }
+}
+
 void ForeignObservations::convert(const ForeignTrackArray& in, std::string_view frame,
                                   const MonitorParams& params, std::vector<BoxObservation>* out) {
   out->clear();
@@ -69,6 +89,8 @@ void ForeignObservations::convert(const ForeignTrackArray& in, std::string_view 
   skipped_frame_ = 0;
   skipped_position_ = 0;
   const std::size_t n = std::min(in.tracks.size(), max_tracks_);
+  // The stamp the input bridge takes the message at: its header's, else its first element's.
+  const Stamp base = in.stamp != 0 || in.tracks.empty() ? in.stamp : in.tracks.front().stamp;
   for (std::size_t i = 0; i < n; ++i) {
     const ForeignTrack& t = in.tracks[i];
     // One array, one transform: a track in another frame is not guessed into this one.
@@ -119,22 +141,20 @@ void ForeignObservations::convert(const ForeignTrackArray& in, std::string_view 
       if (t.has_velocity_covariance) {
         b.velocity_error = threeSigma(t.velocity_covariance, t.velocity_axes);
       }
-      continue;
-    }
-    // No velocity in the message: the difference of the last two sightings of this id.
-    const Sighting* last = b.id.empty() ? nullptr : findPrevious(key);
-    const double dt = last ? secondsBetween(last->stamp, t.stamp) : 0.0;
-    // Two position errors over dt bound the difference's error (3 sigma each, added); a
-    // difference less certain than the label's unknown-velocity speed says nothing more.
-    const double error = dt > 0.0 ? 2.0 * b.position_error / dt : 0.0;
-    if (last != nullptr && dt >= kMinDifferenceTime && dt <= params.track_timeout &&
-        error <= unknownVelocitySpeed(label)) {
-      b.linear_velocity = (t.position - last->position) / dt;
-      b.velocity_known = true;
-      b.velocity_error = error;
     } else {
-      b.linear_velocity.setZero();
-      b.velocity_known = false;
+      differenceVelocity(t, key, b.id.empty(), label, params.track_timeout, &b);
+    }
+    // An element stamped apart from the message (people_msgs' PositionMeasurement and
+    // derived_object_msgs' objects have headers of their own) is taken at the message's stamp,
+    // as every box of it is: carried there with its velocity, its position error grown by its
+    // label's bound over that time, older or newer (never a guess narrower than the bound).
+    const double lag = base != 0 && t.stamp != 0 ? secondsBetween(t.stamp, base) : 0.0;
+    if (lag != 0.0) {
+      b.position += b.linear_velocity * lag;
+      const TrackErrors own{b.position_error, b.velocity_error, b.velocity_known};
+      // R(|lag|) from the measurement on (at(), not the age, which trackGrowth clips).
+      const double grown = trackGrowth(label, b.linear_velocity.norm(), 0.0, own).at(std::abs(lag));
+      b.position_error = std::max(label.position_error, b.position_error) + grown;
     }
   }
   std::sort(current_.begin(), current_.end(),

@@ -1,5 +1,9 @@
 #include "workspace_proximity/rules/foreign_tracks.hpp"
 
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <sstream>
 
@@ -339,21 +343,54 @@ ForeignRefusal decodeDerivedObjects(WireReader& r, ForeignTrackArray* out, bool 
   });
 }
 
+// obstacle_detector (tysik/obstacle_detector, a 2-D laser's obstacles): segments, then circles,
+// neither with an id, so both go through the multi-object tracker (the detections family).
+// Read: a segment's two points, as its midpoint, its yaw about z and its length; a circle's
+// centre and true_radius (radius adds obstacle_detector's own margin, radius_enlargement or
+// radius_margin: the monitor adds its own; where true_radius is not within (0, radius] the
+// larger radius). Not read, as the upstream source shows (msg/, src/obstacle_extractor.cpp,
+// src/obstacle_tracker.cpp at bd59d405): z (the extractor writes x and y only, so the frame's
+// z = 0, "map" by default, is where the object stands) and the circles' velocity (the
+// extractor writes 0 for "not measured", the tracker's output is the same type with no flag,
+// a new tracked circle starts at velocity 0, and no covariance is published: 0 cannot be told
+// from "unknown", so the velocity is unknown until this monitor's tracker measures it).
+constexpr std::string_view kSegmentLabel = "segment";
+
 ForeignRefusal decodeObstacles(WireReader& r, ForeignTrackArray* out) {
   readHeader(r, &out->stamp, &out->frame_id);
-  const std::uint32_t segments = r.arrayLength(kSegmentBytes);
-  r.skip(std::size_t{segments} * kSegmentBytes);  // static walls: not tracks
-  out->ignored = segments;
-  return readTracks(r, out, kCircleBytes, [&](ForeignTrack& t) {
-    t.label = "obstacle";
-    t.position = r.vector3();
-    t.velocity = r.vector3();
-    t.velocity_axes = kAxesAll;
-    r.f64();  // radius: with obstacle_detector's own margin; the monitor adds its own
-    const double true_radius = r.f64();
-    t.dimensions = Eigen::Vector3d(2.0 * true_radius, 2.0 * true_radius, 0.0);
-    t.dimension_axes = kAxesXY;
+  const ForeignRefusal refusal = readTracks(r, out, kSegmentBytes, [&](ForeignTrack& t) {
+    t.label = kSegmentLabel;
+    const Eigen::Vector3d first = r.vector3();
+    const Eigen::Vector3d last = r.vector3();
+    const Eigen::Vector2d along = (last - first).head<2>();
+    t.position = 0.5 * (first + last);
+    t.position_axes = kAxesXY;
+    const double yaw = std::atan2(along.y(), along.x());
+    t.quaternion = Eigen::Vector4d(0.0, 0.0, std::sin(0.5 * yaw), std::cos(0.5 * yaw));
+    t.has_orientation = true;
+    t.dimensions = Eigen::Vector3d(along.norm(), 0.0, 0.0);  // its thickness, height: the label's
+    t.dimension_axes = 0b001;
   });
+  if (refusal != ForeignRefusal::kNone) return refusal;
+  const std::size_t segments = out->tracks.size();
+  const std::uint32_t circles = r.arrayLength(kCircleBytes);
+  const std::size_t total = std::min<std::size_t>(segments + circles, UINT32_MAX);
+  if (!fits(static_cast<std::uint32_t>(total), out)) return out->refusal;
+  for (std::uint32_t i = 0; i < circles && r.ok(); ++i) {
+    ForeignTrack& t = newTrack(out);
+    t.label = {};  // the detections' own label (unknown)
+    t.position = r.vector3();
+    t.position_axes = kAxesXY;
+    r.vector3();  // velocity: see above
+    const double radius = r.f64();
+    const double true_radius = r.f64();
+    // A non-finite true_radius is kept, so that the message is refused as non_finite.
+    const bool consistent = true_radius > 0.0 && true_radius <= radius;
+    const double used = consistent || !std::isfinite(true_radius) ? true_radius : radius;
+    t.dimensions = Eigen::Vector3d(2.0 * used, 2.0 * used, 0.0);
+    t.dimension_axes = kAxesXY;
+  }
+  return ForeignRefusal::kNone;
 }
 
 void skipPointCloud2(WireReader& r) {
@@ -379,15 +416,21 @@ ForeignRefusal decodeDetections3D(WireReader& r, ForeignTrackArray* out) {
   return readTracks(r, out, kDetection3DMin, [&](ForeignTrack& t) {
     readElementHeader(r, &t);
     // results[].id is a class id (and users overload it): a label number, never a track id.
+    // The best hypothesis' pose covariance is the detection's position covariance (its
+    // measurement noise in the tracker; all zeros, as many publishers leave it: the default).
     const std::uint32_t results = r.arrayLength(kHypothesisBytes);
     double best = 0.0;
+    double covariance[36];
     for (std::uint32_t k = 0; k < results && r.ok(); ++k) {
       const std::int64_t id = r.i64();
       const double score = r.f64();
-      r.skip(ws::kPoseWithCovariance);
+      r.skip(ws::kPose);
+      r.f64s(covariance, 36);
       if (!t.has_label_number || score > best) {
         t.has_label_number = true;
         t.label_number = id;
+        t.position_covariance = block3(covariance, 6);
+        t.has_position_covariance = true;
         best = score;
       }
     }

@@ -257,7 +257,7 @@ constexpr FormatFacts formatFacts(ForeignFormat format) {
     case F::kLegTrackerPersonArray: return {kTracks, kLegTracker};
     case F::kDerivedObjectArray: return {kTracks, kDerivedObjectArray};
     case F::kDerivedObjectWithCovarianceArray: return {kTracks, kDerivedObjectWithCovarianceArray};
-    case F::kObstacles: return {kTracks, kObstacles};
+    case F::kObstacles: return {kDetections, kObstacles};
     case F::kDetection3DArray: return {kDetections, kDetection3DArray};
     case F::kJskBoxArrayV1: return {kDetections, kJskV1};
     case F::kJskBoxArrayV2: return {kDetections, kJskV2};

@@ -87,13 +87,6 @@ def derived(covariance):
     return build
 
 
-def obstacles(m, s, p, v):
-    msg = header(m.Obstacles(), s)
-    msg.circles.append(m.CircleObstacle(center=g.Point(*p), velocity=g.Vector3(*v), radius=0.3,
-                                        true_radius=0.3))
-    return msg
-
-
 def trackedbox_v1(m, s, p, v):
     """This package's own TrackedBoxArray before the per-box errors (foreign_msgs/
     workspace_proximity/v1): what an old publisher or a recorded bag sends. The person's box
@@ -140,8 +133,6 @@ FAMILIES = {
     "trackedbox_v1": ("workspace_proximity", {"workspace_proximity": "v1"}, trackedbox_v1),
     "jsk_skeleton": ("jsk_recognition_msgs", {}, jsk_skeleton),
 }
-# Elements without ids: refused by name until the multi-object tracker reads them.
-FAMILIES_WITHOUT_IDS = {"obstacles": ("obstacle_detector", {}, obstacles)}
 
 
 # Detections (no ids): through the multi-object tracker. Debian ships visualization_msgs and
@@ -189,12 +180,27 @@ def poses(m, s, p, v):
     return msg
 
 
+def obstacles(m, s, p, v):
+    """obstacle_detector: the person as a circle (true_radius 0.3: 0.6 m across; radius 0.55
+    with obstacle_detector's default 0.25 margin; its velocity field set, never read: the
+    monitor's tracker measures it) and a static wall segment 30 m behind the post, beyond the
+    reach of both its and the person's growth within the 5 s horizon (at most 2 m/s + their
+    speed each), so the scene's only pair stays the person's and the post's."""
+    msg = header(m.Obstacles(), s)
+    msg.segments.append(m.SegmentObstacle(first_point=g.Point(-30.0, -1.0, 0.0),
+                                          last_point=g.Point(-30.0, 1.0, 0.0)))
+    msg.circles.append(m.CircleObstacle(center=g.Point(p[0], p[1], 0.0), velocity=g.Vector3(*v),
+                                        radius=0.55, true_radius=0.3))
+    return msg
+
+
 DETECTION_FAMILIES = {
     "detections3d": ("vision_msgs", {}, detections3d),
     "jsk_v1": ("jsk_recognition_msgs", {"jsk_recognition_msgs": "v1"}, jsk(1)),
     "jsk_v2": ("jsk_recognition_msgs", {}, jsk(2)),
     "markers": ("debian:visualization_msgs", {}, markers),
     "poses": ("debian:geometry_msgs", {}, poses),
+    "obstacles": ("obstacle_detector", {}, obstacles),
 }
 
 

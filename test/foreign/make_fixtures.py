@@ -177,11 +177,13 @@ def obstacles(m, g):
     msg = stamped(m.Obstacles(), 16, 'map')
     msg.segments.append(m.SegmentObstacle(first_point=g.Point(0, 0, 0),
                                           last_point=g.Point(1, 0, 0)))
-    rows = []
+    # Tracks in wire order: the segment's midpoint, then the circles; no velocity is read
+    # (obstacle_detector's 0 means "not measured" as well: src/rules/foreign_tracks.cpp).
+    rows = [((0.5, 0.0, 0.0), 0, (0.0, 0.0, 0.0))]
     for p, v in [((2.0, 3.0, 0.0), (0.4, 0.0, 0.0)), ((-2.0, 1.0, 0.0), (0.0, 0.0, 0.0))]:
         msg.circles.append(m.CircleObstacle(center=g.Point(*p), velocity=g.Vector3(*v),
                                             radius=0.5, true_radius=0.3))
-        rows.append((p, 7, v))
+        rows.append((p, 0, (0.0, 0.0, 0.0)))
     return msg, rows
 
 

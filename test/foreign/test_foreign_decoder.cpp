@@ -277,12 +277,17 @@ Sample detections3D() {
   w.f64(0.2);
   w.vec3(0, 0, 0);
   w.quat(0, 0, 0, 1);
-  w.f64s(std::vector<double>(36, 0.0).data(), 36);
+  w.f64s(std::vector<double>(36, 1.0).data(), 36);  // not the best hypothesis: not read
   w.i64(5);
   w.f64(0.9);
   w.vec3(0, 0, 0);
   w.quat(0, 0, 0, 1);
-  w.f64s(std::vector<double>(36, 0.0).data(), 36);
+  std::vector<double> covariance(36, 0.0);
+  covariance[0] = 0.04;
+  covariance[7] = 0.01;
+  covariance[14] = 0.09;
+  covariance[35] = 7.0;  // a rotation's: not a position's
+  w.f64s(covariance.data(), 36);
   w.vec3(1, 2, 3);  // bbox centre
   w.quat(0, 0, 0.6, 0.8);
   w.vec3(0.5, 0.6, 1.7);
@@ -620,17 +625,62 @@ TEST(ForeignDecoder, DerivedObjectsHonourDetectionLevelAndClassified) {
   }
 }
 
-TEST(ForeignDecoder, ObstacleCircles) {
+// obstacle_detector: the segment (0,0)-(1,0) and two circles (radius 0.5 with true_radius
+// 0.3; radius 0.8 with true_radius 0.6). Tracks in wire order: segments, then circles.
+TEST(ForeignDecoder, ObstacleSegmentsAndCircles) {
   wp::ForeignTrackArray out;
   const Sample message = obstacles();
-  ASSERT_TRUE(decodesTracks(message, 2u, &out));
-  EXPECT_EQ(out.ignored, 1u);
-  EXPECT_EQ(out.tracks[0].id_kind, wp::ForeignIdKind::kNone);
-  expectVec(out.tracks[0].position, 2, 3, 0);
-  expectVec(out.tracks[0].velocity, 0.4, 0, 0);
-  expectVec(out.tracks[0].dimensions, 0.6, 0.6, 0);  // the true radius, not the margin's
-  EXPECT_EQ(out.tracks[0].dimension_axes, wp::kAxesXY);
-  expectVec(out.tracks[1].dimensions, 1.2, 1.2, 0);
+  ASSERT_TRUE(decodesTracks(message, 3u, &out));
+  EXPECT_EQ(out.version->family, wp::ForeignFamily::kDetections);  // no ids: the tracker's
+  EXPECT_EQ(out.ignored, 0u);
+  const wp::ForeignTrack& s = out.tracks[0];
+  EXPECT_EQ(s.id_kind, wp::ForeignIdKind::kNone);
+  EXPECT_EQ(s.label, "segment");
+  expectVec(s.position, 0.5, 0, 0);  // the midpoint
+  EXPECT_EQ(s.position_axes, wp::kAxesXY);  // no z: obstacle_detector writes x and y
+  EXPECT_EQ(s.quaternion, Eigen::Vector4d(0, 0, 0, 1));  // along x: yaw 0
+  EXPECT_NEAR(s.dimensions.x(), 1.0, 1e-15);
+  EXPECT_EQ(s.dimension_axes, 0b001);  // the length only: thickness, height the label's
+  EXPECT_EQ(s.velocity_axes, wp::kAxesNone);
+  const wp::ForeignTrack& c = out.tracks[1];
+  EXPECT_EQ(c.id_kind, wp::ForeignIdKind::kNone);
+  EXPECT_TRUE(c.label.empty());
+  expectVec(c.position, 2, 3, 0);
+  EXPECT_EQ(c.position_axes, wp::kAxesXY);
+  // The message says 0.4 m/s, which obstacle_detector cannot tell from "not measured": unknown.
+  EXPECT_EQ(c.velocity_axes, wp::kAxesNone);
+  expectVec(c.velocity, 0, 0, 0);
+  expectVec(c.dimensions, 0.6, 0.6, 0);  // the true radius, not the margin's
+  EXPECT_EQ(c.dimension_axes, wp::kAxesXY);
+  expectVec(out.tracks[2].dimensions, 1.2, 1.2, 0);
+}
+
+// A segment's yaw and length, and the circle's radius where true_radius is not in (0, radius].
+TEST(ForeignDecoder, ObstacleSegmentYawAndInconsistentRadii) {
+  WireWriter w;
+  w.header(1, 2, 0, "map");
+  w.u32(1);
+  w.vec3(1, 1, 0);
+  w.vec3(1, 3, 0);  // along +y: yaw pi/2, length 2
+  w.u32(2);
+  w.vec3(0, 0, 0);
+  w.vec3(0, 0, 0);
+  w.f64(0.5);
+  w.f64(0.0);  // no true radius: the radius
+  w.vec3(0, 0, 0);
+  w.vec3(0, 0, 0);
+  w.f64(0.5);
+  w.f64(0.7);  // larger than radius: the radius
+  wp::ForeignTrackArray out;
+  const Sample message{"obstacle_detector/Obstacles", kObstaclesMd5, w.bytes};
+  ASSERT_TRUE(decodesTracks(message, 3u, &out));
+  expectVec(out.tracks[0].position, 1, 2, 0);
+  const double h = std::sqrt(0.5);
+  EXPECT_NEAR(out.tracks[0].quaternion.z(), h, 1e-15);
+  EXPECT_NEAR(out.tracks[0].quaternion.w(), h, 1e-15);
+  EXPECT_NEAR(out.tracks[0].dimensions.x(), 2.0, 1e-15);
+  expectVec(out.tracks[1].dimensions, 1.0, 1.0, 0);
+  expectVec(out.tracks[2].dimensions, 1.0, 1.0, 0);
 }
 
 TEST(ForeignDecoder, Detection3DArray) {
@@ -641,6 +691,8 @@ TEST(ForeignDecoder, Detection3DArray) {
   EXPECT_EQ(a.id_kind, wp::ForeignIdKind::kNone);  // results[].id is no track id
   ASSERT_TRUE(a.has_label_number);
   EXPECT_EQ(a.label_number, 5);  // the best score's
+  ASSERT_TRUE(a.has_position_covariance);  // and its pose's covariance, the position block
+  EXPECT_EQ(a.position_covariance, Eigen::Vector3d(0.04, 0.01, 0.09).asDiagonal().toDenseMatrix());
   EXPECT_EQ(a.stamp, 81 * 1000000000LL);
   EXPECT_EQ(a.frame_id, "camera");
   expectVec(a.position, 1, 2, 3);
@@ -648,6 +700,7 @@ TEST(ForeignDecoder, Detection3DArray) {
   expectVec(a.dimensions, 0.5, 0.6, 1.7);
   EXPECT_EQ(a.velocity_axes, wp::kAxesNone);
   EXPECT_FALSE(out.tracks[1].has_label_number);
+  EXPECT_FALSE(out.tracks[1].has_position_covariance);
   expectVec(out.tracks[1].position, -1, -2, 0.5);
 }
 

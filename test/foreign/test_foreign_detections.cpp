@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "allocation_counter.hpp"  // test/shared
+#include "wire_writer.hpp"        // test/foreign
 #include "workspace_proximity/rules/foreign_detections.hpp"
 
 namespace wp = workspace_proximity;
@@ -249,6 +251,182 @@ TEST(ForeignDetections, ACovarianceSetsTheMeasurementNoise) {
   covariant.ingest(array, Eigen::Isometry3d::Identity());
   ASSERT_EQ(covariant.tracks().size(), 2u);
   EXPECT_NEAR(covariant.tracks()[0].position_error, 0.9, 1e-12);
+}
+
+// obstacle_detector/Obstacles through the tracker, against the analytic scene. A laser frame
+// 1 m along x and 2 m along y of the fixed frame, turned 90 degrees about z; in it a wall
+// from (0, 1) to (2, 1) standing still and a circle (true_radius 0.25, radius 0.5) moving
+// from (3, 0) along -x at 0.5 m/s, whose message says velocity (5, 5): never read. 20 Hz.
+namespace {
+
+constexpr const char* kObstaclesType = "obstacle_detector/Obstacles";
+constexpr const char* kObstaclesMd5 = "043bbf49c7775f8111e850268dbcf2e3";
+
+std::vector<std::uint8_t> obstaclesMessage(int k) {
+  const double t = 0.05 * k;
+  wp_test::WireWriter w;
+  const long long ns = 10000000000LL + 50000000LL * k;
+  w.header(static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(ns / 1000000000LL),
+           static_cast<std::uint32_t>(ns % 1000000000LL), "laser");
+  w.u32(1);
+  w.vec3(0, 1, 0);
+  w.vec3(2, 1, 0);
+  w.u32(1);
+  w.vec3(3.0 - 0.5 * t, 0, 0);
+  w.vec3(5, 5, 0);  // not read
+  w.f64(0.5);
+  w.f64(0.25);
+  return w.bytes;
+}
+
+Eigen::Isometry3d fixedFromLaser() {
+  Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
+  f.translate(Eigen::Vector3d(1.0, 2.0, 0.0));
+  f.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  return f;
+}
+
+wp::ForeignDetectionParams obstacleParams() {
+  wp::ForeignDetectionParams p = params();
+  p.default_dimensions = Eigen::Vector3d(0.6, 0.6, 1.7);  // the circles' height: 1.7
+  p.segment_size = Eigen::Vector3d(0.3, 0.1, 2.0);        // least length, thickness, height
+  return p;
+}
+
+const wp::BoxObservation* withLabel(const std::vector<wp::BoxObservation>& tracks,
+                                    std::string_view label) {
+  for (const wp::BoxObservation& b : tracks) {
+    if (b.label == label) return &b;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+TEST(ForeignDetections, ObstacleSegmentsAndCirclesAreTrackedBoxes) {
+  wp::ForeignDetections detections(obstacleParams());
+  wp::ForeignTrackArray array;
+  const Eigen::Isometry3d fixed_from_laser = fixedFromLaser();
+  std::string wall_id, circle_id;
+  for (int k = 0; k <= 40; ++k) {
+    const std::vector<std::uint8_t> bytes = obstaclesMessage(k);
+    ASSERT_EQ(wp::decodeForeignTracks(kObstaclesType, kObstaclesMd5, bytes.data(), bytes.size(),
+                                      &array),
+              wp::ForeignRefusal::kNone)
+        << array.detail;
+    ASSERT_EQ(detections.ingest(array, fixed_from_laser), wp::DetectionRefusal::kNone);
+    const std::vector<wp::BoxObservation>& tracks = detections.tracks();
+    if (k == 0) {
+      EXPECT_TRUE(tracks.empty()) << "tentative after one detection";
+      continue;
+    }
+    ASSERT_EQ(tracks.size(), 2u) << "frame " << k;
+    const wp::BoxObservation* wall = withLabel(tracks, "segment");
+    const wp::BoxObservation* circle = withLabel(tracks, "unknown");
+    ASSERT_NE(wall, nullptr);
+    ASSERT_NE(circle, nullptr);
+    if (k == 1) {
+      wall_id = std::string(wall->id);
+      circle_id = std::string(circle->id);
+      // Two sightings 50 ms apart at 5 cm: the velocity is not known yet, whatever the
+      // message's velocity field says (5, 5).
+      EXPECT_FALSE(circle->velocity_known);
+      EXPECT_FALSE(wall->velocity_known);
+    }
+    EXPECT_EQ(std::string(wall->id), wall_id);
+    EXPECT_EQ(std::string(circle->id), circle_id);
+    // The wall: its midpoint (1, 1) at half its height, carried into the fixed frame: (0, 3,
+    // 1); 2 m long along the laser's x = the fixed frame's y, 0.1 m thick, 2 m high.
+    EXPECT_LT((wall->position - Eigen::Vector3d(0.0, 3.0, 1.0)).norm(), 1e-9) << "frame " << k;
+    EXPECT_NEAR(wall->dimensions.x(), 2.0, 1e-12);
+    EXPECT_NEAR(wall->dimensions.y(), 0.1, 1e-12);
+    EXPECT_NEAR(wall->dimensions.z(), 2.0, 1e-12);
+    const Eigen::Quaterniond q(wall->quaternion.w(), wall->quaternion.x(), wall->quaternion.y(),
+                               wall->quaternion.z());
+    EXPECT_LT((q * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 1e-12);
+    // The circle: (3 - 0.5 t, 0) in the laser frame, (1, 5 - 0.5 t) in the fixed frame, on
+    // the floor at half the height 1.7; 0.5 m across (the true radius), 1.7 m high.
+    const double t = 0.05 * k;
+    const Eigen::Vector3d truth(1.0, 5.0 - 0.5 * t, 0.85);
+    EXPECT_NEAR(circle->dimensions.x(), 0.5, 1e-12);
+    EXPECT_NEAR(circle->dimensions.y(), 0.5, 1e-12);
+    EXPECT_NEAR(circle->dimensions.z(), 1.7, 1e-12);
+    EXPECT_NEAR(circle->position.z(), 0.85, 1e-9);
+    if (k >= 20) {
+      // Noise-free constant-velocity data: the filter converges to the motion itself.
+      EXPECT_LT((circle->position - truth).norm(), 2e-3) << "frame " << k;
+      EXPECT_LT((circle->linear_velocity - Eigen::Vector3d(0.0, -0.5, 0.0)).norm(), 2e-2)
+          << "frame " << k << ": " << circle->linear_velocity.transpose();
+      EXPECT_TRUE(circle->velocity_known);
+      EXPECT_LT(wall->linear_velocity.norm(), 1e-9);
+      EXPECT_TRUE(wall->velocity_known);
+    }
+    std::string why;
+    EXPECT_EQ(wp::checkBox(*wall, wp::BoxLimits(), &why), wp::Drop::kCount) << why;
+    EXPECT_EQ(wp::checkBox(*circle, wp::BoxLimits(), &why), wp::Drop::kCount) << why;
+  }
+}
+
+TEST(ForeignDetections, AShortSegmentTakesTheLeastLengthAndSegmentsKeepToTheirLabel) {
+  // A 5 cm segment becomes a 0.3 m box (the least length). A circle and a segment at the same
+  // place are never associated with each other: each keeps a track of its own label.
+  wp_test::WireWriter w;
+  w.header(0, 10, 0, "laser");
+  w.u32(1);
+  w.vec3(0, 0, 0);
+  w.vec3(0, 0.05, 0);
+  w.u32(1);
+  w.vec3(0, 0.025, 0);
+  w.vec3(0, 0, 0);
+  w.f64(0.3);
+  w.f64(0.2);
+  wp::ForeignTrackArray array;
+  ASSERT_EQ(wp::decodeForeignTracks(kObstaclesType, kObstaclesMd5, w.bytes.data(),
+                                    w.bytes.size(), &array),
+            wp::ForeignRefusal::kNone);
+  wp::ForeignDetectionParams p = obstacleParams();
+  p.tracker.confirm_hits = 1;
+  wp::ForeignDetections detections(p);
+  ASSERT_EQ(detections.ingest(array, Eigen::Isometry3d::Identity()), wp::DetectionRefusal::kNone);
+  ASSERT_EQ(detections.tracks().size(), 2u);
+  const wp::BoxObservation* segment = withLabel(detections.tracks(), "segment");
+  ASSERT_NE(segment, nullptr);
+  EXPECT_NEAR(segment->dimensions.x(), 0.3, 1e-12);
+  EXPECT_NEAR(segment->dimensions.y(), 0.1, 1e-12);
+  EXPECT_NEAR(segment->position.z(), 1.0, 1e-12);
+  const wp::BoxObservation* circle = withLabel(detections.tracks(), "unknown");
+  ASSERT_NE(circle, nullptr);
+  EXPECT_NEAR(circle->dimensions.x(), 0.4, 1e-12);
+  EXPECT_NE(segment->id, circle->id);
+}
+
+TEST(ForeignDetections, DetectionsInAnotherFrameAreSkippedAndCounted) {
+  // Detection3D and jsk boxes have headers of their own: one naming another frame than the
+  // message's is skipped (one message, one transform), never placed with the message's pose.
+  const Sequence s = readSequence("walk_detections3d");
+  wp::ForeignTrackArray array;
+  ASSERT_EQ(wp::decodeForeignTracks(s.type, s.md5, s.frames[0].bytes.data(),
+                                    s.frames[0].bytes.size(), &array),
+            wp::ForeignRefusal::kNone);
+  ASSERT_EQ(array.tracks.size(), 2u);
+  wp::ForeignDetectionParams p = params();
+  p.tracker.confirm_hits = 1;
+  wp::ForeignDetections same(p);
+  ASSERT_EQ(same.ingest(array, Eigen::Isometry3d::Identity()), wp::DetectionRefusal::kNone);
+  EXPECT_EQ(same.tracks().size(), 2u);
+  EXPECT_EQ(same.skippedFrame(), 0u);
+  array.tracks[1].frame_id = "elsewhere";
+  wp::ForeignDetections other(p);
+  ASSERT_EQ(other.ingest(array, Eigen::Isometry3d::Identity()), wp::DetectionRefusal::kNone);
+  EXPECT_EQ(other.skippedFrame(), 1u);
+  ASSERT_EQ(other.tracks().size(), 1u);
+  EXPECT_LT((other.tracks()[0].position - array.tracks[0].position).norm(), 1e-12);
+  // An empty array frame: the first element's is the message's (as the input bridge places it).
+  array.frame_id = {};
+  wp::ForeignDetections first(p);
+  ASSERT_EQ(first.ingest(array, Eigen::Isometry3d::Identity()), wp::DetectionRefusal::kNone);
+  EXPECT_EQ(first.skippedFrame(), 1u);
+  EXPECT_EQ(first.tracks().size(), 1u);
 }
 
 TEST(ForeignDetections, NoAllocationOnceWarm) {

@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""A detection type through the node (issue 24): vision_msgs/Detection3DArray, published with
-the upstream definition (genpy classes generated from foreign_msgs/ at test time), one person
+"""Detection types through the node (issue 24): vision_msgs/Detection3DArray (~family, one
+monitor) or several types each to its own monitor (~families: jsk BoundingBoxArray v1 and v2,
+MarkerArray, PoseArray), published with the upstream definition (genpy classes generated from
+foreign_msgs/ at test time; Debian's for the two Debian types), one person
 walking from x = 1.6 m towards a 1 m cube "post" at 0.25 m/s at 20 Hz (stamp = now - 50 ms),
 results[0].id set to a class number that must never become a track id.
 
@@ -32,46 +34,65 @@ CONTACT_AFTER = (START_X - 0.3 - 0.5) / SPEED
 
 class DetectionInput(unittest.TestCase):
     def test_detections_through_the_tracker(self):
-        family = rospy.get_param("~family", "detections3d")
-        package, versions, build = DETECTION_FAMILIES[family]
-        m = load_module(make_fixtures, make_fixtures.generate(versions), package)
-        cls = type(build(m, rospy.Time(1), (0, 0, 0), (0, 0, 0)))
-        pub = rospy.Publisher("/scene/detections", cls, queue_size=10)
-        lock, contacts = threading.Lock(), []
+        # One family on /scene/detections to the monitor in this namespace (~family), or each
+        # of ~families on /scene/<family> to the monitor in namespace /<family>.
+        families = rospy.get_param("~families", None)
+        if families is None:
+            routes = [(rospy.get_param("~family", "detections3d"), "/scene/detections",
+                       "contacts")]
+        else:
+            routes = [(f, "/scene/" + f, "/" + f + "/contacts") for f in families]
+        lock = threading.Lock()
+        scenes = []
+        for family, topic, contacts_topic in routes:
+            package, versions, build = DETECTION_FAMILIES[family]
+            m = load_module(make_fixtures, make_fixtures.generate(versions), package)
+            cls = type(build(m, rospy.Time(1), (0, 0, 0), (0, 0, 0)))
+            contacts = []
 
-        def on_contacts(msg):
-            with lock:
-                contacts.append(msg)
-        rospy.Subscriber("contacts", ContactEventArray, on_contacts, queue_size=200)
+            def on_contacts(msg, into=contacts):
+                with lock:
+                    into.append(msg)
+            scenes.append((family, m, build, rospy.Publisher(topic, cls, queue_size=10),
+                           contacts, rospy.Subscriber(contacts_topic, ContactEventArray,
+                                                      on_contacts, queue_size=200)))
         _static = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
+
+        def ready(scene):
+            with lock:
+                return (scene[3].get_num_connections() >= 1 and bool(scene[4]) and
+                        not any("robot body" in d for d in scene[4][-1].status_details))
         deadline = rospy.Time.now() + rospy.Duration(20.0)
-        while rospy.Time.now() < deadline and (pub.get_num_connections() < 1 or not contacts or
-                                               any("robot body" in d
-                                                   for d in contacts[-1].status_details)):
+        while rospy.Time.now() < deadline and not all(ready(s) for s in scenes):
             rospy.sleep(0.05)
-        self.assertGreaterEqual(pub.get_num_connections(), 1)
+        for scene in scenes:
+            self.assertTrue(ready(scene), "%s: not subscribed or the post not posed" % scene[0])
         t0 = rospy.Time.now()
         rate = rospy.Rate(20.0)
         while rospy.Time.now() < t0 + rospy.Duration(3.0):
             stamp = rospy.Time.now() - rospy.Duration(0.05)
             t = (stamp - t0).to_sec()
-            pub.publish(build(m, stamp, (START_X - SPEED * t, 0.0, HEIGHT), (-SPEED, 0.0, 0.0)))
+            for family, m, build, pub, _, _ in scenes:
+                pub.publish(build(m, stamp, (START_X - SPEED * t, 0.0, HEIGHT), (-SPEED, 0.0, 0.0)))
             rate.sleep()
         rospy.sleep(0.2)
-        with lock:
-            steady = [c for c in contacts
-                      if t0 + rospy.Duration(1.0) <= c.header.stamp <= t0 + rospy.Duration(3.0)]
-        self.assertGreater(len(steady), 20)
         contact = (t0 + rospy.Duration(CONTACT_AFTER)).to_sec()
-        for c in steady:
-            self.assertEqual(c.status, ContactEventArray.OK, list(c.status_details))
-            self.assertEqual(len(c.events), 1)
-            ev = c.events[0]
-            ids = {ev.id_a, ev.id_b}
-            self.assertIn("post", ids)
-            other = (ids - {"post"}).pop().split("/")[-1]  # qualified by the topic
-            self.assertTrue(other.startswith("t") and other[1:].isdigit(), other)
-            self.assertLessEqual(c.header.stamp.to_sec() + ev.time_to_contact, contact + 5e-3)
+        for family, _, _, _, contacts, _ in scenes:
+            with lock:
+                steady = [c for c in contacts
+                          if t0 + rospy.Duration(1.0) <= c.header.stamp <= t0 + rospy.Duration(3.0)]
+            self.assertGreater(len(steady), 20, family)
+            for c in steady:
+                self.assertEqual(c.status, ContactEventArray.OK, "%s: %s" % (family,
+                                                                          list(c.status_details)))
+                self.assertEqual(len(c.events), 1, family)
+                ev = c.events[0]
+                ids = {ev.id_a, ev.id_b}
+                self.assertIn("post", ids, family)
+                other = (ids - {"post"}).pop().split("/")[-1]  # qualified by the topic
+                self.assertTrue(other.startswith("t") and other[1:].isdigit(), (family, other))
+                self.assertLessEqual(c.header.stamp.to_sec() + ev.time_to_contact,
+                                     contact + 5e-3, family)
 
 
 if __name__ == "__main__":

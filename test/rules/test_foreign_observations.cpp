@@ -183,6 +183,49 @@ TEST(ForeignObservations, DifferencedVelocityCarriesThePositionErrors) {
   EXPECT_EQ(out[0].linear_velocity, Eigen::Vector3d::Zero());
 }
 
+TEST(ForeignObservations, ElementsStampedApartAreCarriedToTheMessagesStamp) {
+  // A message stamped 2 s whose elements carry their own stamps (person label: position error
+  // 0.05 m, velocity error 0.3 m/s, max_accel 4 m/s^2, max_speed 2 m/s). Hand-worked:
+  // - A, 0.1 s older, moving at 1 m/s along x: carried 0.1 m along x; its error
+  //   0.05 + min(0.3 * 0.1 + 4 * 0.1^2 / 2, (2 + 1) * 0.1) = 0.05 + 0.05 = 0.10 m;
+  // - B, 0.1 s newer, velocity unknown: where it is, 0.05 + 2 * 0.1 = 0.25 m;
+  // - C, at the message's stamp: as given (no error of its own).
+  wp::MonitorParams params;
+  wp::LabelSettings& settings = params.labels["person"];
+  settings.position_error = 0.05;
+  settings.velocity_error = 0.3;
+  settings.max_accel = 4.0;
+  settings.max_speed = 2.0;
+  wp::ForeignObservations convert(4);
+  wp::ForeignTrackArray in(4);
+  in.stamp = 2 * kSecond;
+  in.frame_id = "map";
+  in.tracks.push_back(person(1, Eigen::Vector3d(1, 0, 0.9), 2 * kSecond - kSecond / 10));
+  in.tracks.back().velocity = Eigen::Vector3d(1, 0, 0);
+  in.tracks.back().velocity_axes = wp::kAxesAll;
+  in.tracks.push_back(person(2, Eigen::Vector3d(3, 0, 0.9), 2 * kSecond + kSecond / 10));
+  in.tracks.push_back(person(3, Eigen::Vector3d(5, 0, 0.9), 2 * kSecond));
+  std::vector<wp::BoxObservation> out;
+  convert.convert(in, "map", params, &out);
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_LT((out[0].position - Eigen::Vector3d(1.1, 0, 0.9)).norm(), 1e-12);
+  EXPECT_NEAR(out[0].position_error, 0.10, 1e-12);
+  EXPECT_TRUE(out[0].velocity_known);
+  EXPECT_LT((out[1].position - Eigen::Vector3d(3, 0, 0.9)).norm(), 1e-12);
+  EXPECT_NEAR(out[1].position_error, 0.25, 1e-12);
+  EXPECT_FALSE(out[1].velocity_known);
+  EXPECT_LT((out[2].position - Eigen::Vector3d(5, 0, 0.9)).norm(), 1e-12);
+  EXPECT_EQ(out[2].position_error, 0.0);
+  // Without a header stamp the first element's is the message's: A as given, C 0.1 s newer.
+  in.stamp = 0;
+  wp::ForeignObservations again(4);
+  again.convert(in, "map", params, &out);
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_LT((out[0].position - Eigen::Vector3d(1, 0, 0.9)).norm(), 1e-12);
+  EXPECT_EQ(out[0].position_error, 0.0);
+  EXPECT_NEAR(out[2].position_error, 0.05 + 2.0 * 0.1, 1e-12);  // unknown velocity, 0.1 s
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

@@ -38,7 +38,10 @@ class ForeignObservations {
   /// valid until the next call). Sizes from `params`' label size where the message gives
   /// none; a track with no velocity gets the finite difference of its position since its last
   /// sighting (within `params.track_timeout`), with the error 2 position_error / dt, else (and
-  /// when that error exceeds the label's unknownVelocitySpeed) velocity_known = false.
+  /// when that error exceeds the label's unknownVelocitySpeed) velocity_known = false. A track
+  /// stamped apart from the message (its own header) is carried to the message's stamp (its
+  /// header's, else its first track's) with its velocity, and its position_error becomes
+  /// max(label's, own) + the label's growth bound over that time (trackGrowth).
   void convert(const ForeignTrackArray& in, std::string_view frame, const MonitorParams& params,
                std::vector<BoxObservation>* out);
   /// Tracks of the last message skipped because their frame was not the array's.
@@ -60,6 +63,10 @@ class ForeignObservations {
     Stamp stamp;               // ns
   };
   const Sighting* findPrevious(std::uint64_t key) const;
+  // The finite-difference velocity of `t` (key: its id's) into `b`, or velocity_known false.
+  void differenceVelocity(const ForeignTrack& t, std::uint64_t key, bool no_id,
+                          const LabelSettings& label, double track_timeout,
+                          BoxObservation* b) const;
 
   std::size_t max_tracks_;
   std::vector<char> id_text_;         // kIdChars per track: number ids as text

@@ -37,7 +37,7 @@ const char* foreignRefusalName(ForeignRefusal refusal);
 
 /// How a track names itself.
 enum class ForeignIdKind : std::uint8_t {
-  kNone,    ///< detections and obstacle circles: no id at all
+  kNone,    ///< detections, obstacle_detector's segments and circles: no id at all
   kNumber,  ///< spencer, pedsim, leg_tracker, derived_object_msgs
   kText,    ///< people_msgs (name, object_id), bayes_people_tracker (uuid)
 };
@@ -55,8 +55,8 @@ struct ForeignTrack {
   std::uint64_t id_number = 0;  ///< when id_kind is kNumber
   std::string_view id_text;     ///< when id_kind is kText
   /// Class name: "person" for the people trackers, the label as given for this package's v1
-  /// TrackedBoxArray, derived_object_msgs' classification
-  /// ("pedestrian", "car", ..., "unknown"), "obstacle" for obstacle_detector; empty for
+  /// TrackedBoxArray, derived_object_msgs' classification ("pedestrian", "car", ...,
+  /// "unknown"), "segment" for obstacle_detector's segments; empty for its circles and for
   /// vision_msgs and jsk, which give a number only.
   std::string_view label;
   bool has_label_number = false;
@@ -96,7 +96,7 @@ struct ForeignTrackArray {
   std::string_view frame_id;
   std::vector<ForeignTrack> tracks;
   std::size_t max_tracks;
-  std::size_t ignored = 0;  ///< elements read but not tracks (obstacle_detector's segments)
+  std::size_t ignored = 0;  ///< elements read but not tracks (MarkerArray's other markers)
   ForeignRefusal refusal = ForeignRefusal::kNone;
   std::string detail;  ///< the refusal explained; empty when read
 };
@@ -109,7 +109,9 @@ struct ForeignTrackArray {
 /// Validity rules honoured: spencer/pedsim's "unset if its variance exceeds 99999" per axis of
 /// position, orientation and velocity; derived_object_msgs' detection_level (a velocity only
 /// when OBJECT_TRACKED) and object_classified (the classification only when set); people_msgs
-/// PositionMeasurement and vision/jsk detections carry no velocity.
+/// PositionMeasurement and vision/jsk detections carry no velocity; obstacle_detector's
+/// segments become a midpoint, yaw and length, its circles a centre and true diameter, both
+/// with x and y only and no velocity (foreign_tracks.cpp says why).
 ForeignRefusal decodeForeignTracks(std::string_view type, std::string_view md5,
                                    const std::uint8_t* data, std::size_t size,
                                    ForeignTrackArray* out, std::string_view definition = {});

@@ -23,7 +23,7 @@ enum class ForeignFormat : std::uint8_t {
   kLegTrackerPersonArray,              ///< leg_tracker/PersonArray
   kDerivedObjectArray,                 ///< derived_object_msgs/ObjectArray
   kDerivedObjectWithCovarianceArray,   ///< derived_object_msgs/ObjectWithCovarianceArray
-  kObstacles,                          ///< obstacle_detector/Obstacles (its circles)
+  kObstacles,                          ///< obstacle_detector/Obstacles (segments, circles)
   kDetection3DArray,                   ///< vision_msgs/Detection3DArray (ROS 1, 0.0.x)
   kJskBoxArrayV1,                      ///< jsk_recognition_msgs/BoundingBoxArray, no value/label
   kJskBoxArrayV2,                      ///< with value and label (2015-08 on)
