@@ -64,6 +64,11 @@ std::uint64_t boneKey(std::uint64_t body, std::string_view body_name, std::strin
   return h;
 }
 
+// FNV-1a over the body id alone (number or text): which bodies a message has.
+std::uint64_t bodyKey(std::uint64_t body, std::string_view body_name) {
+  return boneKey(body, body_name, std::string_view());
+}
+
 // Below this the two sightings are one measurement (a republished message): no velocity.
 constexpr double kMinDifferenceTime = 1e-3;  // s
 // A spread below this is the doubles' rounding, not a limb stretching: coordinates up to
@@ -123,10 +128,40 @@ void capsuleVelocity(const Eigen::Vector3d& velocity_a, const Eigen::Vector3d& v
 }
 
 SkeletonCapsules::SkeletonCapsules(std::size_t max_bones) : max_bones_(max_bones) {
-  ids_.reserve(max_bones * 64);
-  id_ends_.reserve(max_bones);
-  previous_.reserve(max_bones);
-  current_.reserve(max_bones);
+  // Missing bones ride along with a message's own: at most twice max_bones boxes.
+  ids_.reserve(2 * max_bones * 64);
+  id_ends_.reserve(2 * max_bones);
+  previous_.reserve(2 * max_bones);
+  current_.reserve(2 * max_bones);
+  sighting_ids_[0].reserve(2 * max_bones * 64);
+  sighting_ids_[1].reserve(2 * max_bones * 64);
+  present_bodies_.reserve(max_bones);
+  present_bones_.reserve(max_bones);
+  missing_.reserve(2 * max_bones);
+}
+
+void SkeletonCapsules::findMissing(const SkeletonFrame& in, std::size_t n) {
+  present_bodies_.clear();
+  present_bones_.clear();
+  missing_.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    const SkeletonBone& bone = in.bones[i];
+    // A body without a stable id is a different index each message: nothing to carry over.
+    if (!bone.body_id_stable) continue;
+    present_bodies_.push_back(bodyKey(bone.body, bone.body_name));
+    present_bones_.push_back(boneKey(bone.body, bone.body_name, bone.name));
+  }
+  std::sort(present_bodies_.begin(), present_bodies_.end());
+  std::sort(present_bones_.begin(), present_bones_.end());
+  for (std::size_t k = 0; k < previous_.size(); ++k) {
+    const Sighting& s = previous_[k];
+    if (std::binary_search(present_bones_.begin(), present_bones_.end(), s.key)) continue;
+    if (!std::binary_search(present_bodies_.begin(), present_bodies_.end(), s.body_key)) continue;
+    // Its message must be newer: the same stamp again (a republished message) or an older one
+    // carries nothing over, and the capacity bounds what is carried.
+    if (s.stamp >= in.stamp || n + missing_.size() >= 2 * max_bones_) continue;
+    missing_.push_back(k);
+  }
 }
 
 const SkeletonCapsules::Sighting* SkeletonCapsules::findPrevious(std::uint64_t key) const {
@@ -142,6 +177,10 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
   id_ends_.clear();
   current_.clear();
   const std::size_t n = std::min(in.bones.size(), max_bones_);
+  findMissing(in, n);
+  const std::string& previous_ids = sighting_ids_[1 - buffer_];
+  std::string& current_ids = sighting_ids_[buffer_];
+  current_ids.clear();
   // Ids first, views after: ids_ may grow (a long bone name) while it is written.
   for (std::size_t i = 0; i < n; ++i) {
     if (!in.bones[i].body_name.empty()) {
@@ -154,6 +193,11 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
     }
     ids_.push_back('/');
     ids_.append(in.bones[i].name);
+    id_ends_.push_back(ids_.size());
+  }
+  for (std::size_t k : missing_) {
+    const Sighting& s = previous_[k];
+    ids_.append(previous_ids, s.id_begin, s.id_size);
     id_ends_.push_back(ids_.size());
   }
   for (std::size_t i = 0; i < n; ++i) {
@@ -169,7 +213,12 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
 
     const std::uint64_t key = boneKey(bone.body, bone.body_name, bone.name);
     const Sighting* last = bone.body_id_stable ? findPrevious(key) : nullptr;
-    if (bone.body_id_stable) current_.push_back({key, bone.a, bone.b, in.stamp});
+    if (bone.body_id_stable) {
+      const auto id_begin = static_cast<std::uint32_t>(current_ids.size());
+      current_ids.append(b.id);
+      current_.push_back({key, bodyKey(bone.body, bone.body_name), bone.a, bone.b, in.stamp,
+                          bone.part, id_begin, static_cast<std::uint32_t>(b.id.size())});
+    }
     const double dt = last ? secondsBetween(last->stamp, in.stamp) : 0.0;
     b.linear_velocity.setZero();
     b.velocity_known = false;
@@ -183,9 +232,32 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
     b.velocity_error = spread < kSpreadRounding ? 0.0 : spread;
     b.velocity_known = true;
   }
+  // The missing bones of bodies still here: their last box, anywhere they could have got to.
+  for (std::size_t m = 0; m < missing_.size(); ++m) {
+    const Sighting& s = previous_[missing_[m]];
+    BoxObservation& b = out->emplace_back();
+    const std::size_t i = n + m;
+    const std::size_t begin = i == 0 ? 0 : id_ends_[i - 1];
+    b.id = std::string_view(ids_.data() + begin, id_ends_[i] - begin);
+    b.label = bodyPartLabel(s.part);
+    const LabelSettings& label = params.label(std::string(b.label));
+    const Capsule capsule{s.a, s.b, 0.5 * label.size_x};
+    capsuleBox(capsule, &b.position, &b.quaternion, &b.dimensions);
+    b.angular_velocity.setZero();
+    b.linear_velocity.setZero();
+    b.velocity_known = false;
+    b.position_error =
+        label.position_error + unknownVelocitySpeed(label) * secondsBetween(s.stamp, in.stamp);
+    const auto id_begin = static_cast<std::uint32_t>(current_ids.size());
+    current_ids.append(b.id);
+    Sighting carried = s;  // its last sighting stays the last: the growth goes on from there
+    carried.id_begin = id_begin;
+    current_.push_back(carried);
+  }
   std::sort(current_.begin(), current_.end(),
             [](const Sighting& a, const Sighting& b) { return a.key < b.key; });
   previous_.swap(current_);
+  buffer_ = 1 - buffer_;
 }
 
 }  // namespace workspace_proximity

@@ -213,6 +213,86 @@ TEST(SkeletonCapsules, IdsRadiiAndVelocitiesFromTheJoints) {
   EXPECT_FALSE(out[0].velocity_known);
 }
 
+// A bone the tracker lost while it still tracks its body (an occluded wrist) is unknown, never
+// clear: its last box goes out again, velocity unknown, its position error the label's plus
+// v_u x its age, for as long as the body is in the messages. Checked against the definition:
+// the bone's capsule moved anywhere within v_u x age (random directions) lies inside the box
+// grown by that error; a body that left takes its bones with it.
+TEST(SkeletonCapsules, AMissingBoneOfABodyStillTrackedGrowsFromItsLastSighting) {
+  wp::MonitorParams params = partParams();
+  params.labels["person/arm"].position_error = 0.05;
+  const double vu = wp::unknownVelocitySpeed(params.label("person/arm"));  // 2.0 m/s
+  wp::SkeletonCapsules capsules(8);
+  wp::SkeletonFrame frame(8);
+  frame.stamp = 1'000'000'000;
+  wp::SkeletonBone torso;
+  torso.body = 7;
+  torso.name = "Neck->Pelvis";
+  torso.part = wp::BodyPart::kTorso;
+  torso.a = Vector3d(0.0, 0.0, 1.5);
+  torso.b = Vector3d(0.0, 0.0, 1.0);
+  wp::SkeletonBone arm;
+  arm.body = 7;
+  arm.name = "RElbow->RWrist";
+  arm.part = wp::BodyPart::kArm;
+  arm.a = Vector3d(0.3, 0.0, 1.2);
+  arm.b = Vector3d(0.6, 0.0, 1.2);
+  frame.bones = {torso, arm};
+  std::vector<wp::BoxObservation> out;
+  capsules.convert(frame, params, &out);
+  ASSERT_EQ(out.size(), 2u);
+
+  // 0.1 s and 0.3 s later the arm is gone from the messages, the torso is not.
+  std::mt19937 rng(24);
+  for (const double age : {0.1, 0.3}) {
+    SCOPED_TRACE(age);
+    frame.stamp = 1'000'000'000 + static_cast<wp::Stamp>(age * 1e9);
+    frame.bones = {torso};
+    capsules.convert(frame, params, &out);
+    ASSERT_EQ(out.size(), 2u);
+    const wp::BoxObservation& b = out[1];
+    EXPECT_EQ(b.id, "7/RElbow->RWrist");
+    EXPECT_EQ(b.label, "person/arm");
+    EXPECT_FALSE(b.velocity_known);
+    EXPECT_EQ(b.linear_velocity, Vector3d::Zero());
+    EXPECT_NEAR(b.position_error, 0.05 + vu * age, 1e-9);
+    EXPECT_TRUE(b.position.isApprox(Vector3d(0.45, 0.0, 1.2)));
+    // The capsule moved anywhere within vu x age stays inside the box grown by the error.
+    const Eigen::Quaterniond q(b.quaternion.w(), b.quaternion.x(), b.quaternion.y(),
+                               b.quaternion.z());
+    const Vector3d half = 0.5 * b.dimensions + Vector3d::Constant(b.position_error);
+    for (int k = 0; k < 200; ++k) {
+      const Vector3d d = randomUnit(rng) * vu * age * std::uniform_real_distribution<double>(0, 1)(rng);
+      for (const Vector3d& joint : {arm.a, arm.b}) {
+        for (int e = 0; e < 6; ++e) {
+          Vector3d surface = joint + d;
+          surface[e / 2] += (e % 2 == 0 ? 1.0 : -1.0) * 0.06;  // the capsule's radius
+          const Vector3d local = q.conjugate() * (surface - b.position);
+          EXPECT_TRUE((local.cwiseAbs() - half).maxCoeff() <= 1e-9) << local.transpose();
+        }
+      }
+    }
+  }
+
+  // The arm back: its own box again, no carried copy; then the body gone: nothing carried.
+  frame.stamp += 100'000'000;
+  frame.bones = {torso, arm};
+  capsules.convert(frame, params, &out);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[1].position_error, 0.0);
+  wp::SkeletonBone other = torso;
+  other.body = 8;
+  frame.stamp += 100'000'000;
+  frame.bones = {other};
+  capsules.convert(frame, params, &out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].id, "8/Neck->Pelvis");
+  // The same stamp again (a republished message) carries nothing over either.
+  frame.bones = {};
+  capsules.convert(frame, params, &out);
+  EXPECT_TRUE(out.empty());
+}
+
 // jsk_recognition_msgs/HumanSkeletonArray as upstream defines it (foreign_msgs/).
 std::vector<std::uint8_t> jskMessage(bool with_ids, bool mismatch) {
   wp_test::WireWriter w;

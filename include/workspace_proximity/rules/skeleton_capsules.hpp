@@ -91,6 +91,13 @@ class SkeletonCapsules {
   /// differences' rounding); without such a
   /// sighting, for bodies without a stable id, or when the spread exceeds the label's
   /// unknownVelocitySpeed: velocity_known = false (growth at the label's max_speed).
+  /// A bone missing from a message whose body is in it (a joint the tracker lost while it
+  /// still tracks the person: an occluded hand) is unknown, never clear: its box from its last
+  /// sighting goes out again, velocity unknown, with position_error = the label's
+  /// position_error + unknownVelocitySpeed x its age (anywhere that bone could have got to
+  /// since), for as long as its body is in the messages. Bones of a body that left go out no
+  /// more (their tracks age out as any track's, ~track_timeout). Such boxes come after the
+  /// message's own bones in `*out`.
   void convert(const SkeletonFrame& in, const MonitorParams& params,
                std::vector<BoxObservation>* out);
   /// Forgets every sighting (after the clock went back).
@@ -98,17 +105,30 @@ class SkeletonCapsules {
 
  private:
   struct Sighting {
-    std::uint64_t key;  // hash of body and bone name
+    std::uint64_t key;       // hash of body and bone name
+    std::uint64_t body_key;  // hash of the body alone
     Eigen::Vector3d a, b;
-    Stamp stamp;
+    Stamp stamp;             // of the message that last had this bone
+    BodyPart part;
+    std::uint32_t id_begin, id_size;  // its "<body>/<bone>" in sighting_ids_[its buffer]
   };
   const Sighting* findPrevious(std::uint64_t key) const;
+  // Sightings of the last message (or carried over) whose bone is not in `in` but whose body
+  // is: their indices in previous_, into missing_.
+  void findMissing(const SkeletonFrame& in, std::size_t n);
 
   std::size_t max_bones_;
   std::string ids_;                   // "<body>/<bone>" of every box, back to back
   std::vector<std::size_t> id_ends_;  // end of each box's id in ids_
   std::vector<Sighting> previous_;    // sorted by key
   std::vector<Sighting> current_;
+  // The sightings' ids: current_ writes into sighting_ids_[buffer_], previous_'s are in the
+  // other one (swapped with the vectors).
+  std::string sighting_ids_[2];
+  int buffer_ = 0;
+  std::vector<std::uint64_t> present_bodies_;  // body keys of the message, sorted
+  std::vector<std::uint64_t> present_bones_;   // bone keys of the message, sorted
+  std::vector<std::size_t> missing_;           // indices into previous_
 };
 
 }  // namespace workspace_proximity
