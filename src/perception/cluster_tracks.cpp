@@ -39,6 +39,9 @@ std::vector<std::string> validate(const ClusterTrackParams& p) {
   if (!(std::isfinite(p.max_merge_gap) && p.max_merge_gap >= 0.0)) {
     problems.push_back("max_merge_gap must be finite and >= 0 s");
   }
+  if (!(std::isfinite(p.fragment_gap) && p.fragment_gap >= 0.0 && p.fragment_gap <= 10.0)) {
+    problems.push_back("fragment_gap must be within [0, 10] m");
+  }
   if (p.sensors < 1 || p.sensors > 1000) problems.push_back("sensors must be in [1, 1000]");
   for (const std::string& s : validate(trackerParams(p))) problems.push_back("tracker: " + s);
   return problems;
@@ -47,6 +50,9 @@ std::vector<std::string> validate(const ClusterTrackParams& p) {
 ClusterTracks::ClusterTracks(const ClusterTrackParams& params)
     : params_(checked(params)), tracker_(trackerParams(params_)) {
   detections_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
+  parent_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
+  lo_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
+  hi_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
   const auto cells = static_cast<std::size_t>(params_.tracker.capacity) * static_cast<std::size_t>(params_.sensors);
   sight_id_.assign(cells, 0);
   sight_stamp_.assign(cells, 0);
@@ -86,9 +92,61 @@ ClusterFrameUse ClusterTracks::update(Stamp stamp, const std::vector<Detection>&
   // Clusters beyond the tracker's max_detections are counted, never silently lost (the
   // node reports them; CloudFrame's max_clusters is the same 512 by default).
   overflow_ += static_cast<long>(clusters.size() - n);
+  if (params_.merge_fragments) mergeFragments();
   tracker_.update(stamp, detections_);
   unite(sensor, stamp);
   return use;
+}
+
+int ClusterTracks::root(int i) {
+  while (parent_[static_cast<std::size_t>(i)] != i) {
+    const auto k = static_cast<std::size_t>(i);
+    parent_[k] = parent_[static_cast<std::size_t>(parent_[k])];  // path halving
+    i = parent_[k];
+  }
+  return i;
+}
+
+void ClusterTracks::mergeFragments() {
+  const int n = static_cast<int>(detections_.size());
+  parent_.resize(detections_.size());
+  lo_.resize(detections_.size());
+  hi_.resize(detections_.size());
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    parent_[k] = i;
+    lo_[k] = detections_[k].position - 0.5 * detections_[k].dimensions;
+    hi_[k] = detections_[k].position + 0.5 * detections_[k].dimensions;
+  }
+  // Every pair (n^2 / 2 footprint tests: 130 000 at the 512 clusters' capacity).
+  for (int i = 0; i < n; ++i) {
+    const auto a = static_cast<std::size_t>(i);
+    for (int j = i + 1; j < n; ++j) {
+      const auto b = static_cast<std::size_t>(j);
+      const bool near = lo_[b].x() - hi_[a].x() <= params_.fragment_gap &&
+                        lo_[a].x() - hi_[b].x() <= params_.fragment_gap &&
+                        lo_[b].y() - hi_[a].y() <= params_.fragment_gap &&
+                        lo_[a].y() - hi_[b].y() <= params_.fragment_gap;
+      if (near) parent_[static_cast<std::size_t>(root(j))] = root(i);
+    }
+  }
+  // Each root takes its members' union; the detections are then the roots, in order.
+  for (int i = 0; i < n; ++i) {
+    const auto r = static_cast<std::size_t>(root(i));
+    const auto k = static_cast<std::size_t>(i);
+    lo_[r] = lo_[r].cwiseMin(lo_[k]);
+    hi_[r] = hi_[r].cwiseMax(hi_[k]);
+  }
+  std::size_t out = 0;
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (parent_[k] != i) continue;
+    workspace_proximity::Detection& d = detections_[out++];
+    d = detections_[k];
+    d.position = 0.5 * (lo_[k] + hi_[k]);
+    d.dimensions = hi_[k] - lo_[k];
+  }
+  detections_.resize(out);
 }
 
 void ClusterTracks::unite(int sensor, Stamp stamp) {

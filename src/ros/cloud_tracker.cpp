@@ -189,6 +189,7 @@ CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
   t.max_accel = readNumber(pnh, "track_max_accel", t.max_accel, 0.0, 1000.0);
   t.sigma = readNumber(pnh, "cluster_sigma", f.voxel_size, 0.001, 1.0);
   t.max_merge_gap = readNumber(pnh, "max_merge_gap", t.max_merge_gap, 0.0, 5.0);
+  t.fragment_gap = readNumber(pnh, "fragment_gap", t.fragment_gap, 0.0, 10.0);
   const std::vector<std::string> track_errors = pc::validate(t);
   if (!track_errors.empty()) fail("track_max_speed", track_errors.front());
   return p;

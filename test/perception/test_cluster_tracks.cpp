@@ -255,6 +255,33 @@ TEST(FootprintAssociation, TwoPeopleOneMetreApartStayTwo) {
   for (std::size_t n : counts) EXPECT_EQ(n, 2u);
 }
 
+TEST(FootprintAssociation, OneFramesFragmentsOfOneObjectAreOneDetection) {
+  pc::ClusterTrackParams p;
+  p.fragment_gap = 0.1;
+  pc::ClusterTracks tracks(p);
+  // A person cut by a shadow at z 0.8 .. 1.2 (legs z 0 .. 0.8, chest z 1.2 .. 1.8, one
+  // footprint), a 5 cm column 0.08 m beside the legs (x 2.33 .. 2.38 vs the legs' 2.25:
+  // within the 0.1 m gap), and a second person 1 m away in y (0.6 m apart: no merge).
+  const std::vector<pc::Detection> frame = {
+      cluster(2.0, 1.0, 0.4, 0.5, 0.4, 0.8), cluster(2.0, 1.0, 1.5, 0.5, 0.4, 0.6),
+      cluster(2.355, 1.0, 0.4, 0.05, 0.05, 0.8), cluster(2.0, 2.0, 0.9, 0.5, 0.4, 1.8)};
+  tracks.update(1000 * kMs, frame);
+  ASSERT_EQ(tracks.tracks().size(), 2u);
+  EXPECT_EQ(tracks.tracker().stats().detections, 2);
+  // By hand: the union is x 1.75 .. 2.38, y 0.8 .. 1.2, z 0 .. 1.8.
+  const wp::BoxObservation& a = tracks.tracks()[0];
+  EXPECT_NEAR(a.position.x(), 0.5 * (1.75 + 2.38), 1e-5);
+  EXPECT_NEAR(a.dimensions.x(), 2.38 - 1.75, 1e-5);
+  EXPECT_NEAR(a.position.z(), 0.9, 1e-5);
+  EXPECT_NEAR(a.dimensions.z(), 1.8, 1e-5);
+  EXPECT_NEAR(tracks.tracks()[1].position.y(), 2.0, 1e-5);
+  // Switched off: four detections, four tracks.
+  p.merge_fragments = false;
+  pc::ClusterTracks apart(p);
+  apart.update(1000 * kMs, frame);
+  EXPECT_EQ(apart.tracks().size(), 4u);
+}
+
 TEST(ClusterTracks, BadParametersAreNamed) {
   pc::ClusterTrackParams p;
   EXPECT_TRUE(pc::validate(p).empty());

@@ -23,6 +23,12 @@
 /// Nothing a sensor sees of an object disappears at another sensor's frame; with one sensor
 /// the box is the filtered box and the detection together.
 ///
+/// One object may come as several clusters of one frame (a person cut by the arm's shadow, a
+/// scanner's beams on one body with gaps): clusters of one frame whose footprints overlap or
+/// are at most `fragment_gap` apart in x and in y are one detection, their boxes' union
+/// (nothing is dropped: the union holds every point of each), so a fragment does not start a
+/// track of its own each frame.
+///
 /// Every cluster is one detection of label `label` (the monitor's `unknown`: a cluster has no
 /// class), its axis-aligned box, 1 sigma centre noise `sigma` per axis. A track's velocity is
 /// unknown (velocity_known false: the monitor grows it at the label's max_speed) until its
@@ -48,6 +54,8 @@ struct ClusterTrackParams {
   double sigma = 0.05;            ///< m, 1 sigma noise of a cluster's centre per axis
   double max_merge_gap = 0.2;     ///< s: a frame older than the tracker's newest by more is dropped
   int sensors = 1;                ///< sensors whose frames come in (update()'s `sensor` < this)
+  bool merge_fragments = true;    ///< one frame's clusters with near footprints are one detection
+  double fragment_gap = 0.1;      ///< m, footprints at most this far apart in x and y merge
   /// The tracker's gating and life (its labels are replaced by the one above). Defaults for
   /// clusters: a cluster is a track from its first frame (confirm_hits 1: unknown is never
   /// clear), and a track no sensor saw in `max_misses` frames in a row is gone.
@@ -96,8 +104,12 @@ class ClusterTracks {
   ClusterTrackParams params_;
   MultiObjectTracker tracker_;
   void unite(int sensor, Stamp stamp);
+  void mergeFragments();
+  int root(int i);
 
   std::vector<workspace_proximity::Detection> detections_;
+  std::vector<int> parent_;  // per detection: union-find over near footprints
+  std::vector<Eigen::Vector3d> lo_, hi_;  // per detection: its box's corners
   // Per (slot, sensor), flat at slot * sensors + sensor: that sensor's last box of the track
   // (corners relative to the filtered centre), the track's id then, and the frame's stamp.
   std::vector<std::uint64_t> sight_id_;
