@@ -39,6 +39,10 @@ std::vector<std::string> validate(const ClusterTrackParams& p) {
   if (!(std::isfinite(p.max_merge_gap) && p.max_merge_gap >= 0.0)) {
     problems.push_back("max_merge_gap must be finite and >= 0 s");
   }
+  if (!(std::isfinite(p.fragment_gap) && p.fragment_gap >= 0.0 && p.fragment_gap <= 10.0)) {
+    problems.push_back("fragment_gap must be within [0, 10] m");
+  }
+  if (p.sensors < 1 || p.sensors > 1000) problems.push_back("sensors must be in [1, 1000]");
   for (const std::string& s : validate(trackerParams(p))) problems.push_back("tracker: " + s);
   return problems;
 }
@@ -46,9 +50,20 @@ std::vector<std::string> validate(const ClusterTrackParams& p) {
 ClusterTracks::ClusterTracks(const ClusterTrackParams& params)
     : params_(checked(params)), tracker_(trackerParams(params_)) {
   detections_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
+  parent_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
+  lo_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
+  hi_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
+  const auto cells = static_cast<std::size_t>(params_.tracker.capacity) * static_cast<std::size_t>(params_.sensors);
+  sight_id_.assign(cells, 0);
+  sight_stamp_.assign(cells, 0);
+  sight_min_.assign(cells, Eigen::Vector3d::Zero());
+  sight_max_.assign(cells, Eigen::Vector3d::Zero());
+  sensor_stamp_.assign(static_cast<std::size_t>(params_.sensors), -1);
+  output_.reserve(static_cast<std::size_t>(params_.tracker.capacity));
 }
 
-ClusterFrameUse ClusterTracks::update(Stamp stamp, const std::vector<Detection>& clusters) {
+ClusterFrameUse ClusterTracks::update(Stamp stamp, const std::vector<Detection>& clusters, int sensor) {
+  if (sensor < 0 || sensor >= params_.sensors) throw std::out_of_range("cluster tracks: sensor index out of range");
   // A frame older than the tracker's newest: applied at that newer stamp, since the filter
   // cannot go back; in the gap the object moved at most max_speed x gap, taken as 3 sigma.
   double sigma = params_.sigma;
@@ -77,8 +92,96 @@ ClusterFrameUse ClusterTracks::update(Stamp stamp, const std::vector<Detection>&
   // Clusters beyond the tracker's max_detections are counted, never silently lost (the
   // node reports them; CloudFrame's max_clusters is the same 512 by default).
   overflow_ += static_cast<long>(clusters.size() - n);
+  if (params_.merge_fragments) mergeFragments();
   tracker_.update(stamp, detections_);
+  unite(sensor, stamp);
   return use;
+}
+
+int ClusterTracks::root(int i) {
+  while (parent_[static_cast<std::size_t>(i)] != i) {
+    const auto k = static_cast<std::size_t>(i);
+    parent_[k] = parent_[static_cast<std::size_t>(parent_[k])];  // path halving
+    i = parent_[k];
+  }
+  return i;
+}
+
+void ClusterTracks::mergeFragments() {
+  const int n = static_cast<int>(detections_.size());
+  parent_.resize(detections_.size());
+  lo_.resize(detections_.size());
+  hi_.resize(detections_.size());
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    parent_[k] = i;
+    lo_[k] = detections_[k].position - 0.5 * detections_[k].dimensions;
+    hi_[k] = detections_[k].position + 0.5 * detections_[k].dimensions;
+  }
+  // Every pair (n^2 / 2 footprint tests: 130 000 at the 512 clusters' capacity).
+  for (int i = 0; i < n; ++i) {
+    const auto a = static_cast<std::size_t>(i);
+    for (int j = i + 1; j < n; ++j) {
+      const auto b = static_cast<std::size_t>(j);
+      const bool near = lo_[b].x() - hi_[a].x() <= params_.fragment_gap &&
+                        lo_[a].x() - hi_[b].x() <= params_.fragment_gap &&
+                        lo_[b].y() - hi_[a].y() <= params_.fragment_gap &&
+                        lo_[a].y() - hi_[b].y() <= params_.fragment_gap;
+      if (near) parent_[static_cast<std::size_t>(root(j))] = root(i);
+    }
+  }
+  // Each root takes its members' union; the detections are then the roots, in order.
+  for (int i = 0; i < n; ++i) {
+    const auto r = static_cast<std::size_t>(root(i));
+    const auto k = static_cast<std::size_t>(i);
+    lo_[r] = lo_[r].cwiseMin(lo_[k]);
+    hi_[r] = hi_[r].cwiseMax(hi_[k]);
+  }
+  std::size_t out = 0;
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (parent_[k] != i) continue;
+    workspace_proximity::Detection& d = detections_[out++];
+    d = detections_[k];
+    d.position = 0.5 * (lo_[k] + hi_[k]);
+    d.dimensions = hi_[k] - lo_[k];
+  }
+  detections_.resize(out);
+}
+
+void ClusterTracks::unite(int sensor, Stamp stamp) {
+  const auto sensors = static_cast<std::size_t>(params_.sensors);
+  sensor_stamp_[static_cast<std::size_t>(sensor)] = stamp;
+  const std::vector<BoxObservation>& tracks = tracker_.tracks();
+  output_.assign(tracks.begin(), tracks.end());  // within the reserved capacity
+  for (std::size_t i = 0; i < output_.size(); ++i) {
+    BoxObservation& b = output_[i];
+    const int slot = tracker_.outputSlot(static_cast<int>(i));
+    const std::uint64_t id = tracker_.idOfSlot(slot);
+    const std::size_t base = static_cast<std::size_t>(slot) * sensors;
+    // The tracker's box: this frame's detection (or the coasting track's last) at the filtered centre.
+    Eigen::Vector3d lo = b.position - 0.5 * b.dimensions;
+    Eigen::Vector3d hi = b.position + 0.5 * b.dimensions;
+    const int det = tracker_.detectionOfSlot(slot);
+    if (det >= 0) {  // this sensor's sight of the track, relative to the filtered centre
+      const workspace_proximity::Detection& d = detections_[static_cast<std::size_t>(det)];
+      const std::size_t k = base + static_cast<std::size_t>(sensor);
+      sight_id_[k] = id;
+      sight_stamp_[k] = stamp;
+      sight_min_[k] = d.position - 0.5 * d.dimensions - b.position;
+      sight_max_[k] = d.position + 0.5 * d.dimensions - b.position;
+    }
+    // Every sensor whose latest frame saw this track, this one too: its detection where it
+    // was seen, though the filter put the centre elsewhere (a reused slot has another id).
+    for (std::size_t o = 0; o < sensors; ++o) {
+      const std::size_t k = base + o;
+      if (sight_id_[k] != id || sight_stamp_[k] != sensor_stamp_[o]) continue;
+      lo = lo.cwiseMin(b.position + sight_min_[k]);
+      hi = hi.cwiseMax(b.position + sight_max_[k]);
+    }
+    b.position = 0.5 * (lo + hi);
+    b.dimensions = hi - lo;
+  }
 }
 
 }  // namespace perception

@@ -189,6 +189,7 @@ CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
   t.max_accel = readNumber(pnh, "track_max_accel", t.max_accel, 0.0, 1000.0);
   t.sigma = readNumber(pnh, "cluster_sigma", f.voxel_size, 0.001, 1.0);
   t.max_merge_gap = readNumber(pnh, "max_merge_gap", t.max_merge_gap, 0.0, 5.0);
+  t.fragment_gap = readNumber(pnh, "fragment_gap", t.fragment_gap, 0.0, 10.0);
   const std::vector<std::string> track_errors = pc::validate(t);
   if (!track_errors.empty()) fail("track_max_speed", track_errors.front());
   return p;
@@ -228,6 +229,8 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
   // a person who leaves is free within one frame per sensor, and a person only one sensor
   // sees is not deleted at each of the others' frames.
   params_.tracks.tracker.max_misses = static_cast<int>(names.size());
+  // Each sensor's latest sight of a track goes into its box (cluster_tracks.hpp).
+  params_.tracks.sensors = static_cast<int>(names.size());
   tracks_ = std::make_unique<pc::ClusterTracks>(params_.tracks);
   objects_ = nh_.advertise<TrackedBoxArray>("perceived_objects", 2);
   status_ = nh_.advertise<PerceptionStatus>("perception_status", 2);
@@ -459,10 +462,11 @@ void CloudTracker::finish(int s, const std_msgs::Header& header, const std::stri
 
 void CloudTracker::publishTracks(int s, const std_msgs::Header& header) {
   const pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
-  // Every sensor's frames go into the one tracker in the order they come (cluster_tracks.hpp:
+  // Every sensor's frames go into the one tracker in the order they come, associated by
+  // footprint, each track's box the union of every sensor's latest sight (cluster_tracks.hpp;
   // a late frame is merged at the newest stamp with its noise grown, one beyond
   // ~max_merge_gap is dropped and counted).
-  if (tracks_->update(toStamp(header.stamp), frame.detections()) == pc::ClusterFrameUse::kTooLate) {
+  if (tracks_->update(toStamp(header.stamp), frame.detections(), s) == pc::ClusterFrameUse::kTooLate) {
     ROS_WARN_THROTTLE(5.0, "cloud_tracker: %s: frame more than max_merge_gap %.3f s older than "
                            "the newest merged frame: not tracked",
                       health_->name(s).c_str(), params_.tracks.max_merge_gap);

@@ -66,6 +66,7 @@ MultiObjectTracker::MultiObjectTracker(const TrackerParams& params)
   hits_.assign(cap, 0);
   misses_.assign(cap, 0);
   seen_.assign(cap, 0);
+  detection_of_.assign(cap, -1);
   position_.assign(cap, Eigen::Vector3d::Zero());
   velocity_.assign(cap, Eigen::Vector3d::Zero());
   dimensions_.assign(cap, Eigen::Vector3d::Ones());
@@ -93,6 +94,16 @@ bool MultiObjectTracker::validDetection(const Detection& d) const {
   return d.label >= 0 && d.label < static_cast<int>(params_.labels.size());
 }
 
+bool MultiObjectTracker::footprintsOverlap(std::size_t s, const Detection& d) const {
+  // Axis-aligned in (x, y): the track's box (as last detected) grown by its 3 sigma error.
+  const double grow = 3.0 * std::sqrt(std::max(0.0, p_pp_[s]));
+  for (int k = 0; k < 2; ++k) {
+    const double reach = 0.5 * (dimensions_[s][k] + d.dimensions[k]) + grow;
+    if (std::abs(d.position[k] - position_[s][k]) > reach) return false;
+  }
+  return true;
+}
+
 void MultiObjectTracker::predict(int slot, double dt) {
   const auto s = static_cast<std::size_t>(slot);
   position_[s] += velocity_[s] * dt;
@@ -109,8 +120,13 @@ void MultiObjectTracker::predict(int slot, double dt) {
 void MultiObjectTracker::correct(int slot, const Detection& d) {
   const auto s = static_cast<std::size_t>(slot);
   // H = [1 0] per axis; the three axes share P, so one gain for all.
-  const double r = d.sigma * d.sigma;
   const double a = p_pp_[s], b = p_pv_[s], c = p_vv_[s];
+  double r = d.sigma * d.sigma;
+  if (params_.gate_footprint) {
+    // Gated by footprint, possibly beyond the Mahalanobis gate: the offset is put on the gate
+    // as noise, so two sensors' differing centres of one object do not read as a velocity.
+    r = std::max(r, (d.position - position_[s]).squaredNorm() / params_.gate_chi2 - a);
+  }
   const double innovation_var = a + r;
   const double k_p = a / innovation_var, k_v = b / innovation_var;
   const Eigen::Vector3d innovation = d.position - position_[s];
@@ -272,7 +288,10 @@ bool MultiObjectTracker::update(Stamp stamp, const Detection* detections, int co
   // Predict every live track to the frame, then cost every gated pair.
   const int tracks = static_cast<int>(live_.size());
   const int dets = stats_.detections;
-  for (int slot : live_) predict(slot, dt);
+  for (int slot : live_) {
+    predict(slot, dt);
+    detection_of_[static_cast<std::size_t>(slot)] = -1;
+  }
   // A gated-out pair costs more than any set of gated pairs together (each at most gate_chi2):
   // the optimum has as many gated pairs as possible, then the least total d^2.
   const double gated_out = params_.gate_chi2 * (std::min(tracks, dets) + 1) + 1.0;
@@ -282,10 +301,16 @@ bool MultiObjectTracker::update(Stamp stamp, const Detection* detections, int co
     for (int j = 0; j < dets; ++j) {
       const Detection& d = detections[used_[static_cast<std::size_t>(j)]];
       double c = gated_out;
-      if (d.label == label_[s]) {
+      if (d.label == label_[s] && !params_.gate_footprint) {
         const double squared = (d.position - position_[s]).squaredNorm();
         const double mahalanobis = squared / (p_pp_[s] + d.sigma * d.sigma);
         if (squared <= gate2 && mahalanobis <= params_.gate_chi2) c = mahalanobis;
+      } else if (d.label == label_[s]) {
+        const double squared = (d.position - position_[s]).head<2>().squaredNorm();
+        const double mahalanobis = squared / (p_pp_[s] + d.sigma * d.sigma);
+        if (squared <= gate2 && (mahalanobis <= params_.gate_chi2 || footprintsOverlap(s, d))) {
+          c = std::min(mahalanobis, params_.gate_chi2);
+        }
       }
       cost_[static_cast<std::size_t>(t) * static_cast<std::size_t>(dets) +
             static_cast<std::size_t>(j)] = c;
@@ -303,6 +328,7 @@ bool MultiObjectTracker::update(Stamp stamp, const Detection* detections, int co
                                        static_cast<std::size_t>(j)] < gated_out;
     if (gated) {
       correct(slot, detections[used_[static_cast<std::size_t>(j)]]);
+      detection_of_[static_cast<std::size_t>(slot)] = used_[static_cast<std::size_t>(j)];
       matched_det_[static_cast<std::size_t>(j)] = 1;
       ++stats_.matched;
     } else {
@@ -321,7 +347,9 @@ bool MultiObjectTracker::update(Stamp stamp, const Detection* detections, int co
   // Every detection left over starts a track, while there is room.
   for (int j = 0; j < dets; ++j) {
     if (matched_det_[static_cast<std::size_t>(j)]) continue;
-    if (birth(detections[used_[static_cast<std::size_t>(j)]]) >= 0) {
+    const int born = birth(detections[used_[static_cast<std::size_t>(j)]]);
+    if (born >= 0) {
+      detection_of_[static_cast<std::size_t>(born)] = used_[static_cast<std::size_t>(j)];
       ++stats_.born;
     } else {
       ++stats_.dropped;

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -93,7 +95,8 @@ TEST(ClusterTracks, AMovingClusterFollowsTheFilterAndItsVelocityBecomesKnown) {
     tracks.update((1000 + 100 * k) * kMs, {c});
     if (k > 0) oracle.step(dt, static_cast<double>(c.centre.x()), p.sigma);
     ASSERT_EQ(tracks.tracks().size(), 1u);
-    const wp::BoxObservation& t = tracks.tracks()[0];
+    // The filter's own track (the published box adds the detection: FootprintAssociation below).
+    const wp::BoxObservation& t = tracks.tracker().tracks()[0];
     EXPECT_EQ(t.id, "c1");  // one track all along
     EXPECT_NEAR(t.position.x(), oracle.x(0), 1e-9);
     EXPECT_NEAR(t.linear_velocity.x(), oracle.x(1), 1e-9);
@@ -142,7 +145,7 @@ TEST(ClusterTracks, ALateSensorsFrameIsAppliedAtTheNewestStampWithItsNoiseGrown)
   const double rb = pa + std::pow(2.0 * 0.05 / 3.0, 2);
   const double gain = pa / (pa + rb);
   const double x = 1.0 + gain * (static_cast<double>(1.06f) - 1.0);
-  const wp::BoxObservation& t = tracks.tracks()[0];
+  const wp::BoxObservation& t = tracks.tracker().tracks()[0];
   EXPECT_NEAR(t.position.x(), x, 1e-6);
   EXPECT_NEAR(t.position_error, 3.0 * std::sqrt((1.0 - gain) * pa), 1e-9);
 }
@@ -156,6 +159,127 @@ TEST(ClusterTracks, AFrameBeyondTheMergeGapIsDroppedAndCounted) {
   EXPECT_EQ(tracks.tooLate(), 1);
   ASSERT_EQ(tracks.tracks().size(), 1u);  // the empty frame changed nothing
   EXPECT_EQ(tracks.stamp(), 1000 * kMs);
+}
+
+// One person seen by a depth camera (sensor 0: the whole body, 0.6 x 0.4 x 1.8 m at
+// (2.0, 1.0, 0.9)) and a floor scanner (sensor 1: one leg, 0.1 x 0.1 m, extruded over the band
+// to 1.5 m, at (2.25, 0.85, 0.75)), frames alternating at one stamp per round as the demo's
+// simulator sends them. By hand, after the camera's first frame (P_pp = sigma^2 = 0.0025 m^2):
+// the centres differ by (0.25, -0.15, -0.15) m: 3-D d^2 = 0.1075 / 0.005 = 21.5 and (x, y)
+// d^2 = 0.085 / 0.005 = 17, both beyond gate_chi2 16.27; the footprints overlap (x: 0.25 <=
+// (0.6 + 0.1) / 2 + 3 x 0.05 = 0.5; y: 0.15 <= (0.4 + 0.1) / 2 + 0.15 = 0.4).
+std::vector<std::string> alternate(bool footprint, const std::vector<pc::Detection>& camera,
+                                   const std::vector<pc::Detection>& scanner, int rounds,
+                                   std::vector<std::size_t>* counts = nullptr) {
+  pc::ClusterTrackParams p;
+  p.sigma = 0.05;
+  p.sensors = 2;
+  p.tracker.max_misses = 2;  // as cloud_tracker sets it: one round of frames
+  p.tracker.gate_footprint = footprint;
+  pc::ClusterTracks tracks(p);
+  std::vector<std::string> ids;
+  auto note = [&]() {
+    for (const wp::BoxObservation& b : tracks.tracks()) {
+      const std::string id(b.id);
+      if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
+    }
+    if (counts != nullptr) counts->push_back(tracks.tracks().size());
+  };
+  for (int k = 0; k < rounds; ++k) {
+    const wp::Stamp stamp = (1000 + 66 * k) * kMs;
+    tracks.update(stamp, camera, 0);
+    note();
+    tracks.update(stamp, scanner, 1);
+    note();
+  }
+  return ids;
+}
+
+TEST(FootprintAssociation, OnePersonsCameraBodyAndScannerLegAreOneTrack) {
+  const std::vector<pc::Detection> camera = {cluster(2.0, 1.0, 0.9, 0.6, 0.4, 1.8)};
+  const std::vector<pc::Detection> scanner = {cluster(2.25, 0.85, 0.75, 0.1, 0.1, 1.5)};
+  // Centre gating alone (the rule before): the two sensors' clusters never associate: one
+  // person is two tracks, each with one sensor's box.
+  EXPECT_EQ(alternate(false, camera, scanner, 10), (std::vector<std::string>{"c1", "c2"}));
+  // By footprint: one track all along, one box at every frame.
+  std::vector<std::size_t> counts;
+  EXPECT_EQ(alternate(true, camera, scanner, 10, &counts), std::vector<std::string>{"c1"});
+  for (std::size_t n : counts) EXPECT_EQ(n, 1u);
+}
+
+TEST(FootprintAssociation, TheBoxIsTheUnionOfBothSensorsSights) {
+  pc::ClusterTrackParams p;
+  p.sigma = 0.05;
+  p.sensors = 2;
+  p.tracker.max_misses = 2;
+  pc::ClusterTracks tracks(p);
+  tracks.update(1000 * kMs, {cluster(2.0, 1.0, 0.9, 0.6, 0.4, 1.8)}, 0);
+  tracks.update(1000 * kMs, {cluster(2.25, 0.85, 0.75, 0.1, 0.1, 1.5)}, 1);
+  ASSERT_EQ(tracks.tracks().size(), 1u);
+  // By hand: beyond the Mahalanobis gate, the scanner's centre is taken with its noise grown
+  // to the gate, r = |dz|^2 / 16.27 - P_pp; gain g = P_pp / (P_pp + r); no time passes. The
+  // camera's box moves with the filtered centre by g dz; the scanner's leg (x 2.2..2.3, y
+  // 0.8..0.9, z 0..1.5) and the filtered box lie inside it, so the union is the moved body.
+  const Eigen::Vector3d cam(2.0f, 1.0f, 0.9f), leg(2.25f, 0.85f, 0.75f);
+  const Eigen::Vector3d dz = leg - cam;
+  const double pa = 0.05 * 0.05;
+  const double r = std::max(pa, dz.squaredNorm() / 16.27 - pa);
+  const double g = pa / (pa + r);
+  const wp::BoxObservation& t = tracks.tracks()[0];
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(t.position[a], cam[a] + g * dz[a], 1e-5) << a;
+  }
+  EXPECT_NEAR(t.dimensions.x(), 0.6, 1e-5);
+  EXPECT_NEAR(t.dimensions.y(), 0.4, 1e-5);
+  EXPECT_NEAR(t.dimensions.z(), 1.8, 1e-5);
+  // The same offset read as motion would be g x 0.29 m in no time; it is noise: no velocity.
+  EXPECT_NEAR(t.linear_velocity.norm(), 0.0, 1e-12);
+  // The scanner's next frame without the leg (the person left its plane): its sight goes, the
+  // camera's stays.
+  tracks.update(1066 * kMs, {cluster(2.0, 1.0, 0.9, 0.6, 0.4, 1.8)}, 0);
+  tracks.update(1066 * kMs, {}, 1);
+  ASSERT_EQ(tracks.tracks().size(), 1u);
+  EXPECT_GE(tracks.tracks()[0].dimensions.z(), 1.8 - 1e-5);
+}
+
+TEST(FootprintAssociation, TwoPeopleOneMetreApartStayTwo) {
+  // Bodies 0.6 x 0.4 m at y = 1.0 and y = 2.0; the scanner's legs 0.2 x 0.2 m, offset by
+  // (0.1, -0.05). Across: y 0.95 m > (0.4 + 0.2) / 2 + 3 sigma = 0.45 m (no overlap), and
+  // d^2 >= 0.95^2 / 0.005 = 180 (no centre gate).
+  const std::vector<pc::Detection> camera = {cluster(2.0, 1.0, 0.9, 0.6, 0.4, 1.8),
+                                             cluster(2.0, 2.0, 0.9, 0.6, 0.4, 1.8)};
+  const std::vector<pc::Detection> scanner = {cluster(2.1, 0.95, 0.75, 0.2, 0.2, 1.5),
+                                              cluster(2.1, 1.95, 0.75, 0.2, 0.2, 1.5)};
+  std::vector<std::size_t> counts;
+  EXPECT_EQ(alternate(true, camera, scanner, 10, &counts), (std::vector<std::string>{"c1", "c2"}));
+  for (std::size_t n : counts) EXPECT_EQ(n, 2u);
+}
+
+TEST(FootprintAssociation, OneFramesFragmentsOfOneObjectAreOneDetection) {
+  pc::ClusterTrackParams p;
+  p.fragment_gap = 0.1;
+  pc::ClusterTracks tracks(p);
+  // A person cut by a shadow at z 0.8 .. 1.2 (legs z 0 .. 0.8, chest z 1.2 .. 1.8, one
+  // footprint), a 5 cm column 0.08 m beside the legs (x 2.33 .. 2.38 vs the legs' 2.25:
+  // within the 0.1 m gap), and a second person 1 m away in y (0.6 m apart: no merge).
+  const std::vector<pc::Detection> frame = {
+      cluster(2.0, 1.0, 0.4, 0.5, 0.4, 0.8), cluster(2.0, 1.0, 1.5, 0.5, 0.4, 0.6),
+      cluster(2.355, 1.0, 0.4, 0.05, 0.05, 0.8), cluster(2.0, 2.0, 0.9, 0.5, 0.4, 1.8)};
+  tracks.update(1000 * kMs, frame);
+  ASSERT_EQ(tracks.tracks().size(), 2u);
+  EXPECT_EQ(tracks.tracker().stats().detections, 2);
+  // By hand: the union is x 1.75 .. 2.38, y 0.8 .. 1.2, z 0 .. 1.8.
+  const wp::BoxObservation& a = tracks.tracks()[0];
+  EXPECT_NEAR(a.position.x(), 0.5 * (1.75 + 2.38), 1e-5);
+  EXPECT_NEAR(a.dimensions.x(), 2.38 - 1.75, 1e-5);
+  EXPECT_NEAR(a.position.z(), 0.9, 1e-5);
+  EXPECT_NEAR(a.dimensions.z(), 1.8, 1e-5);
+  EXPECT_NEAR(tracks.tracks()[1].position.y(), 2.0, 1e-5);
+  // Switched off: four detections, four tracks.
+  p.merge_fragments = false;
+  pc::ClusterTracks apart(p);
+  apart.update(1000 * kMs, frame);
+  EXPECT_EQ(apart.tracks().size(), 4u);
 }
 
 TEST(ClusterTracks, BadParametersAreNamed) {

@@ -12,6 +12,23 @@
 /// a gap beyond `max_merge_gap` drops the frame (counted). Nothing waits: no latency is
 /// added to merge sensors.
 ///
+/// Sensors of different vertical coverage see one object differently: a depth camera's
+/// cluster of a person is the whole body, a floor scanner's is the legs extruded over the
+/// scan band, so their centres and sizes differ. Association is therefore by footprint
+/// (TrackerParams::gate_footprint: (x, y) distances, overlapping footprints gate), and a
+/// track's published box is the union of what each sensor saw of it in that sensor's latest
+/// frame: the tracker's box (the last detection's size at the filtered centre) and, for every
+/// sensor whose latest frame matched the track (this frame's sensor included), that
+/// detection's box kept where it was relative to the filtered centre (moving with the track).
+/// Nothing a sensor sees of an object disappears at another sensor's frame; with one sensor
+/// the box is the filtered box and the detection together.
+///
+/// One object may come as several clusters of one frame (a person cut by the arm's shadow, a
+/// scanner's beams on one body with gaps): clusters of one frame whose footprints overlap or
+/// are at most `fragment_gap` apart in x and in y are one detection, their boxes' union
+/// (nothing is dropped: the union holds every point of each), so a fragment does not start a
+/// track of its own each frame.
+///
 /// Every cluster is one detection of label `label` (the monitor's `unknown`: a cluster has no
 /// class), its axis-aligned box, 1 sigma centre noise `sigma` per axis. A track's velocity is
 /// unknown (velocity_known false: the monitor grows it at the label's max_speed) until its
@@ -36,6 +53,9 @@ struct ClusterTrackParams {
   double max_speed = 2.0;         ///< m/s, the label's: a new track's velocity sigma, late frames
   double sigma = 0.05;            ///< m, 1 sigma noise of a cluster's centre per axis
   double max_merge_gap = 0.2;     ///< s: a frame older than the tracker's newest by more is dropped
+  int sensors = 1;                ///< sensors whose frames come in (update()'s `sensor` < this)
+  bool merge_fragments = true;    ///< one frame's clusters with near footprints are one detection
+  double fragment_gap = 0.1;      ///< m, footprints at most this far apart in x and y merge
   /// The tracker's gating and life (its labels are replaced by the one above). Defaults for
   /// clusters: a cluster is a track from its first frame (confirm_hits 1: unknown is never
   /// clear), and a track no sensor saw in `max_misses` frames in a row is gone.
@@ -45,6 +65,7 @@ struct ClusterTrackParams {
     t.confirm_hits = 1;
     t.max_misses = 1;
     t.id_prefix = "c";
+    t.gate_footprint = true;
     return t;
   }
 };
@@ -64,11 +85,12 @@ class ClusterTracks {
   /// Throws std::invalid_argument when validate(params) finds a problem.
   explicit ClusterTracks(const ClusterTrackParams& params);
 
-  /// One sensor's frame: its clusters (fixed frame) at `stamp` (ns).
-  ClusterFrameUse update(Stamp stamp, const std::vector<Detection>& clusters);
-  /// The confirmed tracks after the last update, in the fixed frame at stamp() (views into
-  /// the tracker: valid until the next update()).
-  const std::vector<BoxObservation>& tracks() const { return tracker_.tracks(); }
+  /// One frame of sensor `sensor` (0 .. sensors - 1): its clusters (fixed frame) at `stamp` (ns).
+  ClusterFrameUse update(Stamp stamp, const std::vector<Detection>& clusters, int sensor = 0);
+  /// The confirmed tracks after the last update, in the fixed frame at stamp(), each box the
+  /// union of every sensor's latest sight of it (ids and labels are views into the tracker:
+  /// valid until the next update()).
+  const std::vector<BoxObservation>& tracks() const { return output_; }
   /// The tracker's newest frame stamp (ns): the tracks' stamp.
   Stamp stamp() const { return tracker_.stamp(); }
   const MultiObjectTracker& tracker() const { return tracker_; }
@@ -81,7 +103,20 @@ class ClusterTracks {
  private:
   ClusterTrackParams params_;
   MultiObjectTracker tracker_;
+  void unite(int sensor, Stamp stamp);
+  void mergeFragments();
+  int root(int i);
+
   std::vector<workspace_proximity::Detection> detections_;
+  std::vector<int> parent_;  // per detection: union-find over near footprints
+  std::vector<Eigen::Vector3d> lo_, hi_;  // per detection: its box's corners
+  // Per (slot, sensor), flat at slot * sensors + sensor: that sensor's last box of the track
+  // (corners relative to the filtered centre), the track's id then, and the frame's stamp.
+  std::vector<std::uint64_t> sight_id_;
+  std::vector<Stamp> sight_stamp_;
+  std::vector<Eigen::Vector3d> sight_min_, sight_max_;
+  std::vector<Stamp> sensor_stamp_;  // per sensor: its latest frame's (applied) stamp
+  std::vector<BoxObservation> output_;
   long late_ = 0;
   long too_late_ = 0;
   long overflow_ = 0;

@@ -14,6 +14,14 @@
 ///    `gate_distance` m and whose squared Mahalanobis distance d^2 = |z - x|^2 / (P_pp + sigma^2)
 ///    is at most `gate_chi2` (chi-square, 3 degrees of freedom: 16.27 keeps 99.9 % of true
 ///    detections).
+///    With `gate_footprint` (sensors of different vertical coverage, e.g. a depth camera's
+///    whole person and a floor scanner's legs extruded over a height band, into one tracker):
+///    the distances are taken in (x, y) only, and a pair within `gate_distance` also gates
+///    when the detection's footprint (its box's x, y extent) overlaps the track's footprint
+///    grown by its 3 sigma position error 3 sqrt(P_pp); such a pair costs at most gate_chi2.
+///    Its update takes the detection's noise grown to put it on the gate (sigma^2 >=
+///    |z - x|^2 / gate_chi2 - P_pp): a centre offset between sensors is taken as noise, not
+///    as a velocity.
 /// 3. Assignment: an optimal one on the gated cost matrix (Hungarian method, shortest
 ///    augmenting paths with potentials, O(n^2 m)): first as many gated pairs as possible, then
 ///    the least total d^2 among those (a gated-out pair costs more than every gated total).
@@ -71,6 +79,7 @@ struct TrackerParams {
   double timeout = 1.0;        ///< s since its last detection that delete a track
   double known_velocity_error = 1.0;  ///< m/s, 3 sigma: the velocity is known at or below
   std::string id_prefix = "t";        ///< ids are id_prefix + a number (at most 15 chars)
+  bool gate_footprint = false;  ///< gate in (x, y), footprints overlapping (step 2 above)
   std::vector<TrackerLabel> labels{TrackerLabel()};  ///< at least one
 };
 
@@ -125,6 +134,9 @@ class MultiObjectTracker {
   int outputSlot(int i) const { return output_slot_[static_cast<std::size_t>(i)]; }
   /// The numeric id of the track in `slot` (0: free slot).
   std::uint64_t idOfSlot(int slot) const { return id_[static_cast<std::size_t>(slot)]; }
+  /// The index (into the last update()'s detections) of the detection the track in `slot`
+  /// took or was born from in the last update, -1 when it coasted.
+  int detectionOfSlot(int slot) const { return detection_of_[static_cast<std::size_t>(slot)]; }
   const TrackerStats& stats() const { return stats_; }
   const TrackerParams& params() const { return params_; }
   Stamp stamp() const { return stamp_; }
@@ -134,6 +146,7 @@ class MultiObjectTracker {
   bool validDetection(const Detection& d) const;
   void predict(int slot, double dt);
   void correct(int slot, const Detection& d);
+  bool footprintsOverlap(std::size_t s, const Detection& d) const;
   int birth(const Detection& d);
   void release(int slot);
   void publish();
@@ -152,6 +165,7 @@ class MultiObjectTracker {
   std::vector<int> hits_;
   std::vector<int> misses_;
   std::vector<Stamp> seen_;  // stamp of the last detection
+  std::vector<int> detection_of_;  // the last update's detection index, -1: coasted
   std::vector<Eigen::Vector3d> position_;
   std::vector<Eigen::Vector3d> velocity_;
   std::vector<Eigen::Vector3d> dimensions_;
