@@ -109,8 +109,17 @@ void capsuleBox(const Capsule& capsule, Eigen::Vector3d* centre, Eigen::Vector4d
   const double length = d.norm();
   *centre = 0.5 * (capsule.a + capsule.b);
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
-  // A sphere (both joints at one point) needs no axis.
-  if (length > 1e-12) q = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), d / length);
+  // A sphere (both joints at one point) needs no axis. Otherwise the rotation of an orthonormal
+  // frame with z along the bone (x, y: any perpendicular pair; the box is square across):
+  // Quaterniond::FromTwoVectors loses precision for bones pointing almost along -z (a shin
+  // hanging down; 1 + cos cancels), its quaternion off unit length by 8e-9 (fuzz_skeletons).
+  if (length > 1e-12) {
+    Eigen::Matrix3d frame;
+    frame.col(2) = d / length;
+    frame.col(0) = frame.col(2).unitOrthogonal();
+    frame.col(1) = frame.col(2).cross(frame.col(0));
+    q = Eigen::Quaterniond(frame).normalized();
+  }
   *quaternion = Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
   const double width = 2.0 * capsule.radius;
   *dimensions = Eigen::Vector3d(width, width, length + width);

@@ -88,6 +88,32 @@ TEST(CapsuleBox, HoldsEveryCapsulePointAndTouchesEveryFace) {
   }
 }
 
+// fuzz_skeletons' first finding: a shin hanging almost straight down (along -z) got a
+// quaternion 8e-9 off unit length (Quaterniond::FromTwoVectors: 1 + cos cancels). Oracle: the
+// box's z axis is the bone's direction, both joints lie on it at -+ length / 2.
+TEST(CapsuleBox, BonesAlmostAlongEveryAxisKeepAUnitQuaternion) {
+  for (double tilt : {0.0, 1e-12, 1e-9, 1e-7, 1.5e-5, 1e-3}) {
+    for (int axis = 0; axis < 3; ++axis) {
+      for (double sign : {-1.0, 1.0}) {
+        Vector3d along = Vector3d::Zero();
+        along[axis] = sign * 0.45;
+        along[(axis + 1) % 3] = tilt;
+        const wp::Capsule c{Vector3d(0.0, 0.1, 0.5), Vector3d(0.0, 0.1, 0.5) + along, 0.06};
+        Vector3d centre, dims;
+        Eigen::Vector4d q;
+        wp::capsuleBox(c, &centre, &q, &dims);
+        EXPECT_NEAR(q.norm(), 1.0, 1e-14) << tilt << " " << axis << " " << sign;
+        const Eigen::Quaterniond rotation(q.w(), q.x(), q.y(), q.z());
+        const Vector3d z = rotation.toRotationMatrix().col(2);
+        EXPECT_LT((z - along.normalized()).norm(), 1e-14) << tilt << " " << axis << " " << sign;
+        const double half = 0.5 * along.norm();
+        EXPECT_LT((local(c.a, centre, q) - Vector3d(0, 0, -half)).norm(), 1e-14);
+        EXPECT_LT((local(c.b, centre, q) - Vector3d(0, 0, half)).norm(), 1e-14);
+      }
+    }
+  }
+}
+
 TEST(CapsuleVelocity, MovedCapsuleStaysWithinTheGrownTranslatedCapsule) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> coord(-1.0, 1.0), speed(-2.5, 2.5), unit(0.0, 1.0);
