@@ -134,6 +134,7 @@ void capsuleVelocity(const Eigen::Vector3d& velocity_a, const Eigen::Vector3d& v
 SkeletonCapsules::SkeletonCapsules(std::size_t max_bones) : max_bones_(max_bones) {
   ids_.reserve(max_bones * 64);
   id_ends_.reserve(max_bones);
+  keys_.reserve(max_bones);
   previous_.reserve(max_bones);
   current_.reserve(max_bones);
 }
@@ -150,6 +151,7 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
   ids_.clear();
   id_ends_.clear();
   current_.clear();
+  keys_.clear();
   const std::size_t n = std::min(in.bones.size(), max_bones_);
   // Ids first, views after: ids_ may grow (a long bone name) while it is written.
   for (std::size_t i = 0; i < n; ++i) {
@@ -164,7 +166,21 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
     ids_.push_back('/');
     ids_.append(in.bones[i].name);
     id_ends_.push_back(ids_.size());
+    const SkeletonBone& bone = in.bones[i];
+    keys_.push_back(boneKey(bone.body, bone.body_name, bone.name));
+    if (bone.body_id_stable) current_.push_back({keys_.back(), bone.a, bone.b, in.stamp});
   }
+  const auto by_key = [](const Sighting& a, const Sighting& b) { return a.key < b.key; };
+  std::sort(current_.begin(), current_.end(), by_key);
+  // A bone named twice in one message (a body's joints in two runs of a MarkerArray, a
+  // skeleton id or bone name repeated): which sighting is which is unknown, so neither gets a
+  // velocity from a difference, now or next time (fuzz_skeletons found one differenced against
+  // the other's joints: a velocity off by more than its error).
+  const auto twice = [&](std::uint64_t key) {
+    const auto range = std::equal_range(current_.begin(), current_.end(),
+                                        Sighting{key, {}, {}, 0}, by_key);
+    return range.second - range.first > 1;
+  };
   for (std::size_t i = 0; i < n; ++i) {
     const SkeletonBone& bone = in.bones[i];
     BoxObservation& b = out->emplace_back();
@@ -176,9 +192,9 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
     capsuleBox(capsule, &b.position, &b.quaternion, &b.dimensions);
     b.angular_velocity.setZero();
 
-    const std::uint64_t key = boneKey(bone.body, bone.body_name, bone.name);
-    const Sighting* last = bone.body_id_stable ? findPrevious(key) : nullptr;
-    if (bone.body_id_stable) current_.push_back({key, bone.a, bone.b, in.stamp});
+    const std::uint64_t key = keys_[i];
+    const Sighting* last =
+        bone.body_id_stable && !twice(key) ? findPrevious(key) : nullptr;
     const double dt = last ? secondsBetween(last->stamp, in.stamp) : 0.0;
     b.linear_velocity.setZero();
     b.velocity_known = false;
@@ -192,8 +208,15 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
     b.velocity_error = spread < kSpreadRounding ? 0.0 : spread;
     b.velocity_known = true;
   }
-  std::sort(current_.begin(), current_.end(),
-            [](const Sighting& a, const Sighting& b) { return a.key < b.key; });
+  // Only the bones seen once are remembered.
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < current_.size();) {
+    std::size_t j = i + 1;
+    while (j < current_.size() && current_[j].key == current_[i].key) ++j;
+    if (j == i + 1) current_[kept++] = current_[i];
+    i = j;
+  }
+  current_.resize(kept);
   previous_.swap(current_);
 }
 

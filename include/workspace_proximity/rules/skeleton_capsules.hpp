@@ -89,7 +89,8 @@ class SkeletonCapsules {
   /// capsule's (capsuleVelocity) from each joint's finite difference since the bone's last
   /// sighting (within params.track_timeout), velocity_error the spread (0 below 1e-7 m/s, the
   /// differences' rounding); without such a
-  /// sighting, for bodies without a stable id, or when the spread exceeds the label's
+  /// sighting, for bodies without a stable id, for a bone named twice in either message, or
+  /// when the spread exceeds the label's
   /// unknownVelocitySpeed: velocity_known = false (growth at the label's max_speed).
   void convert(const SkeletonFrame& in, const MonitorParams& params,
                std::vector<BoxObservation>* out);
@@ -107,7 +108,8 @@ class SkeletonCapsules {
   std::size_t max_bones_;
   std::string ids_;                   // "<body>/<bone>" of every box, back to back
   std::vector<std::size_t> id_ends_;  // end of each box's id in ids_
-  std::vector<Sighting> previous_;    // sorted by key
+  std::vector<std::uint64_t> keys_;   // each bone's key, this message
+  std::vector<Sighting> previous_;    // sorted by key; bones seen once in their message
   std::vector<Sighting> current_;
 };
 
