@@ -109,16 +109,18 @@ void capsuleBox(const Capsule& capsule, Eigen::Vector3d* centre, Eigen::Vector4d
   const double length = d.norm();
   *centre = 0.5 * (capsule.a + capsule.b);
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
-  // A sphere (both joints at one point) needs no axis. Otherwise the rotation of an orthonormal
-  // frame with z along the bone (x, y: any perpendicular pair; the box is square across):
-  // Quaterniond::FromTwoVectors loses precision for bones pointing almost along -z (a shin
-  // hanging down; 1 + cos cancels), its quaternion off unit length by 8e-9 (fuzz_skeletons).
+  // A sphere (both joints at one point) needs no axis. Otherwise the shortest rotation taking
+  // z to the bone's direction u (the box's turn about u matters: its square cross-section
+  // turned is another set), the quaternion (z x u, 1 + u_z) normalised. For u near -z,
+  // 1 + u_z cancels: Quaterniond::FromTwoVectors left it 8e-9 off unit length there (a shin
+  // hanging down; fuzz_skeletons), so it is computed as (u_x^2 + u_y^2) / (1 - u_z), which is
+  // equal for a unit u and exact to rounding. Exactly along -z: a half turn about x.
   if (length > 1e-12) {
-    Eigen::Matrix3d frame;
-    frame.col(2) = d / length;
-    frame.col(0) = frame.col(2).unitOrthogonal();
-    frame.col(1) = frame.col(2).cross(frame.col(0));
-    q = Eigen::Quaterniond(frame).normalized();
+    const Eigen::Vector3d u = d / length;
+    const double w = u.z() >= 0.0 ? 1.0 + u.z() : (u.x() * u.x() + u.y() * u.y()) / (1.0 - u.z());
+    q = Eigen::Quaterniond(w, -u.y(), u.x(), 0.0);
+    const double norm = q.norm();
+    q = norm > 0.0 ? Eigen::Quaterniond(q.coeffs() / norm) : Eigen::Quaterniond(0.0, 1.0, 0.0, 0.0);
   }
   *quaternion = Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
   const double width = 2.0 * capsule.radius;

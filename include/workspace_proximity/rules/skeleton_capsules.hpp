@@ -43,7 +43,8 @@ struct Capsule {
 };
 
 /// The capsule's tight oriented bounding box: centred on the segment's midpoint, its z axis
-/// along b - a (any z axis for a sphere, a == b), full extents (2r, 2r, |b - a| + 2r). No
+/// along b - a by the shortest rotation from the frame's z (a half turn about x when b - a
+/// points along -z; the identity for a sphere, a == b), full extents (2r, 2r, |b - a| + 2r). No
 /// box holding the capsule is smaller along the capsule's own axes.
 void capsuleBox(const Capsule& capsule, Eigen::Vector3d* centre, Eigen::Vector4d* quaternion,
                 Eigen::Vector3d* dimensions);
