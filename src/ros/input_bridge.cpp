@@ -10,26 +10,6 @@
 #include "workspace_proximity/ros/conversions.hpp"
 
 namespace workspace_proximity {
-namespace {
-
-// The detections' tracker from the labels: `unknown` (every detection, obstacle_detector's
-// circles) and `segment` (obstacle_detector's segments) give the process noise and a new
-// track's speed where set (else 4 m/s^2 and 2 m/s), and the sizes: `unknown`'s for a missing
-// extent, `segment`'s size_x (least length), size_y (thickness) and size_z (height).
-ForeignDetectionParams detectionParams(const MonitorParams& params) {
-  ForeignDetectionParams p;
-  const LabelSettings& unknown = params.label(p.label);
-  if (unknown.max_accel > 0.0) p.max_accel = unknown.max_accel;
-  if (unknown.max_speed > 0.0) p.max_speed = unknown.max_speed;
-  p.default_dimensions = Eigen::Vector3d(unknown.size_x, unknown.size_y, unknown.size_z);
-  const LabelSettings& segment = params.label(p.segment_label);
-  if (segment.max_accel > 0.0) p.segment_max_accel = segment.max_accel;
-  if (segment.max_speed > 0.0) p.segment_max_speed = segment.max_speed;
-  p.segment_size = Eigen::Vector3d(segment.size_x, segment.size_y, segment.size_z);
-  return p;
-}
-
-}  // namespace
 
 InputBridge::InputBridge(Monitor* monitor, tf2::BufferCore* tf, const std::string& fixed_frame)
     : monitor_(monitor),
@@ -145,7 +125,7 @@ bool InputBridge::onForeign(int source, std::string_view type, std::string_view 
   }
   f.waiting_detections = f.decoded.version->family == ForeignFamily::kDetections;
   if (f.waiting_detections && !f.detections) {
-    f.detections = std::make_unique<ForeignDetections>(detectionParams(monitor_->params()));
+    f.detections = std::make_unique<ForeignDetections>(foreignDetectionParams(monitor_->params()));
   }
   waiting_[static_cast<std::size_t>(source)].foreign = true;
   return arrive(source, now);

@@ -30,6 +30,26 @@ constexpr int kDetectionLabel = 0, kSegmentLabel = 1;  // indices into the track
 
 }  // namespace
 
+ForeignDetectionParams foreignDetectionParams(const MonitorParams& params) {
+  ForeignDetectionParams p;
+  const LabelSettings& unknown = params.label(p.label);
+  if (unknown.max_accel > 0.0) p.max_accel = unknown.max_accel;
+  if (unknown.max_speed > 0.0) p.max_speed = unknown.max_speed;
+  p.default_dimensions = Eigen::Vector3d(unknown.size_x, unknown.size_y, unknown.size_z);
+  const LabelSettings& segment = params.label(p.segment_label);
+  if (segment.max_accel > 0.0) p.segment_max_accel = segment.max_accel;
+  if (segment.max_speed > 0.0) p.segment_max_speed = segment.max_speed;
+  p.segment_size = Eigen::Vector3d(segment.size_x, segment.size_y, segment.size_z);
+  const DetectionTrackerSettings& t = params.detection_tracker;
+  p.tracker.gate_chi2 = t.gate_chi2;
+  p.tracker.gate_distance = t.gate_distance;
+  p.tracker.confirm_hits = t.confirm_hits;
+  p.tracker.max_misses = t.max_misses;
+  p.tracker.timeout = t.timeout;
+  p.tracker.known_velocity_error = t.known_velocity_error;
+  return p;
+}
+
 ForeignDetections::ForeignDetections(const ForeignDetectionParams& params)
     : params_(params), tracker_(trackerParams(params)) {
   detections_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));

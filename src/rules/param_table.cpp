@@ -125,6 +125,22 @@ constexpr ParamRow kParams[] = {
      "std_srvs/Trigger called for the halt (category 1); empty: none"},
     {"ssm/halt_topic", WP_M(ssm.halt_topic), kWiring, 0, 0, nullptr, "", "",
      "std_msgs/Empty published for the halt (category 1); empty: none"},
+    // ~detection_tracker/: the multi-object tracker of detection inputs and obstacle_detector
+    // (foreign_detections.hpp). Read when an input's tracker is made (its first message).
+    {"detection_tracker/gate_chi2", WP_M(detection_tracker.gate_chi2), kWiring, 0.1, 1000.0,
+     nullptr, "", "(squared Mahalanobis distance)",
+     "a detection farther from a track's predicted centre is not that track's (16.27: 99.9 %)"},
+    {"detection_tracker/gate_distance", WP_M(detection_tracker.gate_distance), kWiring, 0.01,
+     100.0, nullptr, "m", "", "a detection farther from a track's predicted centre is not that track's"},
+    {"detection_tracker/confirm_hits", WP_M(detection_tracker.confirm_hits), kWiring, 1, 100,
+     nullptr, "detections", "", "detections that confirm a new track (1: at once)"},
+    {"detection_tracker/max_misses", WP_M(detection_tracker.max_misses), kWiring, 1, 1000, nullptr,
+     "messages", "", "messages in a row without its detection that delete a track"},
+    {"detection_tracker/timeout", WP_M(detection_tracker.timeout), kWiring, 0.001, 3600.0, nullptr,
+     "s", "", "a track without a detection this long is deleted"},
+    {"detection_tracker/known_velocity_error", WP_M(detection_tracker.known_velocity_error),
+     kWiring, 0.001, 100.0, nullptr, "m/s", "",
+     "a track's velocity counts as known once its 3 sigma error is at most this"},
 };
 #undef WP_M
 

@@ -114,8 +114,19 @@ void capsuleBox(const Capsule& capsule, Eigen::Vector3d* centre, Eigen::Vector4d
   const double length = d.norm();
   *centre = 0.5 * (capsule.a + capsule.b);
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
-  // A sphere (both joints at one point) needs no axis.
-  if (length > 1e-12) q = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), d / length);
+  // A sphere (both joints at one point) needs no axis. Otherwise the shortest rotation taking
+  // z to the bone's direction u (the box's turn about u matters: its square cross-section
+  // turned is another set), the quaternion (z x u, 1 + u_z) normalised. For u near -z,
+  // 1 + u_z cancels: Quaterniond::FromTwoVectors left it 8e-9 off unit length there (a shin
+  // hanging down; fuzz_skeletons), so it is computed as (u_x^2 + u_y^2) / (1 - u_z), which is
+  // equal for a unit u and exact to rounding. Exactly along -z: a half turn about x.
+  if (length > 1e-12) {
+    const Eigen::Vector3d u = d / length;
+    const double w = u.z() >= 0.0 ? 1.0 + u.z() : (u.x() * u.x() + u.y() * u.y()) / (1.0 - u.z());
+    q = Eigen::Quaterniond(w, -u.y(), u.x(), 0.0);
+    const double norm = q.norm();
+    q = norm > 0.0 ? Eigen::Quaterniond(q.coeffs() / norm) : Eigen::Quaterniond(0.0, 1.0, 0.0, 0.0);
+  }
   *quaternion = Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
   const double width = 2.0 * capsule.radius;
   *dimensions = Eigen::Vector3d(width, width, length + width);
@@ -200,6 +211,15 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
     ids_.append(previous_ids, s.id_begin, s.id_size);
     id_ends_.push_back(ids_.size());
   }
+  // A bone named twice in one message (a body's joints in two runs of a MarkerArray, a
+  // skeleton id or bone name repeated): which sighting is which is unknown, so neither gets a
+  // velocity from a difference, now or next time (fuzz_skeletons found one differenced against
+  // the other's joints: a velocity off by more than its error). present_bones_ holds the
+  // message's stable bone keys, sorted (findMissing).
+  const auto twice = [&](std::uint64_t key) {
+    const auto range = std::equal_range(present_bones_.begin(), present_bones_.end(), key);
+    return range.second - range.first > 1;
+  };
   for (std::size_t i = 0; i < n; ++i) {
     const SkeletonBone& bone = in.bones[i];
     BoxObservation& b = out->emplace_back();
@@ -212,7 +232,7 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
     b.angular_velocity.setZero();
 
     const std::uint64_t key = boneKey(bone.body, bone.body_name, bone.name);
-    const Sighting* last = bone.body_id_stable ? findPrevious(key) : nullptr;
+    const Sighting* last = bone.body_id_stable && !twice(key) ? findPrevious(key) : nullptr;
     if (bone.body_id_stable) {
       const auto id_begin = static_cast<std::uint32_t>(current_ids.size());
       current_ids.append(b.id);
@@ -256,6 +276,15 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
   }
   std::sort(current_.begin(), current_.end(),
             [](const Sighting& a, const Sighting& b) { return a.key < b.key; });
+  // Only the bones seen once are remembered.
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < current_.size();) {
+    std::size_t j = i + 1;
+    while (j < current_.size() && current_[j].key == current_[i].key) ++j;
+    if (j == i + 1) current_[kept++] = current_[i];
+    i = j;
+  }
+  current_.resize(kept);
   previous_.swap(current_);
   buffer_ = 1 - buffer_;
 }

@@ -429,6 +429,58 @@ TEST(ForeignDetections, DetectionsInAnotherFrameAreSkippedAndCounted) {
   EXPECT_EQ(first.tracks().size(), 1u);
 }
 
+// ~detection_tracker/ (the node's parameters) reach the tracker of every detection input:
+// each value as set, the defaults TrackerParams' own, and a changed value changes what the
+// tracker does (confirm_hits 1: obstacle_detector's wall and circle are tracks at once;
+// max_misses 1: one message without them deletes both).
+TEST(ForeignDetections, TheNodesDetectionTrackerParametersReachTheTracker) {
+  const wp::TrackerParams code;
+  const wp::TrackerParams defaults = wp::foreignDetectionParams(wp::MonitorParams()).tracker;
+  EXPECT_EQ(defaults.gate_chi2, code.gate_chi2);
+  EXPECT_EQ(defaults.gate_distance, code.gate_distance);
+  EXPECT_EQ(defaults.confirm_hits, code.confirm_hits);
+  EXPECT_EQ(defaults.max_misses, code.max_misses);
+  EXPECT_EQ(defaults.timeout, code.timeout);
+  EXPECT_EQ(defaults.known_velocity_error, code.known_velocity_error);
+
+  wp::MonitorParams p;
+  p.detection_tracker.gate_chi2 = 9.5;
+  p.detection_tracker.gate_distance = 0.75;
+  p.detection_tracker.confirm_hits = 1;
+  p.detection_tracker.max_misses = 1;
+  p.detection_tracker.timeout = 0.4;
+  p.detection_tracker.known_velocity_error = 0.3;
+  ASSERT_TRUE(wp::validate(p).empty());
+  const wp::ForeignDetectionParams fp = wp::foreignDetectionParams(p);
+  EXPECT_EQ(fp.tracker.gate_chi2, 9.5);
+  EXPECT_EQ(fp.tracker.gate_distance, 0.75);
+  EXPECT_EQ(fp.tracker.confirm_hits, 1);
+  EXPECT_EQ(fp.tracker.max_misses, 1);
+  EXPECT_EQ(fp.tracker.timeout, 0.4);
+  EXPECT_EQ(fp.tracker.known_velocity_error, 0.3);
+
+  wp::ForeignDetections detections(fp);
+  wp::ForeignTrackArray array;
+  std::vector<std::uint8_t> bytes = obstaclesMessage(0);
+  ASSERT_EQ(wp::decodeForeignTracks(kObstaclesType, kObstaclesMd5, bytes.data(), bytes.size(),
+                                    &array),
+            wp::ForeignRefusal::kNone)
+      << array.detail;
+  ASSERT_EQ(detections.ingest(array, fixedFromLaser()), wp::DetectionRefusal::kNone);
+  EXPECT_EQ(detections.tracks().size(), 2u) << "confirm_hits 1: confirmed at once";
+  // The next message with neither obstacle (no segments, no circles), 50 ms later.
+  wp_test::WireWriter w;
+  w.header(1, 10, 50000000, "laser");
+  w.u32(0);
+  w.u32(0);
+  ASSERT_EQ(wp::decodeForeignTracks(kObstaclesType, kObstaclesMd5, w.bytes.data(), w.bytes.size(),
+                                    &array),
+            wp::ForeignRefusal::kNone)
+      << array.detail;
+  ASSERT_EQ(detections.ingest(array, fixedFromLaser()), wp::DetectionRefusal::kNone);
+  EXPECT_TRUE(detections.tracks().empty()) << "max_misses 1: deleted after one miss";
+}
+
 TEST(ForeignDetections, NoAllocationOnceWarm) {
   const Sequence s = readSequence("walk_detections3d");
   wp::ForeignDetections detections(params());

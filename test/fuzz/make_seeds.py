@@ -321,8 +321,81 @@ def foreign_seeds():
         p.write("fuzz_foreign", stem)
 
 
+# fuzz_skeletons: byte 0 picks the decoder (0 jsk HumanSkeletonArray, 1 the Azure Kinect
+# driver's MarkerArray, 2 hri_msgs/IdsList; 3 and 4 the first and last with an unknown md5), the
+# rest one serialized message, written here field by field as ROS 1 serializes it.
+def ros_string(s):
+    b = s.encode()
+    return struct.pack("<I", len(b)) + b
+
+
+def ros_header(seq, secs, frame):
+    return struct.pack("<III", seq, secs, 0) + ros_string(frame)
+
+
+def jsk_skeletons(ids, skeletons):
+    # skeletons: [(bone_names, [(start xyz, end xyz)])]
+    out = ros_header(1, 100, "camera") + struct.pack("<I", len(ids))
+    out += b"".join(struct.pack("<i", i) for i in ids)
+    out += struct.pack("<I", len(skeletons))
+    for names, segments in skeletons:
+        out += ros_header(1, 100, "camera") + struct.pack("<I", len(names))
+        out += b"".join(ros_string(n) for n in names)
+        out += struct.pack("<I", len(segments))
+        for a, b in segments:
+            out += struct.pack("<6d", *a, *b)
+    return out
+
+
+def k4abt_marker(marker_id, position, frame="depth_camera_link"):
+    SPHERE, ADD = 2, 0
+    out = ros_header(0, 100, frame) + ros_string("")
+    out += struct.pack("<iii", marker_id, SPHERE, ADD)
+    out += struct.pack("<7d", *position, 0.0, 0.0, 0.0, 1.0)  # pose
+    out += struct.pack("<3d", 0.05, 0.05, 0.05)  # scale
+    out += struct.pack("<4f", 1.0, 0.0, 0.0, 1.0)  # color
+    out += struct.pack("<ii", 0, 250000000)  # lifetime
+    out += struct.pack("<B", 0)  # frame_locked
+    out += struct.pack("<II", 0, 0)  # points[], colors[]
+    return out + ros_string("") + ros_string("") + struct.pack("<B", 0)
+
+
+def skeleton_seeds():
+    arm = [((0.0, -0.2, 1.4), (0.0, -0.2, 1.1)), ((0.0, -0.2, 1.1), (0.2, -0.2, 1.0)),
+           ((0.2, -0.2, 1.0), (0.28, -0.2, 1.0))]
+    trunk = [((0.0, 0.0, 1.5), (0.0, 0.0, 1.7)), ((0.0, 0.0, 1.5), (0.0, 0.0, 1.0)),
+             ((0.0, 0.1, 1.0), (0.0, 0.1, 0.5)), ((0.0, 0.1, 0.5), (0.0, 0.1, 0.05))]
+    names_arm = ["RShoulder->RElbow", "RElbow->RWrist", "RWrist->RHand"]
+    names_trunk = ["Neck->Head", "Neck->MidHip", "LHip->LKnee", "LKnee->LAnkle"]
+    p = Program().byte(0)
+    p.data += jsk_skeletons([7, 9], [(names_arm + ["Unknown->Thing"], arm + arm[:1]),
+                                     (names_trunk, trunk)])
+    p.write("fuzz_skeletons", "jsk_two_bodies")
+    p = Program().byte(0)
+    p.data += jsk_skeletons([], [(names_trunk, trunk)])
+    p.write("fuzz_skeletons", "jsk_no_ids")
+
+    # Two bodies of 32 joints each (one without its left hand), ids body * 100 + joint.
+    p = Program().byte(1)
+    markers = []
+    for body in (1, 2):
+        for j in range(32):
+            if body == 2 and j == 8:
+                continue
+            markers.append(k4abt_marker(body * 100 + j, (0.5 * body, 0.03 * j, 1.0 + 0.02 * j)))
+    p.data += struct.pack("<I", len(markers)) + b"".join(markers)
+    p.write("fuzz_skeletons", "k4abt_two_bodies")
+
+    p = Program().byte(2)
+    ids = ["1a2b3", "zq9"]
+    p.data += ros_header(3, 100, "") + struct.pack("<I", len(ids))
+    p.data += b"".join(ros_string(i) for i in ids)
+    p.write("fuzz_skeletons", "hri_ids")
+
+
 if __name__ == "__main__":
     world_seeds()
     sap_seeds()
     message_seeds()
     foreign_seeds()
+    skeleton_seeds()

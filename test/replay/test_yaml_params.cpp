@@ -183,6 +183,33 @@ TEST(YamlParams, TheNodesReaderGivesTheNodesMessages) {
   EXPECT_EQ(errors[0].rfind("~rate = -1: must be in", 0), 0u) << errors[0];
 }
 
+// ~detection_tracker/ (the detections' multi-object tracker) read through the node's reader,
+// each value as written, and each refused by validate() out of its range, by name.
+TEST(YamlParams, TheDetectionTrackerGroupIsReadAndChecked) {
+  const wp::MonitorParams p = wp::readParams(wp::yamlToParams(
+      "detection_tracker:\n  gate_chi2: 9.5\n  gate_distance: 0.75\n  confirm_hits: 1\n"
+      "  max_misses: 5\n  timeout: 0.4\n  known_velocity_error: 0.3\n",
+      "c.yaml"));
+  EXPECT_EQ(p.detection_tracker.gate_chi2, 9.5);
+  EXPECT_EQ(p.detection_tracker.gate_distance, 0.75);
+  EXPECT_EQ(p.detection_tracker.confirm_hits, 1);
+  EXPECT_EQ(p.detection_tracker.max_misses, 5);
+  EXPECT_EQ(p.detection_tracker.timeout, 0.4);
+  EXPECT_EQ(p.detection_tracker.known_velocity_error, 0.3);
+  EXPECT_TRUE(wp::validate(p).empty());
+  const std::pair<const char*, const char*> bad[] = {
+      {"gate_chi2", "0.05"},   {"gate_distance", "200.0"},        {"confirm_hits", "0"},
+      {"max_misses", "1001"},  {"timeout", "0.0"},                {"known_velocity_error", "0.0"}};
+  for (const auto& [key, text] : bad) {
+    const std::string yaml = std::string("detection_tracker:\n  ") + key + ": " + text + "\n";
+    const std::vector<std::string> errors =
+        wp::validate(wp::readParams(wp::yamlToParams(yaml, "c.yaml")));
+    ASSERT_EQ(errors.size(), 1u) << key;
+    EXPECT_EQ(errors[0].rfind(std::string("~detection_tracker/") + key + " = ", 0), 0u)
+        << errors[0];
+  }
+}
+
 TEST(YamlParams, TheShippedConfigurationFiles) {
   const std::string dir = WP_SOURCE_DIR "/config/";
   // The default file states the defaults of the struct.

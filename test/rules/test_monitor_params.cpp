@@ -103,6 +103,18 @@ TEST(MonitorParams, EachBadValueIsNamed) {
       {"~ssm/min_stop_time", [](wp::MonitorParams& p) { p.ssm.min_stop_time = -1.0; }},
       {"~ssm/standstill_speed", [](wp::MonitorParams& p) { p.ssm.standstill_speed = std::numeric_limits<double>::quiet_NaN(); }},
       {"~ssm/max_mute_time", [](wp::MonitorParams& p) { p.ssm.max_mute_time = 3601.0; }},
+      {"~detection_tracker/gate_chi2",
+       [](wp::MonitorParams& p) { p.detection_tracker.gate_chi2 = 0.0; }},
+      {"~detection_tracker/gate_distance",
+       [](wp::MonitorParams& p) { p.detection_tracker.gate_distance = -1.0; }},
+      {"~detection_tracker/confirm_hits",
+       [](wp::MonitorParams& p) { p.detection_tracker.confirm_hits = 0; }},
+      {"~detection_tracker/max_misses",
+       [](wp::MonitorParams& p) { p.detection_tracker.max_misses = 1001; }},
+      {"~detection_tracker/timeout",
+       [](wp::MonitorParams& p) { p.detection_tracker.timeout = std::numeric_limits<double>::quiet_NaN(); }},
+      {"~detection_tracker/known_velocity_error",
+       [](wp::MonitorParams& p) { p.detection_tracker.known_velocity_error = 0.0; }},
   };
   for (const Case& c : cases) {
     wp::MonitorParams p;

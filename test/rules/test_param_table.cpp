@@ -87,6 +87,19 @@ TEST(ParamTable, TheRowsTypesFollowTheirMembers) {
   EXPECT_EQ(&wp::findParam("ssm/labels")->member.names(p), &p.ssm.labels);
   EXPECT_EQ(&wp::findParam("check_pairs")->member.pairs(p), &p.check_pairs);
   EXPECT_EQ(wp::findParam("robot_bodies")->member.number, nullptr);
+  // ~detection_tracker/: each row sets its own member.
+  EXPECT_EQ(&wp::findParam("detection_tracker/gate_chi2")->member.number(p),
+            &p.detection_tracker.gate_chi2);
+  EXPECT_EQ(&wp::findParam("detection_tracker/gate_distance")->member.number(p),
+            &p.detection_tracker.gate_distance);
+  EXPECT_EQ(&wp::findParam("detection_tracker/confirm_hits")->member.integer(p),
+            &p.detection_tracker.confirm_hits);
+  EXPECT_EQ(&wp::findParam("detection_tracker/max_misses")->member.integer(p),
+            &p.detection_tracker.max_misses);
+  EXPECT_EQ(&wp::findParam("detection_tracker/timeout")->member.number(p),
+            &p.detection_tracker.timeout);
+  EXPECT_EQ(&wp::findParam("detection_tracker/known_velocity_error")->member.number(p),
+            &p.detection_tracker.known_velocity_error);
   // The structures are the three with readers of their own (readParams).
   std::set<std::string> structures;
   for (const wp::ParamRow& row : wp::paramTable()) {
@@ -175,13 +188,17 @@ TEST(ParamTable, KeepWiringKeepsWhatSetParamsRestoredByHand) {
   // Monitor::setParams restored these 12 by hand before the table; require_all_links,
   // use_joint_states and trajectory_topic are fixed at start-up by the node too, and so is
   // audit_log (the file opened at start-up), perception_status_topics (subscribed then) and
-  // skeleton_marker_topics (how a topic is read).
+  // skeleton_marker_topics (how a topic is read), and detection_tracker/ (each detection
+  // input's tracker is made at its first message).
   const std::set<std::string> wiring = {
       "fixed_frame", "input_topics", "use_robot_description", "robot_description_param",
       "robot_bodies", "cycle_trigger", "trigger_source", "ssm/enabled",
       "ssm/stop_trajectory_topics", "ssm/stop_event_topics", "ssm/cmd_vel_in", "ssm/cmd_vel_out",
       "ssm/halt_service", "ssm/halt_topic", "require_all_links", "use_joint_states", "trajectory_topic",
-      "audit_log", "perception_status_topics", "skeleton_marker_topics"};
+      "audit_log", "perception_status_topics", "skeleton_marker_topics",
+      "detection_tracker/gate_chi2", "detection_tracker/gate_distance",
+      "detection_tracker/confirm_hits", "detection_tracker/max_misses",
+      "detection_tracker/timeout", "detection_tracker/known_velocity_error"};
   std::set<std::string> wiring_rows;
   for (const wp::ParamRow& row : wp::paramTable()) {
     if (row.tuning == wp::Tuning::kWiring) wiring_rows.insert(row.name);

@@ -29,6 +29,7 @@
 #include <Eigen/Geometry>
 
 #include "workspace_proximity/rules/foreign_tracks.hpp"
+#include "workspace_proximity/rules/monitor_params.hpp"
 #include "workspace_proximity/rules/multi_object_tracker.hpp"
 
 namespace workspace_proximity {
@@ -46,6 +47,13 @@ struct ForeignDetectionParams {
   double default_sigma = 0.05;    ///< m, 1 sigma, when a detection has no covariance
   TrackerParams tracker;          ///< its labels are replaced by the two above
 };
+
+/// The monitor's parameters as the detections' tracker's: the labels `unknown` (every
+/// detection, obstacle_detector's circles) and `segment` (obstacle_detector's segments) give
+/// the process noise and a new track's speed where set (else 4 m/s^2 and 2 m/s), and the
+/// sizes: `unknown`'s for a missing extent, `segment`'s size_x (least length), size_y
+/// (thickness) and size_z (height); ~detection_tracker/ the gates, confirmation and deletion.
+ForeignDetectionParams foreignDetectionParams(const MonitorParams& params);
 
 /// Why a message gave no tracks.
 enum class DetectionRefusal : std::uint8_t {

@@ -54,6 +54,18 @@ struct RobotBodySpec {
   Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();  ///< shape pose in `frame`
 };
 
+/// The multi-object tracker (multi_object_tracker.hpp) of detection inputs (vision_msgs,
+/// jsk BoundingBoxArray, MarkerArray, PoseArray) and obstacle_detector (~detection_tracker/).
+/// Defaults: TrackerParams' (test_param_table checks the two agree).
+struct DetectionTrackerSettings {
+  double gate_chi2 = 16.27;    ///< squared Mahalanobis distance gate (3 dof: 99.9 %)
+  double gate_distance = 2.0;  ///< m, metric gate on |detection - predicted centre|
+  int confirm_hits = 2;        ///< detections that confirm a new track (1: at once)
+  int max_misses = 3;          ///< frames in a row without a detection that delete a track
+  double timeout = 1.0;        ///< s since its last detection that deletes a track
+  double known_velocity_error = 1.0;  ///< m/s, 3 sigma: a track's velocity is known at or below
+};
+
 struct MonitorParams {
   std::string fixed_frame = "world";
   double rate = 30.0;           ///< Hz
@@ -113,6 +125,7 @@ struct MonitorParams {
   std::string audit_log;
 
   SsmParams ssm;  ///< speed and separation monitoring (~ssm/)
+  DetectionTrackerSettings detection_tracker;  ///< ~detection_tracker/
 
   MonitorParams();
   /// Settings for a label ("default" when not listed).

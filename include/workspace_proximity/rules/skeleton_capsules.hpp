@@ -43,7 +43,8 @@ struct Capsule {
 };
 
 /// The capsule's tight oriented bounding box: centred on the segment's midpoint, its z axis
-/// along b - a (any z axis for a sphere, a == b), full extents (2r, 2r, |b - a| + 2r). No
+/// along b - a by the shortest rotation from the frame's z (a half turn about x when b - a
+/// points along -z; the identity for a sphere, a == b), full extents (2r, 2r, |b - a| + 2r). No
 /// box holding the capsule is smaller along the capsule's own axes.
 void capsuleBox(const Capsule& capsule, Eigen::Vector3d* centre, Eigen::Vector4d* quaternion,
                 Eigen::Vector3d* dimensions);
@@ -89,7 +90,8 @@ class SkeletonCapsules {
   /// capsule's (capsuleVelocity) from each joint's finite difference since the bone's last
   /// sighting (within params.track_timeout), velocity_error the spread (0 below 1e-7 m/s, the
   /// differences' rounding); without such a
-  /// sighting, for bodies without a stable id, or when the spread exceeds the label's
+  /// sighting, for bodies without a stable id, for a bone named twice in either message, or
+  /// when the spread exceeds the label's
   /// unknownVelocitySpeed: velocity_known = false (growth at the label's max_speed).
   /// A bone missing from a message whose body is in it (a joint the tracker lost while it
   /// still tracks the person: an occluded hand) is unknown, never clear: its box from its last
@@ -120,7 +122,7 @@ class SkeletonCapsules {
   std::size_t max_bones_;
   std::string ids_;                   // "<body>/<bone>" of every box, back to back
   std::vector<std::size_t> id_ends_;  // end of each box's id in ids_
-  std::vector<Sighting> previous_;    // sorted by key
+  std::vector<Sighting> previous_;    // sorted by key; bones seen once in their message
   std::vector<Sighting> current_;
   // The sightings' ids: current_ writes into sighting_ids_[buffer_], previous_'s are in the
   // other one (swapped with the vectors).
