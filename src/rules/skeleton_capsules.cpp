@@ -220,16 +220,24 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
     const auto range = std::equal_range(present_bones_.begin(), present_bones_.end(), key);
     return range.second - range.first > 1;
   };
-  for (std::size_t i = 0; i < n; ++i) {
-    const SkeletonBone& bone = in.bones[i];
+  // Box i of *out: its id (the i-th in ids_), its part's label and its capsule's box, at rest.
+  const auto addBox = [&](std::size_t i, BodyPart part, const Eigen::Vector3d& a,
+                          const Eigen::Vector3d& b_joint) -> const LabelSettings& {
     BoxObservation& b = out->emplace_back();
     const std::size_t begin = i == 0 ? 0 : id_ends_[i - 1];
     b.id = std::string_view(ids_.data() + begin, id_ends_[i] - begin);
-    b.label = bodyPartLabel(bone.part);
+    b.label = bodyPartLabel(part);
     const LabelSettings& label = params.label(std::string(b.label));
-    const Capsule capsule{bone.a, bone.b, 0.5 * label.size_x};
-    capsuleBox(capsule, &b.position, &b.quaternion, &b.dimensions);
+    capsuleBox(Capsule{a, b_joint, 0.5 * label.size_x}, &b.position, &b.quaternion, &b.dimensions);
     b.angular_velocity.setZero();
+    b.linear_velocity.setZero();
+    b.velocity_known = false;
+    return label;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const SkeletonBone& bone = in.bones[i];
+    const LabelSettings& label = addBox(i, bone.part, bone.a, bone.b);
+    BoxObservation& b = out->back();
 
     const std::uint64_t key = boneKey(bone.body, bone.body_name, bone.name);
     const Sighting* last = bone.body_id_stable && !twice(key) ? findPrevious(key) : nullptr;
@@ -240,8 +248,6 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
                           bone.part, id_begin, static_cast<std::uint32_t>(b.id.size())});
     }
     const double dt = last ? secondsBetween(last->stamp, in.stamp) : 0.0;
-    b.linear_velocity.setZero();
-    b.velocity_known = false;
     if (last == nullptr || dt < kMinDifferenceTime || dt > params.track_timeout) continue;
     Eigen::Vector3d velocity;
     double spread = 0.0;
@@ -255,17 +261,8 @@ void SkeletonCapsules::convert(const SkeletonFrame& in, const MonitorParams& par
   // The missing bones of bodies still here: their last box, anywhere they could have got to.
   for (std::size_t m = 0; m < missing_.size(); ++m) {
     const Sighting& s = previous_[missing_[m]];
-    BoxObservation& b = out->emplace_back();
-    const std::size_t i = n + m;
-    const std::size_t begin = i == 0 ? 0 : id_ends_[i - 1];
-    b.id = std::string_view(ids_.data() + begin, id_ends_[i] - begin);
-    b.label = bodyPartLabel(s.part);
-    const LabelSettings& label = params.label(std::string(b.label));
-    const Capsule capsule{s.a, s.b, 0.5 * label.size_x};
-    capsuleBox(capsule, &b.position, &b.quaternion, &b.dimensions);
-    b.angular_velocity.setZero();
-    b.linear_velocity.setZero();
-    b.velocity_known = false;
+    const LabelSettings& label = addBox(n + m, s.part, s.a, s.b);
+    BoxObservation& b = out->back();
     b.position_error =
         label.position_error + unknownVelocitySpeed(label) * secondsBetween(s.stamp, in.stamp);
     const auto id_begin = static_cast<std::uint32_t>(current_ids.size());
