@@ -32,7 +32,6 @@ Checks, from 0.5 s after the start (the finite difference needs two sightings):
 """
 import os
 import sys
-import threading
 import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -44,8 +43,9 @@ import rostest  # noqa: E402
 
 import make_fixtures  # noqa: E402  (genpy classes from foreign_msgs/)
 from foreign_scene import FAMILIES  # noqa: E402  (one person in each type)
-from wp_node_testlib import (ContactEventArray, SafetyStatus, Track, TrackedBoxArray,  # noqa: E402
-                             SSM_DEFAULTS, broadcast_static, ssm_required, ssm_scale)
+from wp_node_testlib import (ContactEventArray, ContactStatusRecorder, SafetyStatus, Track,  # noqa: E402
+                             TrackedBoxArray, SSM_DEFAULTS, broadcast_static, ssm_required,
+                             ssm_scale)
 
 SPEED = 0.25
 START_X = 1.6
@@ -86,25 +86,7 @@ def as_class(msg, cls):
     return out
 
 
-class Recorder(object):
-    def __init__(self, ns):
-        self.lock = threading.Lock()
-        self.contacts, self.status = [], []
-        self.subs = [rospy.Subscriber(ns + "/contacts", ContactEventArray, self._into(self.contacts),
-                                      queue_size=200),
-                     rospy.Subscriber(ns + "/safety_status", SafetyStatus, self._into(self.status),
-                                      queue_size=200)]
-
-    def _into(self, where):
-        def cb(msg):
-            with self.lock:
-                where.append(msg)
-        return cb
-
-    def since(self, t):
-        with self.lock:
-            return ([m for m in self.contacts if m.header.stamp >= t],
-                    [m for m in self.status if m.header.stamp >= t])
+Recorder = ContactStatusRecorder  # wp_node_testlib
 
 
 class ForeignInputs(unittest.TestCase):

@@ -31,7 +31,6 @@ import math
 import os
 import re
 import sys
-import threading
 import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -42,8 +41,8 @@ import rostest  # noqa: E402
 from geometry_msgs.msg import Pose, Twist, Vector3  # noqa: E402
 from visualization_msgs.msg import Marker, MarkerArray  # noqa: E402
 
-from wp_node_testlib import (ContactEventArray, SafetyStatus, TrackedBox, TrackedBoxArray,  # noqa: E402
-                             broadcast_static, ssm_scale)
+from wp_node_testlib import (ContactEventArray, ContactStatusRecorder, SafetyStatus, TrackedBox,  # noqa: E402
+                             TrackedBoxArray, broadcast_static, ssm_scale)
 
 SPEED = 0.25
 START = (1.6, 0.0, 1.0)  # the pelvis at t0
@@ -168,25 +167,7 @@ def k4abt_msg(stamp, t):
     return msg
 
 
-class Recorder(object):
-    def __init__(self, ns):
-        self.lock = threading.Lock()
-        self.contacts, self.status = [], []
-        self.subs = [rospy.Subscriber(ns + "/contacts", ContactEventArray, self._into(self.contacts),
-                                      queue_size=500),
-                     rospy.Subscriber(ns + "/safety_status", SafetyStatus, self._into(self.status),
-                                      queue_size=500)]
-
-    def _into(self, where):
-        def cb(msg):
-            with self.lock:
-                where.append(msg)
-        return cb
-
-    def between(self, t0, t1):
-        with self.lock:
-            return ([m for m in self.contacts if t0 <= m.header.stamp <= t1],
-                    [m for m in self.status if t0 <= m.header.stamp <= t1])
+Recorder = ContactStatusRecorder  # wp_node_testlib
 
 
 def median(values):

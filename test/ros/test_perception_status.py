@@ -18,7 +18,6 @@ Checks:
 import math
 import os
 import sys
-import threading
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -29,29 +28,11 @@ from sensor_msgs import point_cloud2  # noqa: E402
 from sensor_msgs.msg import PointCloud2  # noqa: E402
 from std_msgs.msg import Header  # noqa: E402
 
-from wp_node_testlib import (ContactEventArray, SafetyStatus, broadcast_static,  # noqa: E402
-                             diag_values)
+from wp_node_testlib import (ContactEventArray, ContactStatusRecorder, SafetyStatus,  # noqa: E402
+                             broadcast_static, diag_values)
 
 
-class Recorder(object):
-    def __init__(self, ns):
-        self.lock = threading.Lock()
-        self.contacts, self.status = [], []
-        self.subs = [rospy.Subscriber(ns + "/contacts", ContactEventArray, self._into(self.contacts),
-                                      queue_size=500),
-                     rospy.Subscriber(ns + "/safety_status", SafetyStatus, self._into(self.status),
-                                      queue_size=500)]
-
-    def _into(self, where):
-        def cb(msg):
-            with self.lock:
-                where.append(msg)
-        return cb
-
-    def between(self, t0, t1):
-        with self.lock:
-            return ([m for m in self.contacts if t0 <= m.header.stamp <= t1],
-                    [m for m in self.status if t0 <= m.header.stamp <= t1])
+Recorder = ContactStatusRecorder  # wp_node_testlib
 
 
 def box_points():

@@ -812,3 +812,33 @@ def startup_refusals(started, timeout=8.0):
         if not any(w in err for w in words):
             failures.append("%s: stderr names none of %r: %r" % (name, words, err[-500:]))
     return failures
+
+
+class ContactStatusRecorder(object):
+    """Records the contacts and safety_status a monitor under namespace `ns` publishes."""
+
+    def __init__(self, ns, queue_size=500):
+        self.lock = threading.Lock()
+        self.contacts, self.status = [], []
+        self.subs = [rospy.Subscriber(ns + "/contacts", ContactEventArray, self._into(self.contacts),
+                                      queue_size=queue_size),
+                     rospy.Subscriber(ns + "/safety_status", SafetyStatus, self._into(self.status),
+                                      queue_size=queue_size)]
+
+    def _into(self, where):
+        def cb(msg):
+            with self.lock:
+                where.append(msg)
+        return cb
+
+    def since(self, t):
+        """Contacts and statuses stamped at or after t."""
+        with self.lock:
+            return ([m for m in self.contacts if m.header.stamp >= t],
+                    [m for m in self.status if m.header.stamp >= t])
+
+    def between(self, t0, t1):
+        """Contacts and statuses stamped in [t0, t1]."""
+        with self.lock:
+            return ([m for m in self.contacts if t0 <= m.header.stamp <= t1],
+                    [m for m in self.status if t0 <= m.header.stamp <= t1])
