@@ -4,7 +4,7 @@ phases of equal length: both sensors, the camera alone (scanner paused), the sca
 (camera paused). The sensors are paused through sensor_simulator's ~pause_camera and
 ~pause_scanner. Run beside `scripts/demo sensors:=true` on the same master (issue 23, demo2).
 
-    tools/track_births.py [phase seconds, default 15]
+    /usr/bin/python3 tools/track_births.py [phase seconds, default 15]  (a development tool, not installed)
 """
 import sys
 
