@@ -21,12 +21,12 @@ sys.path.insert(0, os.path.join(HERE, "..", "foreign"))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 import tf2_ros  # noqa: E402
-from geometry_msgs.msg import Pose, TransformStamped, Twist, Vector3  # noqa: E402
+from geometry_msgs.msg import TransformStamped, Vector3  # noqa: E402
 
 import make_fixtures  # noqa: E402
-from test_foreign_skeleton_markers import (ContactEventArray, Recorder, TrackedBox,  # noqa: E402
-                                           TrackedBoxArray, broadcast_static, capsule_box,
-                                           check_same, DIAMETER, SCENE_S, SPEED)
+from test_foreign_skeleton_markers import (ContactEventArray, Recorder,  # noqa: E402
+                                           TrackedBoxArray, broadcast_static,
+                                           capsule_tracked_box, check_same, SCENE_S, SPEED)
 
 BODY = "abcde"
 START = (1.6, 0.0, 1.0)  # the body frame (hips) at t0
@@ -53,18 +53,8 @@ def boxes_msg(stamp, t):
     msg.header.stamp = stamp
     msg.header.frame_id = "world"
     for a, b, part in BONES:
-        centre, q, dims = capsule_box(link_at(a, t), link_at(b, t), DIAMETER[part])
-        box = TrackedBox()
-        box.id = "%s/%s->%s" % (BODY, a, b)
-        box.label = "person/" + part
-        box.pose = Pose()
-        box.pose.position.x, box.pose.position.y, box.pose.position.z = centre
-        (box.pose.orientation.x, box.pose.orientation.y, box.pose.orientation.z,
-         box.pose.orientation.w) = q
-        box.dimensions = Vector3(*dims)
-        box.twist = Twist()
-        box.twist.linear = Vector3(-SPEED, 0.0, 0.0)
-        msg.boxes.append(box)
+        msg.boxes.append(capsule_tracked_box("%s/%s->%s" % (BODY, a, b), part, link_at(a, t),
+                                             link_at(b, t)))
     return msg
 
 

@@ -125,6 +125,23 @@ def capsule_box(a, b, diameter):
     return centre, q, (diameter, diameter, length + diameter)
 
 
+def capsule_tracked_box(box_id, part, a, b):
+    """The capsule of `part` between joints a and b as the TrackedBox the node should make of
+    it: its tight box (capsule_box), label person/<part>, the body's velocity."""
+    centre, q, dims = capsule_box(a, b, DIAMETER[part])
+    box = TrackedBox()
+    box.id = box_id
+    box.label = "person/" + part
+    box.pose = Pose()
+    box.pose.position.x, box.pose.position.y, box.pose.position.z = centre
+    (box.pose.orientation.x, box.pose.orientation.y, box.pose.orientation.z,
+     box.pose.orientation.w) = q
+    box.dimensions = Vector3(*dims)
+    box.twist = Twist()
+    box.twist.linear = Vector3(-SPEED, 0.0, 0.0)
+    return box
+
+
 def bone_id(j):
     return "%d/%s->%s" % (BODY, PARENT[j], j)
 
@@ -134,18 +151,8 @@ def boxes_msg(stamp, t):
     msg.header.stamp = stamp
     msg.header.frame_id = "world"
     for j in JOINTS[1:]:
-        centre, q, dims = capsule_box(joint_at(PARENT[j], t), joint_at(j, t), DIAMETER[PART[j]])
-        b = TrackedBox()
-        b.id = bone_id(j)
-        b.label = "person/" + PART[j]
-        b.pose = Pose()
-        b.pose.position.x, b.pose.position.y, b.pose.position.z = centre
-        (b.pose.orientation.x, b.pose.orientation.y, b.pose.orientation.z,
-         b.pose.orientation.w) = q
-        b.dimensions = Vector3(*dims)
-        b.twist = Twist()
-        b.twist.linear = Vector3(-SPEED, 0.0, 0.0)
-        msg.boxes.append(b)
+        msg.boxes.append(capsule_tracked_box(bone_id(j), PART[j], joint_at(PARENT[j], t),
+                                             joint_at(j, t)))
     return msg
 
 
