@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
+#include <thread>
 
 #include "workspace_proximity/rules/config_fingerprint.hpp"
 #include <workspace_proximity/PerceptionStatus.h>
@@ -275,6 +276,10 @@ void ProximityMonitor::safety(const CycleReport& report, const ProximityWorld& w
                               const CycleRun& /*run*/) {
   // First: what a controller acts on never waits for the contacts' message.
   publishSsm(report, world);
+  // roscpp writes a published message from its poll thread, not from here: on a small machine
+  // the contacts' prediction that follows would otherwise keep that thread off the core for up
+  // to a scheduler slice (measured at 1 000 objects, 2 cores: speed_scale p99 1.8 -> 1.3-1.6 ms).
+  std::this_thread::yield();
 }
 
 void ProximityMonitor::contacts(const CycleReport& report, const ProximityWorld& world) {

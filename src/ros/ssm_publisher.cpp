@@ -117,14 +117,15 @@ void SsmPublisher::haltLoop() {
 }
 
 void SsmPublisher::publish(const CycleReport& report, const ProximityWorld& world) {
-  fillSafetyStatus(report, world, fixed_frame_, &msg_);
+  // What a controller acts on goes out before the status message is even filled.
   std_msgs::Float64 scale;
   scale.data = report.ssm.speed_scale;
   scale_pub_.publish(scale);
-  status_pub_.publish(msg_);
   std_msgs::Int64 percent;
   percent.data = speedOverride(report.ssm.speed_scale);
   override_pub_.publish(percent);
+  fillSafetyStatus(report, world, fixed_frame_, &msg_);
+  status_pub_.publish(msg_);
   stopActions(report);
   latchEvents(report);
 }
