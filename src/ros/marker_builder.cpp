@@ -334,6 +334,15 @@ void MarkerBuilder::addSsm(const CycleReport& report, const ProximityWorld& worl
   text.pose.position.z += 0.35;
   char buffer[96];
   std::snprintf(buffer, sizeof buffer, "scale %.2f: ", v.speed_scale);
+  if (v.speed_scale < v.raw_scale - 0.005) {
+    // Below what the pair allows: capped while DEGRADED, or the hysteresis (hold, then the
+    // rate) still bringing it up; without this "0.00 ... >= S_p" reads like a wrong verdict.
+    if (v.degraded) {
+      std::snprintf(buffer, sizeof buffer, "scale %.2f (DEGRADED): ", v.speed_scale);
+    } else {
+      std::snprintf(buffer, sizeof buffer, "scale %.2f (rising to %.2f): ", v.speed_scale, v.raw_scale);
+    }
+  }
   text.text.assign(buffer).append(world.desc(v.object).id);
   std::snprintf(buffer, sizeof buffer, " %.2f m %s S_p %.2f m", v.separation,
                 v.separation < v.required_separation ? "<" : ">=", v.required_separation);

@@ -128,7 +128,12 @@ class MarkersTest(unittest.TestCase):
                 self.assertEqual(ssm[1].type, Marker.LINE_LIST)
                 self.assertAlmostEqual(ssm[1].points[1].x, -0.2, delta=1e-6)
                 self.assertRegex(ssm[2].text,
-                                 r"^scale [01]\.[0-9]{2}: walker [0-9.]+ m (<|>=) S_p 0\.67 m$")
+                                 r"^scale [01]\.[0-9]{2}( \((DEGRADED|rising to [01]\.[0-9]{2})\))?: "
+                                 r"walker [0-9.]+ m (<|>=) S_p 0\.67 m$")
+                # At or beyond S_p the pair allows full speed: a lower scale must say why.
+                shown = float(ssm[2].text.split()[1].rstrip(":"))
+                if ">=" in ssm[2].text and shown < 1.0:
+                    self.assertRegex(ssm[2].text, r"\((DEGRADED|rising to 1\.00)\)")
                 ssm_checked += 1
             line = near[0]
             if len(line.points) >= 2:
