@@ -440,39 +440,46 @@ std::string CloudTracker::poseRobot(const ros::Time& stamp, pc::CloudFrame* fram
     }
   }
   char gap_why[200];
+  char joint_gap[200];
   for (std::size_t i = 0; i < robot_.size(); ++i) {
     const RobotBodySpec& spec = robot_[i];
     const int body = static_cast<int>(i);
-    std::string joint_why;
+    // Why the joints could not pose it (only put into words when tf cannot either).
+    const std::string* joint_why = nullptr;
+    bool joint_too_old = false;
     if (joints_ != nullptr && joints_->claims(body)) {
-      joint_why = root_why.empty() ? joints_->why(body) : root_why;
+      joint_why = root_why.empty() ? &joints_->why(body) : &root_why;
       pc::SelfLink& link = links_[i];
-      if (joint_why.empty() && std::max(link.gap, root_gap) > params_.self_max_gap) {
-        std::snprintf(gap_why, sizeof gap_why, "joint readings %.3f s from the frame's stamp (self_max_gap %.3f s)",
-                      std::max(link.gap, root_gap), params_.self_max_gap);
-        joint_why = gap_why;
+      const double gap = std::max(link.gap, root_gap);
+      if (joint_why->empty() && gap > params_.self_max_gap) {
+        std::snprintf(joint_gap, sizeof joint_gap, "joint readings %.3f s from the frame's stamp (self_max_gap %.3f s)",
+                      gap, params_.self_max_gap);
+        joint_too_old = true;
       }
-      if (joint_why.empty()) {
+      if (joint_why->empty() && !joint_too_old) {
         if (root_gap > 0.0) {  // the root from tf's newest: its growth too
           link.speed += params_.self_max_speed;
-          link.gap = std::max(link.gap, root_gap);
+          link.gap = gap;
         }
         continue;
       }
-      joint_why = " (from the joints: " + joint_why + ")";
     }
+    const auto from_joints = [&]() -> std::string {
+      if (joint_why == nullptr) return std::string();
+      return " (from the joints: " + (joint_too_old ? std::string(joint_gap) : *joint_why) + ")";
+    };
     Eigen::Isometry3d pose;
     double gap = 0.0;
     std::string why;
     if (!tfPose(spec.frame, stamp, &pose, &gap, &why)) {
       frame->clearRobot();
-      return "link " + spec.name + " (frame '" + spec.frame + "'): " + why + joint_why;
+      return "link " + spec.name + " (frame '" + spec.frame + "'): " + why + from_joints();
     }
     if (gap > params_.self_max_gap) {
       frame->clearRobot();
       std::snprintf(gap_why, sizeof gap_why, "newest robot poses %.3f s from the frame's stamp (self_max_gap %.3f s)",
                     gap, params_.self_max_gap);
-      return "link " + spec.name + ": " + gap_why + joint_why;
+      return "link " + spec.name + ": " + gap_why + from_joints();
     }
     links_[i].shape = spec.shape;
     links_[i].pose = pose * spec.offset;
