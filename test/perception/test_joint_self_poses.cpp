@@ -137,6 +137,8 @@ TEST(JointSelfPoses, LateReadingsPredictedToTheStampRemoveTheWholeTrueArm) {
   const double lever = 0.5 + kHalf.norm();
   EXPECT_NEAR(link.speed, w * lever, 1e-9);
   EXPECT_NEAR(link.gap, 0.035, 1e-9);
+  // At constant speed the prediction is the truth (the monitor's model: its velocity).
+  EXPECT_TRUE(link.pose.isApprox(boxPose(turning(w, stamp)), 1e-9));
   EXPECT_EQ(kept(link, surface(turning(w, stamp))), 0);
   // Decelerated after the last reading (within the same speed): still inside.
   EXPECT_EQ(kept(link, surface(turning(w, 100) + 0.5 * w * 0.035)), 0);
@@ -180,6 +182,7 @@ TEST(JointSelfPoses, AStampBetweenReadingsIsInterpolated) {
     const pc::SelfLink& link = f.links[0];
     const double d = std::fmod(stamp, 20.0) * 1e-3, e = 0.02 - d;
     EXPECT_NEAR(link.gap, 2 * d * e / 0.02, 1e-9) << stamp;
+    EXPECT_TRUE(link.pose.isApprox(boxPose(turning(w, stamp)), 1e-9)) << stamp;
     EXPECT_EQ(kept(link, surface(turning(w, stamp))), 0) << stamp;
     EXPECT_NE(kept(link, {justOutside(link, 0.002)}), 0) << stamp;
   }
@@ -254,6 +257,82 @@ TEST(JointSelfPoses, TheRootFrameCarriesTheArm) {
   const Eigen::Isometry3d root = Eigen::Translation3d(1.0, 2.0, 0.5) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ());
   ASSERT_EQ(f.poses.poseAt(ms(40), root, f.links.data()), 1);
   EXPECT_TRUE(f.links[0].pose.isApprox(root * boxPose(turning(w, 40)), 1e-9));
+}
+
+namespace {
+
+// Two joints about z: "shoulder" at the root's origin, "elbow" 1 m along the upper link; a
+// 0.6 m box on the forearm from the elbow along its x.
+class TwoJointArm : public wp::KinematicModel {
+ public:
+  TwoJointArm() {
+    root_ = "world";
+    joints_ = {{"shoulder", wp::JointType::kRevolute, true, -3.0, 3.0},
+               {"elbow", wp::JointType::kRevolute, true, -3.0, 3.0}};
+    links_ = {{"upper", {0}, {0.0}, 0.0}, {"fore", {0, 1}, {1.0, 0.0}, 1.0}};
+  }
+  void forward(const double* q, Eigen::Isometry3d* poses) const override {
+    poses[0] = Eigen::Isometry3d(Eigen::AngleAxisd(q[0], Eigen::Vector3d::UnitZ()));
+    poses[1] = poses[0] * Eigen::Translation3d(1.0, 0, 0) * Eigen::AngleAxisd(q[1], Eigen::Vector3d::UnitZ());
+  }
+};
+
+const Eigen::Vector3d kFore(0.3, 0.05, 0.05);
+
+// Points every 5 mm on the forearm box's surface at joint angles (a, b).
+std::vector<Eigen::Vector3f> foreSurface(double a, double b) {
+  const Eigen::Isometry3d pose = Eigen::Isometry3d(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ())) *
+                                 Eigen::Translation3d(1.0, 0, 0) * Eigen::AngleAxisd(b, Eigen::Vector3d::UnitZ()) *
+                                 Eigen::Translation3d(0.3, 0, 0);
+  std::vector<Eigen::Vector3f> out;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    const int nu = static_cast<int>(std::round(2 * kFore[u] / 0.005));
+    const int nv = static_cast<int>(std::round(2 * kFore[v] / 0.005));
+    for (int side = -1; side <= 1; side += 2) {
+      for (int i = 0; i <= nu; ++i) {
+        for (int j = 0; j <= nv; ++j) {
+          Eigen::Vector3d p;
+          p[axis] = side * kFore[axis];
+          p[u] = -kFore[u] + 2 * kFore[u] * i / nu;
+          p[v] = -kFore[v] + 2 * kFore[v] * j / nv;
+          out.push_back((pose * p).cast<float>());
+        }
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(JointSelfPoses, AChainIsBoundByTheSumOfItsJointsLevers) {
+  // Shoulder at 2 rad/s, elbow at -3 rad/s, readings every 20 ms, the stamp 30 ms after the
+  // newest. Any motion that keeps each joint within its speed x gap of the prediction (the
+  // nine extremes: each joint behind, on or ahead of it by s g) stays inside padding + bound.
+  wp::RobotBodySpec fore;
+  fore.name = "fore_box";
+  fore.frame = "fore";
+  fore.shape = wp::Shape::box(kFore);
+  fore.offset = Eigen::Translation3d(0.3, 0.0, 0.0);
+  pc::JointSelfPoses poses(std::make_shared<TwoJointArm>(), {fore}, wp::JointPredictorParams());
+  const double w1 = 2.0, w2 = -3.0;
+  for (double t = 0; t <= 100; t += 20) {
+    poses.onJointState({"shoulder", "elbow"}, {w1 * t * 1e-3, w2 * t * 1e-3}, {w1, w2}, ms(t), ms(t));
+  }
+  std::vector<pc::SelfLink> links(1);
+  ASSERT_EQ(poses.poseAt(ms(130), Eigen::Isometry3d::Identity(), links.data()), 1);
+  const double tail = 0.3 + kFore.norm();
+  EXPECT_NEAR(links[0].speed, std::abs(w1) * (1.0 + tail) + std::abs(w2) * tail, 1e-9);
+  EXPECT_NEAR(links[0].gap, 0.03, 1e-9);
+  const double g = 0.03;
+  for (int i = -1; i <= 1; ++i) {
+    for (int j = -1; j <= 1; ++j) {
+      const double a = w1 * 0.13 + i * std::abs(w1) * g, b = w2 * 0.13 + j * std::abs(w2) * g;
+      EXPECT_EQ(kept(links[0], foreSurface(a, b)), 0) << i << " " << j;
+    }
+  }
+  EXPECT_NE(kept(links[0], {justOutside(links[0], 0.002)}), 0);
 }
 
 int main(int argc, char** argv) {
