@@ -136,6 +136,11 @@ TEST(JointSelfPoses, LateReadingsPredictedToTheStampRemoveTheWholeTrueArm) {
   // The bound: w x lever (0.5 to the centre + the box's bounding radius) over 35 ms.
   const double lever = 0.5 + kHalf.norm();
   EXPECT_NEAR(link.speed, w * lever, 1e-9);
+  // For one joint it is linkSpeedBound of the box's twist (its centre 0.5 m from the axis).
+  wp::BodyMotion twist;
+  twist.linear_velocity = Eigen::Vector3d(0.0, w * 0.5, 0.0);
+  twist.angular_velocity = Eigen::Vector3d(0.0, 0.0, w);
+  EXPECT_NEAR(link.speed, pc::linkSpeedBound(twist, wp::Shape::box(kHalf)), 1e-9);
   EXPECT_NEAR(link.gap, 0.035, 1e-9);
   // At constant speed the prediction is the truth (the monitor's model: its velocity).
   EXPECT_TRUE(link.pose.isApprox(boxPose(turning(w, stamp)), 1e-9));
