@@ -34,11 +34,13 @@ bool SelfFilter::setLinks(const SelfLink* links, int count, double padding, doub
   for (int i = 0; i < count; ++i) {
     const SelfLink& in = links[i];
     if (!in.shape.valid() || !std::isfinite(in.speed) || in.speed < 0.0 ||
-        !in.pose.matrix().allFinite()) {
+        !in.pose.matrix().allFinite() || !std::isfinite(in.gap)) {
       count_ = 0;
       return false;
     }
-    const double grow = padding + in.speed * std::abs(stamp_offset);
+    // A link posed from its own reading (joint states) has its own gap to the cloud's stamp.
+    const double gap = in.gap >= 0.0 ? in.gap : std::abs(stamp_offset);
+    const double grow = padding + in.speed * gap;
     const Eigen::Matrix3d rot = in.pose.linear();
     const Eigen::Vector3d half =
         rot.cwiseAbs() * in.shape.localHalfExtents() + Eigen::Vector3d::Constant(grow + near_band);

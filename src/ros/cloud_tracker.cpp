@@ -12,6 +12,7 @@
 
 #include "workspace_proximity/perception/laser_scan.hpp"
 #include "workspace_proximity/ros/conversions.hpp"
+#include "workspace_proximity/ros/monitor_bridges.hpp"
 #include "workspace_proximity/ros/robot_description.hpp"
 #include "workspace_proximity/ros/ros_params.hpp"
 
@@ -120,7 +121,9 @@ CloudTrackerParams readCloudTrackerParams(const ros::NodeHandle& pnh) {
   // The robot's bodies, read as the monitor reads them.
   XmlRpc::XmlRpcValue robot;
   robot["use_robot_description"] = true;
-  for (const char* key : {"robot_bodies", "use_robot_description", "robot_description_param"}) {
+  for (const char* key : {"robot_bodies", "use_robot_description", "robot_description_param",
+                          "use_joint_states", "trajectory_topic", "tf_timeout",
+                          "trajectory_tolerance", "joint_path_tolerance"}) {
     XmlRpc::XmlRpcValue v;
     if (pnh.getParam(key, v)) robot[key] = v;
   }
@@ -203,6 +206,7 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
   robot_ = robot.bodies;
   links_.resize(robot_.size());
   params_.frame.max_links = static_cast<int>(robot_.size());
+  enableJoints();
 
   std::vector<std::string> names = params_.cloud_topics;
   names.insert(names.end(), params_.scan_topics.begin(), params_.scan_topics.end());
@@ -357,36 +361,132 @@ bool CloudTracker::place(int s, const std_msgs::Header& header, Eigen::Isometry3
   }
 }
 
+void CloudTracker::enableJoints() {
+  // The links the URDF's joints move, posed as the monitor poses them (its kinematic model and
+  // joint predictor, the same parameters); the others keep tf.
+  std::string urdf;
+  if (params_.robot.use_joint_states && params_.robot.use_robot_description) {
+    nh_.getParam(params_.robot.robot_description_param, urdf);
+  }
+  const std::shared_ptr<const KinematicModel> model = MonitorBridges::jointModel(params_.robot, urdf);
+  if (!model) return;
+  JointPredictorParams predictor;
+  predictor.state_timeout = params_.robot.tf_timeout;
+  predictor.trajectory_tolerance = params_.robot.trajectory_tolerance;
+  predictor.path_tolerance = params_.robot.joint_path_tolerance;
+  joints_ = std::make_unique<pc::JointSelfPoses>(model, robot_, predictor);
+  if (joints_->claimedCount() == 0) {
+    joints_.reset();
+    return;
+  }
+  // Every reading counts (interpolation, finite differences): a queue of a few.
+  subs_.push_back(nh_.subscribe<sensor_msgs::JointState>(
+      "joint_states", 10,
+      [this](const sensor_msgs::JointState::ConstPtr& msg) {
+        joints_->onJointState(msg->name, msg->position, msg->velocity, toStamp(msg->header.stamp),
+                              toStamp(ros::Time::now()));
+      },
+      ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
+  if (!params_.robot.trajectory_topic.empty()) {
+    subs_.push_back(nh_.subscribe<trajectory_msgs::JointTrajectory>(
+        params_.robot.trajectory_topic, 5, [this](const trajectory_msgs::JointTrajectory::ConstPtr& msg) {
+          PlannedTrajectory plan;
+          plan.start = toStamp(msg->header.stamp);
+          plan.joint_names = msg->joint_names;
+          for (const trajectory_msgs::JointTrajectoryPoint& point : msg->points) {
+            plan.times.push_back(point.time_from_start.toSec());
+            plan.positions.push_back(point.positions);
+          }
+          const std::string why = joints_->onTrajectory(plan, toStamp(ros::Time::now()));
+          if (!why.empty()) ROS_WARN_THROTTLE(5.0, "cloud_tracker: planned trajectory ignored: %s", why.c_str());
+        }));
+  }
+  ROS_INFO("cloud_tracker: %d robot bodies posed from joint_states for the self-filter (root '%s')",
+           joints_->claimedCount(), model->root().c_str());
+}
+
+bool CloudTracker::tfPose(const std::string& frame, const ros::Time& stamp, Eigen::Isometry3d* pose,
+                          double* gap, std::string* why) {
+  geometry_msgs::TransformStamped t;
+  *gap = 0.0;
+  try {
+    t = tf_buffer_.lookupTransform(params_.fixed_frame, frame, stamp);
+  } catch (const tf2::TransformException&) {
+    try {
+      t = tf_buffer_.lookupTransform(params_.fixed_frame, frame, ros::Time(0));
+      *gap = std::abs((stamp - t.header.stamp).toSec());
+    } catch (const tf2::TransformException& e) {
+      *why = e.what();
+      return false;
+    }
+  }
+  *pose = tf2::transformToEigen(t);
+  return true;
+}
+
 std::string CloudTracker::poseRobot(const ros::Time& stamp, pc::CloudFrame* frame) {
-  // Each link at the cloud's stamp; when tf has not got there, its newest pose, grown by the
-  // robot's top speed times the gap.
-  double offset = 0.0;
+  // Links the joints move: at the cloud's stamp from the joint readings (pc::JointSelfPoses),
+  // on the root frame from tf. Every other link, and one the joints cannot pose: from tf at
+  // the stamp or, when tf has not got there, at its newest pose grown by ~self_max_speed x
+  // the gap. No pose farther than ~self_max_gap from the stamp: the growth would hide too much.
+  std::string root_why;
+  Eigen::Isometry3d root = Eigen::Isometry3d::Identity();
+  double root_gap = 0.0;
+  if (joints_ != nullptr) {
+    if (tfPose(joints_->model().root(), stamp, &root, &root_gap, &root_why)) {
+      joints_->poseAt(toStamp(stamp), root, links_.data());
+    } else {
+      root_why = "root frame '" + joints_->model().root() + "' not posed by tf: " + root_why;
+    }
+  }
+  char gap_why[200];
+  char joint_gap[200];
   for (std::size_t i = 0; i < robot_.size(); ++i) {
     const RobotBodySpec& spec = robot_[i];
-    geometry_msgs::TransformStamped t;
-    try {
-      t = tf_buffer_.lookupTransform(params_.fixed_frame, spec.frame, stamp);
-    } catch (const tf2::TransformException&) {
-      try {
-        t = tf_buffer_.lookupTransform(params_.fixed_frame, spec.frame, ros::Time(0));
-        offset = std::max(offset, std::abs((stamp - t.header.stamp).toSec()));
-      } catch (const tf2::TransformException& e) {
-        frame->clearRobot();
-        return "link " + spec.name + " (frame '" + spec.frame + "'): " + e.what();
+    const int body = static_cast<int>(i);
+    // Why the joints could not pose it (only put into words when tf cannot either).
+    const std::string* joint_why = nullptr;
+    bool joint_too_old = false;
+    if (joints_ != nullptr && joints_->claims(body)) {
+      joint_why = root_why.empty() ? &joints_->why(body) : &root_why;
+      pc::SelfLink& link = links_[i];
+      const double gap = std::max(link.gap, root_gap);
+      if (joint_why->empty() && gap > params_.self_max_gap) {
+        std::snprintf(joint_gap, sizeof joint_gap, "joint readings %.3f s from the frame's stamp (self_max_gap %.3f s)",
+                      gap, params_.self_max_gap);
+        joint_too_old = true;
+      }
+      if (joint_why->empty() && !joint_too_old) {
+        if (root_gap > 0.0) {  // the root from tf's newest: its growth too
+          link.speed += params_.self_max_speed;
+          link.gap = gap;
+        }
+        continue;
       }
     }
+    const auto from_joints = [&]() -> std::string {
+      if (joint_why == nullptr) return std::string();
+      return " (from the joints: " + (joint_too_old ? std::string(joint_gap) : *joint_why) + ")";
+    };
+    Eigen::Isometry3d pose;
+    double gap = 0.0;
+    std::string why;
+    if (!tfPose(spec.frame, stamp, &pose, &gap, &why)) {
+      frame->clearRobot();
+      return "link " + spec.name + " (frame '" + spec.frame + "'): " + why + from_joints();
+    }
+    if (gap > params_.self_max_gap) {
+      frame->clearRobot();
+      std::snprintf(gap_why, sizeof gap_why, "newest robot poses %.3f s from the frame's stamp (self_max_gap %.3f s)",
+                    gap, params_.self_max_gap);
+      return "link " + spec.name + ": " + gap_why + from_joints();
+    }
     links_[i].shape = spec.shape;
-    links_[i].pose = tf2::transformToEigen(t) * spec.offset;
+    links_[i].pose = pose * spec.offset;
     links_[i].speed = params_.self_max_speed;
+    links_[i].gap = gap;
   }
-  if (offset > params_.self_max_gap) {
-    frame->clearRobot();
-    char why[160];
-    std::snprintf(why, sizeof why, "newest robot poses %.3f s from the frame's stamp (self_max_gap %.3f s)",
-                  offset, params_.self_max_gap);
-    return why;
-  }
-  if (!frame->setRobot(links_.data(), static_cast<int>(links_.size()), offset)) {
+  if (!frame->setRobot(links_.data(), static_cast<int>(links_.size()), 0.0)) {
     frame->clearRobot();
     return "the self-filter refused the robot's links";
   }

@@ -41,29 +41,28 @@ void JointPosing::onJointState(const std::vector<std::string>& names,
   ++counters_.joint_states;
 }
 
+std::string toJointPlan(const KinematicModel& model, const PlannedTrajectory& trajectory, Stamp now,
+                        JointPlan* plan) {
+  plan->start = trajectory.start == 0 ? now : trajectory.start;
+  for (const std::string& name : trajectory.joint_names) {
+    const int j = model.jointIndex(name);
+    if (j < 0) return "joint '" + name + "' is not a movable joint of the robot model";
+    plan->joints.push_back(j);
+  }
+  for (std::size_t p = 0; p < trajectory.positions.size(); ++p) {
+    const std::vector<double>& point = trajectory.positions[p];
+    if (point.size() != trajectory.joint_names.size() || p >= trajectory.times.size()) {
+      return "a point's positions do not match its joint names";
+    }
+    plan->times.push_back(trajectory.times[p]);
+    plan->positions.insert(plan->positions.end(), point.begin(), point.end());
+  }
+  return std::string();
+}
+
 std::string JointPosing::onTrajectory(PlannedTrajectory trajectory, Stamp now) {
   JointPlan plan;
-  plan.start = trajectory.start == 0 ? now : trajectory.start;
-  std::string why;
-  for (const std::string& name : trajectory.joint_names) {
-    const int j = predictor_.model().jointIndex(name);
-    if (j < 0) {
-      why = "joint '" + name + "' is not a movable joint of the robot model";
-      break;
-    }
-    plan.joints.push_back(j);
-  }
-  if (why.empty()) {
-    for (std::size_t p = 0; p < trajectory.positions.size(); ++p) {
-      const std::vector<double>& point = trajectory.positions[p];
-      if (point.size() != trajectory.joint_names.size()) {
-        why = "a point's positions do not match its joint names";
-        break;
-      }
-      plan.times.push_back(trajectory.times[p]);
-      plan.positions.insert(plan.positions.end(), point.begin(), point.end());
-    }
-  }
+  std::string why = toJointPlan(predictor_.model(), trajectory, now, &plan);
   if (why.empty()) why = predictor_.setPlan(std::move(plan), now);
   if (!why.empty()) {
     ++counters_.trajectories_ignored;

@@ -23,6 +23,9 @@ struct SelfLink {
   Shape shape;                                                ///< box, sphere, cylinder, capsule
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();     ///< shape pose, fixed frame, at the pose stamp
   double speed = 0.0;  ///< m/s, bound on the speed of any point of the link (linkSpeedBound)
+  /// s: this link's own |cloud stamp - pose stamp| (links posed from different readings);
+  /// negative: the common `stamp_offset` of setLinks. Not a number: refused.
+  double gap = -1.0;
 };
 
 /// m/s: |v| + |w| x the shape's bounding radius, a bound on the speed of every point of a
@@ -52,7 +55,7 @@ class SelfFilter {
                 double near_band);
 
   int count() const { return count_; }
-  /// m: how far link i is grown (padding + speed x |stamp_offset|).
+  /// m: how far link i is grown (padding + speed x its gap, or |stamp_offset| without one).
   double growth(int i) const { return grow_[static_cast<std::size_t>(i)]; }
   /// Box holding every grown link plus the near band (empty when there are no links).
   const Aabb& bounds() const { return bounds_; }

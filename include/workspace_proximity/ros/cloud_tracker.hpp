@@ -15,10 +15,12 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
+#include <trajectory_msgs/JointTrajectory.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <workspace_proximity/PerceptionStatus.h>
@@ -26,6 +28,7 @@
 
 #include "workspace_proximity/perception/cloud_frame.hpp"
 #include "workspace_proximity/perception/cluster_tracks.hpp"
+#include "workspace_proximity/perception/joint_self_poses.hpp"
 #include "workspace_proximity/perception/sensor_health.hpp"
 #include "workspace_proximity/perception/unseen_boxes.hpp"
 #include "workspace_proximity/perception/unseen_share.hpp"
@@ -39,14 +42,19 @@ struct CloudTrackerParams {
   std::vector<std::string> scan_topics;
   double source_timeout = 1.0;   ///< s without a usable frame from a sensor -> DEGRADED
   double tf_wait = 0.05;         ///< s a frame waits for its transforms
-  double self_max_speed = 2.0;   ///< m/s, bound on any robot point's speed (self-filter growth)
+  /// m/s, bound on the speed of any point of a link posed from tf (the self-filter's growth per
+  /// second of stamp gap); links posed from the joints have their own bound.
+  double self_max_speed = 2.0;
   /// s: the largest gap between a cloud's stamp and the robot poses used for it. Beyond it
   /// the growth would hide too much around the robot: the frame goes without the self-filter
   /// (the robot's points stay, conservative) and the sensor is DEGRADED.
   double self_max_gap = 0.1;
   perception::CloudFrameParams frame;  ///< volume, voxel size, floor, padding, ...
   perception::ScanBand scan_band;      ///< scan frame z band of a beam's column
-  MonitorParams robot;           ///< robot_bodies, use_robot_description, robot_description_param
+  /// robot_bodies, use_robot_description, robot_description_param, and the joints as the
+  /// monitor reads them: use_joint_states, trajectory_topic, tf_timeout, trajectory_tolerance,
+  /// joint_path_tolerance.
+  MonitorParams robot;
   /// The unseen share: R (m) around the robot, its limit, how often; the sensors' views by
   /// topic (a sensor without one sees nothing there). `optical`: the view is given in a
   /// camera's optical frame (z forward, x right, y down) instead of x forward, z up.
@@ -84,6 +92,12 @@ class CloudTracker {
   bool place(int sensor, const std_msgs::Header& header, Eigen::Isometry3f* sensor_to_fixed);
   // Poses the robot's links at `stamp` for the self-filter; "" or why it could not.
   std::string poseRobot(const ros::Time& stamp, perception::CloudFrame* frame);
+  // `frame` in ~fixed_frame from tf at `stamp`, or at its newest pose and `gap` s from it; or
+  // false with why.
+  bool tfPose(const std::string& frame, const ros::Time& stamp, Eigen::Isometry3d* pose, double* gap,
+              std::string* why);
+  // The joints (with a URDF and ~use_joint_states): links they move posed at a frame's stamp.
+  void enableJoints();
   void finish(int sensor, const std_msgs::Header& header, const std::string& robot_problem);
   void publishMarkers(int sensor, const std_msgs::Header& header);
   // The frame's clusters into the tracker, its tracks on perceived_objects.
@@ -103,6 +117,7 @@ class CloudTracker {
   tf2_ros::TransformListener tf_listener_;
   std::vector<RobotBodySpec> robot_;
   std::vector<perception::SelfLink> links_;
+  std::unique_ptr<perception::JointSelfPoses> joints_;  // null: every link from tf
   std::vector<std::unique_ptr<perception::CloudFrame>> frames_;  // one per sensor
   std::unique_ptr<perception::SensorHealth> health_;
   std::vector<ros::Subscriber> subs_;

@@ -38,6 +38,12 @@ struct PlannedTrajectory {
   std::vector<std::vector<double>> positions;  ///< per point: one per joint name, rad or m
 };
 
+/// `trajectory` in `model`'s joint indices (its start 0: `now`) into `plan`: "" when it
+/// converts, else why not (a joint the model does not move, a point that does not match the
+/// names). The predictor's setPlan checks the rest.
+std::string toJointPlan(const KinematicModel& model, const PlannedTrajectory& trajectory, Stamp now,
+                        JointPlan* plan);
+
 /// What a cycle of JointPosing::update has to say (the bridge logs it, throttled).
 struct JointPosingLog {
   bool plan_dropped = false;  ///< the plan was dropped (counters() says why)

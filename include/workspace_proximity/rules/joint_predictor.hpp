@@ -112,6 +112,9 @@ class JointPredictor {
   void predict(Stamp now, double horizon, const BodyMotion& base);
 
   const JointBodyPath& body(int i) const { return bodies_[static_cast<std::size_t>(i)].path; }
+  /// rad or m: joint `joint`'s position at the last predict()'s `now`, as it posed the bodies
+  /// (the reading moved on by its velocity within its limits, or the plan's position).
+  double jointPosition(int joint) const { return knots_[static_cast<std::size_t>(joint)].front().q; }
   /// Why the plan was dropped by the last predict() (contradicted), "" otherwise.
   const std::string& planEvent() const { return plan_event_; }
   /// The plan ended in the last predict() (it was followed to its end).
