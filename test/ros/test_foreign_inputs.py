@@ -89,6 +89,17 @@ def as_class(msg, cls):
 Recorder = ContactStatusRecorder  # wp_node_testlib
 
 
+def check_refusals_named(tc, c, cls, unknown_cls):
+    """One contacts message `c` of the monitor that also listens to `cls`'s type name with
+    another md5 (one more field, extra_field) and to the type name of `unknown_cls`: DEGRADED,
+    naming both refusals."""
+    tc.assertEqual(c.status, ContactEventArray.DEGRADED)
+    named = [d for d in c.status_details if cls._type in d and "extra_field" in d]
+    tc.assertTrue(named, "the refusal is not named: %s" % list(c.status_details))
+    named = [d for d in c.status_details if unknown_cls._type in d]
+    tc.assertTrue(named, "the unknown type is not named: %s" % list(c.status_details))
+
+
 class ForeignInputs(unittest.TestCase):
     def test_same_scene(self):
         family = rospy.get_param("~family")
@@ -115,13 +126,9 @@ class ForeignInputs(unittest.TestCase):
             rospy.sleep(0.05)
         # Every monitor has the post posed (its tf listener has the static transform) before
         # the scene starts.
-        def posed(r):
-            with r.lock:
-                return bool(r.contacts) and not any("robot body" in d
-                                                    for d in r.contacts[-1].status_details)
-        while rospy.Time.now() < deadline and not all(posed(r) for r in recorders.values()):
+        while rospy.Time.now() < deadline and not all(r.posed() for r in recorders.values()):
             rospy.sleep(0.05)
-        self.assertTrue(all(posed(r) for r in recorders.values()), "the post is not posed")
+        self.assertTrue(all(r.posed() for r in recorders.values()), "the post is not posed")
         self.assertGreaterEqual(foreign_pub.get_num_connections(), 2, "monitors not subscribed")
         self.assertGreaterEqual(boxes_pub.get_num_connections(), 1)
         self.assertGreaterEqual(wrong_pub.get_num_connections(), 1,
@@ -182,11 +189,7 @@ class ForeignInputs(unittest.TestCase):
         contacts, _ = recorders["refusing"].since(since)
         self.assertGreater(len(contacts), 20)
         for c in contacts:
-            self.assertEqual(c.status, ContactEventArray.DEGRADED)
-            named = [d for d in c.status_details if cls._type in d and "extra_field" in d]
-            self.assertTrue(named, "the refusal is not named: %s" % list(c.status_details))
-            named = [d for d in c.status_details if unknown_cls._type in d]
-            self.assertTrue(named, "the unknown type is not named: %s" % list(c.status_details))
+            check_refusals_named(self, c, cls, unknown_cls)
             self.assertEqual(len(c.events), 1, "the good input stopped working")
 
 

@@ -861,6 +861,13 @@ class ContactStatusRecorder(object):
                 where.append(msg)
         return cb
 
+    def posed(self):
+        """The monitor has published contacts and the last ones name no robot body without a
+        pose (its tf listener has the robot's transforms)."""
+        with self.lock:
+            return bool(self.contacts) and not any("robot body" in d
+                                                   for d in self.contacts[-1].status_details)
+
     def since(self, t):
         """Contacts and statuses stamped at or after t."""
         with self.lock:
