@@ -4,18 +4,15 @@
 #include <ros/ros.h>
 
 #include "workspace_proximity/ros/cloud_tracker.hpp"
+#include "workspace_proximity/ros/node_main.hpp"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "cloud_tracker");
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
-  try {
+  return workspace_proximity::runNode("cloud_tracker", [&] {
     const workspace_proximity::CloudTrackerParams params = workspace_proximity::readCloudTrackerParams(pnh);
     workspace_proximity::CloudTracker tracker(nh, pnh, params);
     ros::spin();
-  } catch (const std::exception& e) {
-    ROS_FATAL("cloud_tracker: %s", e.what());
-    return 1;
-  }
-  return 0;
+  });
 }

@@ -6,6 +6,7 @@
 
 #include <ros/ros.h>
 
+#include "workspace_proximity/ros/node_main.hpp"
 #include "workspace_proximity/ros/proximity_monitor.hpp"
 #include "workspace_proximity/ros/ros_params.hpp"
 
@@ -33,12 +34,8 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  try {
+  return workspace_proximity::runNode("proximity_monitor", [&] {
     workspace_proximity::ProximityMonitor monitor(nh, pnh, params);
     ros::spin();
-  } catch (const std::exception& e) {
-    ROS_FATAL("proximity_monitor: %s", e.what());
-    return 1;
-  }
-  return 0;
+  });
 }

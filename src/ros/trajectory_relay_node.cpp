@@ -13,6 +13,7 @@
 #include <std_msgs/Float64.h>
 #include <trajectory_msgs/JointTrajectory.h>
 
+#include "workspace_proximity/ros/node_main.hpp"
 #include "workspace_proximity/rules/trajectory_retimer.hpp"
 
 namespace {
@@ -259,12 +260,8 @@ int main(int argc, char** argv) {
     ROS_FATAL("trajectory_relay: invalid parameter %s", error.c_str());
     return 1;
   }
-  try {
+  return workspace_proximity::runNode("trajectory_relay", [&] {
     TrajectoryRelay relay(nh, params);
     ros::spin();
-  } catch (const std::exception& e) {
-    ROS_FATAL("trajectory_relay: %s", e.what());
-    return 1;
-  }
-  return 0;
+  });
 }

@@ -79,21 +79,7 @@ void SsmCycle::prepare(const TrackTable& tracks, const LabelTable& labels,
 void SsmCycle::evaluate(Stamp now, const ProximityWorld& world, const TrackTable& tracks,
                                const LabelTable& labels, const RobotBodies& robot, bool degraded,
                                const std::vector<std::string>& status_lines, SsmVerdict* out) {
-  out->enabled = params_.enabled;
-  out->raw_scale = 1.0;
-  out->pairs = 0;
-  out->limited = false;
-  out->separation = std::numeric_limits<double>::infinity();
-  out->required_separation = 0.0;
-  out->approach_speed = 0.0;
-  out->within = 0;
-  out->muted_pairs = 0;
-  if (!params_.enabled) {
-    out->speed_scale = 1.0;
-    out->degraded = degraded;
-    out->reason.assign("speed and separation monitoring is off (~ssm/enabled)");
-    return;
-  }
+  if (!startVerdict(1.0, degraded, out)) return;
   latch_.expireMute(now);  // a mute whose time is up lowers the scale in this very cycle
   // Which tracks are muted this cycle (the pairs below and the markers read it).
   std::fill(muted_.begin(), muted_.end(), 0);
@@ -180,8 +166,17 @@ void SsmCycle::evaluate(Stamp now, const ProximityWorld& world, const TrackTable
 }
 
 void SsmCycle::failed(Stamp now, const std::string& why, SsmVerdict* out) {
+  // Nothing is known: the raw scale is what DEGRADED allows.
+  if (!startVerdict(params_.degraded_scale, true, out)) return;
+  std::snprintf(buffer_, sizeof buffer_, "DEGRADED, scale at most %.2f: cycle failed: ",
+                params_.degraded_scale);
+  out->reason.assign(buffer_).append(why);
+  output(now, true, out);
+}
+
+bool SsmCycle::startVerdict(double raw_scale, bool degraded, SsmVerdict* out) const {
   out->enabled = params_.enabled;
-  out->raw_scale = params_.degraded_scale;  // nothing is known: what DEGRADED allows
+  out->raw_scale = raw_scale;
   out->pairs = 0;
   out->limited = false;
   out->separation = std::numeric_limits<double>::infinity();
@@ -189,16 +184,12 @@ void SsmCycle::failed(Stamp now, const std::string& why, SsmVerdict* out) {
   out->approach_speed = 0.0;
   out->within = 0;
   out->muted_pairs = 0;
-  out->degraded = true;
-  if (!params_.enabled) {
-    out->speed_scale = 1.0;
-    out->reason.assign("speed and separation monitoring is off (~ssm/enabled)");
-    return;
-  }
-  std::snprintf(buffer_, sizeof buffer_, "DEGRADED, scale at most %.2f: cycle failed: ",
-                params_.degraded_scale);
-  out->reason.assign(buffer_).append(why);
-  output(now, true, out);
+  out->degraded = degraded;
+  if (params_.enabled) return true;
+  // Off: the verdict is final, the robot at full speed whatever the cycle saw.
+  out->speed_scale = 1.0;
+  out->reason.assign("speed and separation monitoring is off (~ssm/enabled)");
+  return false;
 }
 
 void SsmCycle::output(Stamp now, bool degraded, SsmVerdict* out) {

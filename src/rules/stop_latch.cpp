@@ -73,6 +73,23 @@ void StopLatch::noteJointSpeed(Stamp stamp, double max_abs_speed, bool known) {
   speed_stamp_ = stamp;
 }
 
+bool StopLatch::lastCycleRefuses(const char* action, std::string* why) const {
+  // Resets and mutes alike rest on the last cycle; unknown is never clear.
+  if (last_degraded_) {
+    why->assign(action).append(" refused: status DEGRADED (unknown is never clear)");
+    return true;
+  }
+  if (last_within_ > 0) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "%s refused: %d monitored pair(s) within the protective separation S_p(v_max)",
+                  action, last_within_);
+    why->assign(text);
+    return true;
+  }
+  return false;
+}
+
 bool StopLatch::requestReset(Stamp /*now*/, std::string* why) {
   // Acceptance rests on the last cycle: its status must be OK and no monitored pair may be
   // within its protective separation at full speed (muted pairs included).
@@ -80,17 +97,9 @@ bool StopLatch::requestReset(Stamp /*now*/, std::string* why) {
     why->assign("nothing to reset: no stop is waiting for a reset");
     return true;
   }
-  char text[160];
   if (!seen_cycle_) {
     why->assign("reset refused: no cycle has run yet");
-  } else if (last_degraded_) {
-    why->assign("reset refused: status DEGRADED (unknown is never clear)");
-  } else if (last_within_ > 0) {
-    std::snprintf(text, sizeof text,
-                  "reset refused: %d monitored pair(s) within the protective separation S_p(v_max)",
-                  last_within_);
-    why->assign(text);
-  } else {
+  } else if (!lastCycleRefuses("reset", why)) {
     state_.reset_required = false;
     why->assign("reset accepted: the scale rises after the hold");
     if (params_.min_stop_time > 0.0) why->append(" and the minimum stop time");
@@ -122,15 +131,8 @@ bool StopLatch::requestMute(Stamp now, const std::vector<std::string>& labels,
     why->assign("mute refused: no cycle has run yet");
   } else if (state_.stopped || last_scale_ <= 0.0) {
     why->assign("mute refused: the speed scale is 0 (protective stop)");
-  } else if (last_degraded_) {
-    why->assign("mute refused: status DEGRADED (unknown is never clear)");
-  } else if (last_within_ > 0) {
-    std::snprintf(text, sizeof text,
-                  "mute refused: %d monitored pair(s) within the protective separation S_p(v_max)",
-                  last_within_);
-    why->assign(text);
   } else {
-    ok = true;
+    ok = !lastCycleRefuses("mute", why);
   }
   if (!ok) {
     pending_.add(LatchEventKind::kMuteRefused, *why);

@@ -46,6 +46,34 @@ wp::BodyMotion randomMotion(wp_test::Rng& rng, double extent) {
   return m;
 }
 
+using TwinHandles = std::vector<std::pair<wp::BodyHandle, wp::BodyHandle>>;
+
+// Each body of twin worlds `a` and `b` (handles in `handles`) moves to a new random motion, the
+// same in both.
+void moveTwins(wp_test::Rng& rng, wp::ProximityWorld* a, wp::ProximityWorld* b,
+               const TwinHandles& handles) {
+  for (const auto& h : handles) {
+    const wp::BodyMotion m = randomMotion(rng, 4.0);
+    a->setMotion(h.first, m);
+    b->setMotion(h.second, m);
+  }
+}
+
+// Twin worlds' events are the same, in the same order: the pair (by ids), state, times and
+// distance to the bit.
+void expectSameEvents(const wp::ProximityWorld& wa, const std::vector<wp::PairEvent>& a,
+                      const wp::ProximityWorld& wb, const std::vector<wp::PairEvent>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(wa.desc(a[i].body_a).id, wb.desc(b[i].body_a).id);
+    EXPECT_EQ(wa.desc(a[i].body_b).id, wb.desc(b[i].body_b).id);
+    EXPECT_EQ(a[i].state, b[i].state);
+    EXPECT_EQ(a[i].time_to_contact, b[i].time_to_contact);
+    EXPECT_EQ(a[i].time_to_separation, b[i].time_to_separation);
+    EXPECT_EQ(a[i].distance, b[i].distance);
+  }
+}
+
 }  // namespace
 
 TEST(NearPairs, EveryAllowedPairWithinReachAndNoOtherAgainstTheBoxOracle) {
@@ -144,7 +172,7 @@ TEST(NearPairs, EveryAllowedPairWithinReachAndNoOtherAgainstTheBoxOracle) {
 TEST(NearPairs, AReachChangesNeitherTheEventsNorTheSweptBounds) {
   wp_test::Rng rng(5);
   wp::ProximityWorld plain, reaching;
-  std::vector<std::pair<wp::BodyHandle, wp::BodyHandle>> handles;
+  TwinHandles handles;
   for (int i = 0; i < 40; ++i) {
     const bool robot = i < 8;
     const wp::BodyDesc desc{"b" + std::to_string(i), robot ? "robot" : "thing",
@@ -156,22 +184,10 @@ TEST(NearPairs, AReachChangesNeitherTheEventsNorTheSweptBounds) {
   }
   int events = 0;
   for (int cycle = 0; cycle < 20; ++cycle) {
-    for (const auto& h : handles) {
-      const wp::BodyMotion m = randomMotion(rng, 4.0);
-      plain.setMotion(h.first, m);
-      reaching.setMotion(h.second, m);
-    }
+    moveTwins(rng, &plain, &reaching, handles);
     const std::vector<wp::PairEvent> a = plain.predict(2.0);
     const std::vector<wp::PairEvent>& b = reaching.predict(2.0);
-    ASSERT_EQ(a.size(), b.size());
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      EXPECT_EQ(plain.desc(a[i].body_a).id, reaching.desc(b[i].body_a).id);
-      EXPECT_EQ(plain.desc(a[i].body_b).id, reaching.desc(b[i].body_b).id);
-      EXPECT_EQ(a[i].state, b[i].state);
-      EXPECT_EQ(a[i].time_to_contact, b[i].time_to_contact);
-      EXPECT_EQ(a[i].time_to_separation, b[i].time_to_separation);
-      EXPECT_EQ(a[i].distance, b[i].distance);
-    }
+    ASSERT_NO_FATAL_FAILURE(expectSameEvents(plain, a, reaching, b));
     events += static_cast<int>(a.size());
     for (const auto& h : handles) {
       EXPECT_EQ(plain.sweptBounds(h.first).lower, reaching.sweptBounds(h.second).lower);
@@ -189,7 +205,7 @@ TEST(NearPairs, PredictInTwoHalvesGivesPredictsPairsAndEvents) {
   // nearest points, and the same events, cycle after cycle (adds and removals included).
   wp_test::Rng rng(17);
   wp::ProximityWorld whole, halves;
-  std::vector<std::pair<wp::BodyHandle, wp::BodyHandle>> handles;
+  TwinHandles handles;
   int serial = 0;
   auto add = [&](bool robot) {
     const wp::BodyDesc desc{"b" + std::to_string(serial++), robot ? "robot" : "thing",
@@ -206,11 +222,7 @@ TEST(NearPairs, PredictInTwoHalvesGivesPredictsPairsAndEvents) {
   for (int i = 0; i < 50; ++i) add(i < 6);
   int events = 0, near = 0;
   for (int cycle = 0; cycle < 30; ++cycle) {
-    for (const auto& h : handles) {
-      const wp::BodyMotion m = randomMotion(rng, 4.0);
-      whole.setMotion(h.first, m);
-      halves.setMotion(h.second, m);
-    }
+    moveTwins(rng, &whole, &halves, handles);
     if (cycle % 5 == 4) {  // a few leave, a few come
       for (int k = 0; k < 3; ++k) {
         const std::size_t i = 6 + static_cast<std::size_t>(rng.integer(0, static_cast<int>(handles.size()) - 7));
@@ -233,15 +245,7 @@ TEST(NearPairs, PredictInTwoHalvesGivesPredictsPairsAndEvents) {
       EXPECT_EQ(near_a[i].point_a, near_b[i].point_a);
       EXPECT_EQ(near_a[i].point_b, near_b[i].point_b);
     }
-    ASSERT_EQ(a.size(), b.size());
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      EXPECT_EQ(whole.desc(a[i].body_a).id, halves.desc(b[i].body_a).id);
-      EXPECT_EQ(whole.desc(a[i].body_b).id, halves.desc(b[i].body_b).id);
-      EXPECT_EQ(a[i].state, b[i].state);
-      EXPECT_EQ(a[i].time_to_contact, b[i].time_to_contact);
-      EXPECT_EQ(a[i].time_to_separation, b[i].time_to_separation);
-      EXPECT_EQ(a[i].distance, b[i].distance);
-    }
+    ASSERT_NO_FATAL_FAILURE(expectSameEvents(whole, a, halves, b));
     events += static_cast<int>(a.size());
     near += static_cast<int>(near_a.size());
   }

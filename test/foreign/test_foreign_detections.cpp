@@ -16,8 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "allocation_counter.hpp"  // test/shared
-#include "wire_writer.hpp"        // test/foreign
+#include "allocation_counter.hpp"   // test/shared
+#include "params_expectations.hpp"  // test/shared
+#include "wire_writer.hpp"          // test/foreign
 #include "workspace_proximity/rules/foreign_detections.hpp"
 
 namespace wp = workspace_proximity;
@@ -79,6 +80,12 @@ Sequence readSequence(const std::string& name) {
   return s;
 }
 
+// `bytes` decoded into `array` as a message of the sequence's type.
+wp::ForeignRefusal decode(const Sequence& s, const std::vector<std::uint8_t>& bytes,
+                          wp::ForeignTrackArray* array) {
+  return wp::decodeForeignTracks(s.type, s.md5, bytes.data(), bytes.size(), array);
+}
+
 wp::ForeignDetectionParams params() {
   wp::ForeignDetectionParams p;
   p.tracker.confirm_hits = 2;
@@ -96,8 +103,7 @@ void walk(const std::string& name, const Eigen::Isometry3d& fixed_from_camera,
   std::map<std::string, std::string> id_of;  // person -> track id
   for (std::size_t k = 0; k < s.frames.size(); ++k) {
     const Frame& f = s.frames[k];
-    ASSERT_EQ(wp::decodeForeignTracks(s.type, s.md5, f.bytes.data(), f.bytes.size(), &array),
-              wp::ForeignRefusal::kNone)
+    ASSERT_EQ(decode(s, f.bytes, &array), wp::ForeignRefusal::kNone)
         << array.detail;
     EXPECT_EQ(array.stamp, f.stamp);
     ASSERT_EQ(detections.ingest(array, fixed_from_camera), wp::DetectionRefusal::kNone);
@@ -165,8 +171,7 @@ TEST(ForeignDetections, TheDebianTypesDecodeAsGenpyWroteThem) {
     const bool markers = std::string(name) == "walk_markers";
     wp::ForeignTrackArray array;
     for (const Frame& f : s.frames) {
-      ASSERT_EQ(wp::decodeForeignTracks(s.type, s.md5, f.bytes.data(), f.bytes.size(), &array),
-                wp::ForeignRefusal::kNone)
+      ASSERT_EQ(decode(s, f.bytes, &array), wp::ForeignRefusal::kNone)
           << array.detail;
       ASSERT_EQ(array.tracks.size(), 2u);
       EXPECT_EQ(array.ignored, markers ? 5u : 0u);
@@ -204,13 +209,9 @@ TEST(ForeignDetections, TracksTypesAndOldMessagesAreRefused) {
   const Sequence s = readSequence("walk_detections3d");
   wp::ForeignDetections detections(params());
   wp::ForeignTrackArray array;
-  ASSERT_EQ(wp::decodeForeignTracks(s.type, s.md5, s.frames[5].bytes.data(),
-                                    s.frames[5].bytes.size(), &array),
-            wp::ForeignRefusal::kNone);
+  ASSERT_EQ(decode(s, s.frames[5].bytes, &array), wp::ForeignRefusal::kNone);
   EXPECT_EQ(detections.ingest(array, Eigen::Isometry3d::Identity()), wp::DetectionRefusal::kNone);
-  ASSERT_EQ(wp::decodeForeignTracks(s.type, s.md5, s.frames[4].bytes.data(),
-                                    s.frames[4].bytes.size(), &array),
-            wp::ForeignRefusal::kNone);
+  ASSERT_EQ(decode(s, s.frames[4].bytes, &array), wp::ForeignRefusal::kNone);
   EXPECT_EQ(detections.ingest(array, Eigen::Isometry3d::Identity()),
             wp::DetectionRefusal::kOutOfOrder);
   // A refused decode (cut short) and a people tracker's type are not detections.
@@ -235,9 +236,7 @@ TEST(ForeignDetections, ACovarianceSetsTheMeasurementNoise) {
   // covariance: the default 0.05 m, 0.15 m.
   const Sequence s = readSequence("walk_detections3d");
   wp::ForeignTrackArray array;
-  ASSERT_EQ(wp::decodeForeignTracks(s.type, s.md5, s.frames[0].bytes.data(),
-                                    s.frames[0].bytes.size(), &array),
-            wp::ForeignRefusal::kNone);
+  ASSERT_EQ(decode(s, s.frames[0].bytes, &array), wp::ForeignRefusal::kNone);
   wp::ForeignDetectionParams p = params();
   p.tracker.confirm_hits = 1;
   wp::ForeignDetections plain(p);
@@ -261,6 +260,12 @@ namespace {
 
 constexpr const char* kObstaclesType = "obstacle_detector/Obstacles";
 constexpr const char* kObstaclesMd5 = "043bbf49c7775f8111e850268dbcf2e3";
+
+// `bytes` decoded into `array` as obstacle_detector/Obstacles.
+wp::ForeignRefusal decodeObstacles(const std::vector<std::uint8_t>& bytes,
+                                   wp::ForeignTrackArray* array) {
+  return wp::decodeForeignTracks(kObstaclesType, kObstaclesMd5, bytes.data(), bytes.size(), array);
+}
 
 std::vector<std::uint8_t> obstaclesMessage(int k) {
   const double t = 0.05 * k;
@@ -310,9 +315,7 @@ TEST(ForeignDetections, ObstacleSegmentsAndCirclesAreTrackedBoxes) {
   std::string wall_id, circle_id;
   for (int k = 0; k <= 40; ++k) {
     const std::vector<std::uint8_t> bytes = obstaclesMessage(k);
-    ASSERT_EQ(wp::decodeForeignTracks(kObstaclesType, kObstaclesMd5, bytes.data(), bytes.size(),
-                                      &array),
-              wp::ForeignRefusal::kNone)
+    ASSERT_EQ(decodeObstacles(bytes, &array), wp::ForeignRefusal::kNone)
         << array.detail;
     ASSERT_EQ(detections.ingest(array, fixed_from_laser), wp::DetectionRefusal::kNone);
     const std::vector<wp::BoxObservation>& tracks = detections.tracks();
@@ -381,9 +384,7 @@ TEST(ForeignDetections, AShortSegmentTakesTheLeastLengthAndSegmentsKeepToTheirLa
   w.f64(0.3);
   w.f64(0.2);
   wp::ForeignTrackArray array;
-  ASSERT_EQ(wp::decodeForeignTracks(kObstaclesType, kObstaclesMd5, w.bytes.data(),
-                                    w.bytes.size(), &array),
-            wp::ForeignRefusal::kNone);
+  ASSERT_EQ(decodeObstacles(w.bytes, &array), wp::ForeignRefusal::kNone);
   wp::ForeignDetectionParams p = obstacleParams();
   p.tracker.confirm_hits = 1;
   wp::ForeignDetections detections(p);
@@ -405,9 +406,7 @@ TEST(ForeignDetections, DetectionsInAnotherFrameAreSkippedAndCounted) {
   // message's is skipped (one message, one transform), never placed with the message's pose.
   const Sequence s = readSequence("walk_detections3d");
   wp::ForeignTrackArray array;
-  ASSERT_EQ(wp::decodeForeignTracks(s.type, s.md5, s.frames[0].bytes.data(),
-                                    s.frames[0].bytes.size(), &array),
-            wp::ForeignRefusal::kNone);
+  ASSERT_EQ(decode(s, s.frames[0].bytes, &array), wp::ForeignRefusal::kNone);
   ASSERT_EQ(array.tracks.size(), 2u);
   wp::ForeignDetectionParams p = params();
   p.tracker.confirm_hits = 1;
@@ -436,12 +435,7 @@ TEST(ForeignDetections, DetectionsInAnotherFrameAreSkippedAndCounted) {
 TEST(ForeignDetections, TheNodesDetectionTrackerParametersReachTheTracker) {
   const wp::TrackerParams code;
   const wp::TrackerParams defaults = wp::foreignDetectionParams(wp::MonitorParams()).tracker;
-  EXPECT_EQ(defaults.gate_chi2, code.gate_chi2);
-  EXPECT_EQ(defaults.gate_distance, code.gate_distance);
-  EXPECT_EQ(defaults.confirm_hits, code.confirm_hits);
-  EXPECT_EQ(defaults.max_misses, code.max_misses);
-  EXPECT_EQ(defaults.timeout, code.timeout);
-  EXPECT_EQ(defaults.known_velocity_error, code.known_velocity_error);
+  wp_test::expectSameTrackerSettings(defaults, code);
 
   wp::MonitorParams p;
   p.detection_tracker.gate_chi2 = 9.5;
@@ -452,19 +446,12 @@ TEST(ForeignDetections, TheNodesDetectionTrackerParametersReachTheTracker) {
   p.detection_tracker.known_velocity_error = 0.3;
   ASSERT_TRUE(wp::validate(p).empty());
   const wp::ForeignDetectionParams fp = wp::foreignDetectionParams(p);
-  EXPECT_EQ(fp.tracker.gate_chi2, 9.5);
-  EXPECT_EQ(fp.tracker.gate_distance, 0.75);
-  EXPECT_EQ(fp.tracker.confirm_hits, 1);
-  EXPECT_EQ(fp.tracker.max_misses, 1);
-  EXPECT_EQ(fp.tracker.timeout, 0.4);
-  EXPECT_EQ(fp.tracker.known_velocity_error, 0.3);
+  wp_test::expectSameTrackerSettings(fp.tracker, p.detection_tracker);  // the values just set
 
   wp::ForeignDetections detections(fp);
   wp::ForeignTrackArray array;
   std::vector<std::uint8_t> bytes = obstaclesMessage(0);
-  ASSERT_EQ(wp::decodeForeignTracks(kObstaclesType, kObstaclesMd5, bytes.data(), bytes.size(),
-                                    &array),
-            wp::ForeignRefusal::kNone)
+  ASSERT_EQ(decodeObstacles(bytes, &array), wp::ForeignRefusal::kNone)
       << array.detail;
   ASSERT_EQ(detections.ingest(array, fixedFromLaser()), wp::DetectionRefusal::kNone);
   EXPECT_EQ(detections.tracks().size(), 2u) << "confirm_hits 1: confirmed at once";
@@ -473,9 +460,7 @@ TEST(ForeignDetections, TheNodesDetectionTrackerParametersReachTheTracker) {
   w.header(1, 10, 50000000, "laser");
   w.u32(0);
   w.u32(0);
-  ASSERT_EQ(wp::decodeForeignTracks(kObstaclesType, kObstaclesMd5, w.bytes.data(), w.bytes.size(),
-                                    &array),
-            wp::ForeignRefusal::kNone)
+  ASSERT_EQ(decodeObstacles(w.bytes, &array), wp::ForeignRefusal::kNone)
       << array.detail;
   ASSERT_EQ(detections.ingest(array, fixedFromLaser()), wp::DetectionRefusal::kNone);
   EXPECT_TRUE(detections.tracks().empty()) << "max_misses 1: deleted after one miss";
@@ -489,7 +474,7 @@ TEST(ForeignDetections, NoAllocationOnceWarm) {
   for (int round = 0; round < 3; ++round) {
     if (round == 1) before = wp_test::allocationCount();
     for (const Frame& f : s.frames) {
-      wp::decodeForeignTracks(s.type, s.md5, f.bytes.data(), f.bytes.size(), &array);
+      decode(s, f.bytes, &array);
       array.stamp += round * 3000000000LL;  // later rounds later in time
       ASSERT_EQ(detections.ingest(array, Eigen::Isometry3d::Identity()),
                 wp::DetectionRefusal::kNone);

@@ -472,6 +472,19 @@ class Harness {
       }
     }
     if (world_.stats().near_pairs != static_cast<int>(seen.size())) fail("stats().near_pairs differs", "");
+    forEachClearOverlap([&](const ModelBody& a, const ModelBody& b) {
+      if (a.reach + b.reach <= 0.0) return;
+      if (seen.count(pairKey(a.handle, b.handle)) == 0) {
+        fail("overlapping boxes with a reach missing from the near pairs", str(a.handle) + "-" + str(b.handle));
+      }
+    });
+  }
+
+  // Calls visit(a, b) for every pair of live boxes of moderate size and position that the
+  // rules allow and that clearly overlap now: the oracle's separating-axis test on the boxes
+  // shrunk by a part in 1e6.
+  template <typename Visit>
+  void forEachClearOverlap(Visit visit) {
     auto moderate = [](const wp::BodyDesc& d, const wp::BodyMotion& m) {
       return d.shape.type == wp::ShapeType::kBox && d.shape.half_extents.minCoeff() >= 1e-3 &&
              d.shape.half_extents.maxCoeff() <= 1e3 && m.position.cwiseAbs().maxCoeff() <= 1e3;
@@ -482,13 +495,10 @@ class Harness {
       const oracle::Obb oa{oracle::poseAt(world_.motion(a.handle), 0.0), a.desc.shape.half_extents * (1.0 - 1e-6)};
       for (std::size_t j = i + 1; j < bodies_.size(); ++j) {
         const ModelBody& b = bodies_[j];
-        if (!b.live || a.reach + b.reach <= 0.0 || !moderate(b.desc, world_.motion(b.handle))) continue;
+        if (!b.live || !moderate(b.desc, world_.motion(b.handle))) continue;
         if (!rules_.allowed(a.desc, b.desc)) continue;
         const oracle::Obb ob{oracle::poseAt(world_.motion(b.handle), 0.0), b.desc.shape.half_extents * (1.0 - 1e-6)};
-        if (!oracle::overlaps(oa, ob)) continue;
-        if (seen.count(pairKey(a.handle, b.handle)) == 0) {
-          fail("overlapping boxes with a reach missing from the near pairs", str(a.handle) + "-" + str(b.handle));
-        }
+        if (oracle::overlaps(oa, ob)) visit(a, b);
       }
     }
   }
@@ -605,26 +615,12 @@ class Harness {
   // (the oracle's separating-axis test on boxes shrunk by a part in 1e6) must have a contact
   // event at time 0, unless the rules deny the pair.
   void checkOverlapsNow(const std::map<PairKey, double>& contact_time) {
-    auto moderate = [](const wp::BodyDesc& d, const wp::BodyMotion& m) {
-      return d.shape.type == wp::ShapeType::kBox && d.shape.half_extents.minCoeff() >= 1e-3 &&
-             d.shape.half_extents.maxCoeff() <= 1e3 && m.position.cwiseAbs().maxCoeff() <= 1e3;
-    };
-    for (std::size_t i = 0; i < bodies_.size(); ++i) {
-      const ModelBody& a = bodies_[i];
-      if (!a.live || !moderate(a.desc, world_.motion(a.handle))) continue;
-      const oracle::Obb oa{oracle::poseAt(world_.motion(a.handle), 0.0), a.desc.shape.half_extents * (1.0 - 1e-6)};
-      for (std::size_t j = i + 1; j < bodies_.size(); ++j) {
-        const ModelBody& b = bodies_[j];
-        if (!b.live || !moderate(b.desc, world_.motion(b.handle))) continue;
-        if (!rules_.allowed(a.desc, b.desc)) continue;
-        const oracle::Obb ob{oracle::poseAt(world_.motion(b.handle), 0.0), b.desc.shape.half_extents * (1.0 - 1e-6)};
-        if (!oracle::overlaps(oa, ob)) continue;
-        const auto it = contact_time.find(pairKey(a.handle, b.handle));
-        const std::string detail = str(a.handle) + "-" + str(b.handle);
-        if (it == contact_time.end()) fail("overlapping boxes without a contact event", detail);
-        if (it->second != 0.0) fail("overlapping boxes with time_to_contact > 0", detail);
-      }
-    }
+    forEachClearOverlap([&](const ModelBody& a, const ModelBody& b) {
+      const auto it = contact_time.find(pairKey(a.handle, b.handle));
+      const std::string detail = str(a.handle) + "-" + str(b.handle);
+      if (it == contact_time.end()) fail("overlapping boxes without a contact event", detail);
+      if (it->second != 0.0) fail("overlapping boxes with time_to_contact > 0", detail);
+    });
   }
 
   Input& in_;

@@ -56,6 +56,42 @@ const pc::CloudFrameStats& run(pc::CloudFrame* frame, const Points& pts,
   return frame->process(pc::packedXyz(pts.data(), static_cast<std::int64_t>(pts.size() / 3)), pose);
 }
 
+// A scanner 0.11 m above the floor at (0.02, 1, 0.11) looking along +x, beams from
+// `angle_min` rad in steps of 0.002 rad (`steps` + 1 beams; range 0.05 .. 10 m): a beam whose
+// line meets x = 1 (fixed x 1.02) at a y = tan(angle) where `hit(y)` holds sees something there
+// (range 1 / cos(angle)), else nothing (inf). `ranges` holds the ranges the scan points into.
+template <typename Hit>
+pc::ScanView floorScan(double angle_min, int steps, Hit hit, std::vector<float>* ranges) {
+  pc::ScanView scan;
+  scan.angle_min = static_cast<float>(angle_min);
+  scan.angle_increment = 0.002f;
+  scan.range_min = 0.05f;
+  scan.range_max = 10.0f;
+  ranges->clear();
+  for (int i = 0; i <= steps; ++i) {
+    const double a = angle_min + 0.002 * i;
+    ranges->push_back(hit(std::tan(a)) ? static_cast<float>(1.0 / std::cos(a))
+                                       : std::numeric_limits<float>::infinity());
+  }
+  scan.ranges = ranges->data();
+  scan.count = static_cast<std::int64_t>(ranges->size());
+  return scan;
+}
+
+// The floor scanner's pose and a frame with the floor at z 0 (tolerance 0.02 m).
+Eigen::Isometry3f floorScannerPose() {
+  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+  pose.translate(Eigen::Vector3f(0.02f, 1.0f, 0.11f));
+  return pose;
+}
+
+pc::CloudFrameParams floorParams() {
+  pc::CloudFrameParams p = openParams();
+  p.floor_height = 0.0;
+  p.floor_tolerance = 0.02;
+  return p;
+}
+
 // --- voxels ---------------------------------------------------------------------------
 
 TEST(CloudFrame, VoxelCountOfABoxIsItsVolumeInVoxels) {
@@ -554,29 +590,14 @@ TEST(LaserScan, TwoLegsSeenByAFloorScannerAreTwoClusters) {
   // A scanner 0.11 m above the floor at (0.02, 1, 0.11) sees two legs (0.1 m wide) 1 m ahead, 0.3 m
   // apart; the band extrudes them from 0.1 m below the scan plane to 0.7 m above.
   std::vector<float> ranges;
-  pc::ScanView scan;
-  scan.angle_min = -0.5f;
-  scan.angle_increment = 0.002f;
-  scan.range_min = 0.05f;
-  scan.range_max = 10.0f;
-  for (int i = 0; i <= 500; ++i) {
-    const double a = -0.5 + 0.002 * i;
-    const double y = std::tan(a);  // at x = 1
-    const bool leg = (y > -0.2 && y < -0.1) || (y > 0.1 && y < 0.2);
-    ranges.push_back(leg ? static_cast<float>(1.0 / std::cos(a)) : std::numeric_limits<float>::infinity());
-  }
-  scan.ranges = ranges.data();
-  scan.count = static_cast<std::int64_t>(ranges.size());
+  const pc::ScanView scan = floorScan(-0.5, 500, [](double y) {
+    return (y > -0.2 && y < -0.1) || (y > 0.1 && y < 0.2);  // the legs
+  }, &ranges);
   std::vector<float> xyz(3 * 20000);
   const pc::ScanResult r = pc::scanToPoints(scan, pc::ScanBand{-0.1f, 0.7f, 0.05f}, xyz.data(), 20000);
   ASSERT_FALSE(r.truncated);
-  auto p = openParams();
-  p.floor_height = 0.0;
-  p.floor_tolerance = 0.02;
-  pc::CloudFrame frame(p);
-  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
-  pose.translate(Eigen::Vector3f(0.02f, 1.0f, 0.11f));
-  const auto& s = frame.process(pc::packedXyz(xyz.data(), r.points), pose);
+  pc::CloudFrame frame(floorParams());
+  const auto& s = frame.process(pc::packedXyz(xyz.data(), r.points), floorScannerPose());
   EXPECT_EQ(s.clusters, 2);
   EXPECT_GT(s.floor, 0);  // the band's lowest layer, at z 0.01: below the floor tolerance
   for (const pc::Detection& d : frame.detections()) {
@@ -593,26 +614,14 @@ TEST(LaserScan, ABeamThatHitsTheRobotDropsItsWholeColumn) {
   // Without the robot both are clusters; with it, the base's columns (which reach 0.8 m, above
   // the base) go whole and only the leg stays.
   std::vector<float> ranges;
-  pc::ScanView scan;
-  scan.angle_min = -0.3f;
-  scan.angle_increment = 0.002f;
-  scan.range_min = 0.05f;
-  scan.range_max = 10.0f;
-  for (int i = 0; i <= 300; ++i) {
-    const double a = -0.3 + 0.002 * i, y = std::tan(a);
-    const bool base = y > -0.24 && y < -0.06, leg = y > 0.1 && y < 0.2;
-    ranges.push_back(base || leg ? static_cast<float>(1.0 / std::cos(a)) : std::numeric_limits<float>::infinity());
-  }
-  scan.ranges = ranges.data();
-  scan.count = static_cast<std::int64_t>(ranges.size());
+  const pc::ScanView scan = floorScan(-0.3, 300, [](double y) {
+    return (y > -0.24 && y < -0.06) || (y > 0.1 && y < 0.2);  // the base, the leg
+  }, &ranges);
   const pc::ScanBand band{-0.1f, 0.7f, 0.025f};
-  auto p = openParams();
-  p.floor_height = 0.0;
-  p.floor_tolerance = 0.02;
+  auto p = floorParams();
   p.self_padding = 0.03;
   pc::CloudFrame frame(p);
-  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
-  pose.translate(Eigen::Vector3f(0.02f, 1.0f, 0.11f));
+  const Eigen::Isometry3f pose = floorScannerPose();
   EXPECT_EQ(frame.processScan(scan, band, pose).clusters, 2);
   const std::int64_t all = frame.stats().points_in;
   pc::SelfLink base;

@@ -22,13 +22,13 @@ import unittest
 
 import rosbag
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+import replay_testlib
+from replay_testlib import ROOT, main, run_replay
+
 BAG = os.path.join(ROOT, "test", "bags", "demo_cell.bag")
 CONFIGS = [os.path.join(ROOT, "config", "proximity_monitor.yaml"),
            os.path.join(ROOT, "config", "demo_monitor.yaml")]
 URDF = os.path.join(ROOT, "config", "demo_arm.urdf")
-REPLAY_BAG = None
 
 # replayUsage(): the exit statuses.
 CONFIG, BAG_PROBLEM, INCOMPLETE = 3, 4, 5
@@ -56,13 +56,8 @@ class BadInputsTest(unittest.TestCase):
         return os.path.join(self.tmp.name, name)
 
     def replay(self, bag, configs=CONFIGS, urdf=URDF, extra=()):
-        cmd = [REPLAY_BAG, bag, "--out", self.path("out-" + os.path.basename(bag)), "--no-report"]
-        for c in configs:
-            cmd += ["--config", c]
-        if urdf:
-            cmd += ["--urdf", urdf]
-        cmd += list(extra)
-        return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=120)
+        return run_replay(bag, self.path("out-" + os.path.basename(bag)), configs,
+                          (["--urdf", urdf] if urdf else []) + list(extra))
 
     def assertFails(self, run, status, *words):
         err = run.stderr.decode(errors="replace")
@@ -248,18 +243,11 @@ class BadInputsTest(unittest.TestCase):
         self.assertFails(self.replay(BAG, urdf=self.write("arm.urdf", "<robot name='x'><link>")),
                          CONFIG, "arm.urdf")
         # A bad command line: usage, status 2.
-        run = subprocess.run([REPLAY_BAG, BAG, "--rate-factor", "0"], stderr=subprocess.PIPE)
+        run = subprocess.run([replay_testlib.REPLAY_BAG, BAG, "--rate-factor", "0"],
+                             stderr=subprocess.PIPE)
         self.assertEqual(run.returncode, 2)
         self.assertIn(b"usage: replay_bag", run.stderr)
 
 
-def main():
-    global REPLAY_BAG
-    if len(sys.argv) < 2:
-        sys.exit("usage: test_replay_bad_inputs.py REPLAY_BAG [unittest args]")
-    REPLAY_BAG = sys.argv.pop(1)
-    unittest.main()
-
-
 if __name__ == "__main__":
-    main()
+    main("test_replay_bad_inputs.py", devel_messages=False)

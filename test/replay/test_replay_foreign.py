@@ -35,28 +35,24 @@ sightings for a finite difference):
 
     test_replay_foreign.py REPLAY_BAG [unittest args]
 """
-import csv
 import math
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+from replay_testlib import FIXTURES, ROOT, assert_same_ssm, main, outputs, run_replay, \
+    write_world_tf
+
 sys.path.insert(0, os.path.join(ROOT, "test", "foreign"))
 
 import genpy  # noqa: E402
 import rosbag  # noqa: E402
-import geometry_msgs.msg as g  # noqa: E402
-from tf2_msgs.msg import TFMessage  # noqa: E402
 
 import make_fixtures  # noqa: E402
 from foreign_scene import DETECTION_FAMILIES, FAMILIES, load_module  # noqa: E402
 
-REPLAY_BAG = None
 BAG_PROBLEM, INCOMPLETE = 4, 5
 SPEED, START_X, HEIGHT = 0.25, 1.6, 0.9
 T0 = 100.0
@@ -64,10 +60,10 @@ CONTACT = T0 + (START_X - 0.3 - 0.5) / SPEED
 SKIP = 0.5
 TRACKS = {"obstacles": 2}  # the person and the wall segment
 VARIANCE = 0.0103  # m^2: test_a_covariance_widens_the_margin
-TRACKER_LABELS = os.path.join(ROOT, "test", "ros", "fixtures", "obstacle_params.yaml")
+TRACKER_LABELS = os.path.join(FIXTURES, "obstacle_params.yaml")
 TRACKER_V_ERR = 0.4472  # the tracker's steady 3 sigma velocity error at 20 Hz with 5 cm noise
-CONFIGS = [os.path.join(ROOT, "test", "ros", "fixtures", "common_params.yaml"),
-           os.path.join(ROOT, "test", "ros", "fixtures", "foreign_params.yaml")]
+CONFIGS = [os.path.join(FIXTURES, "common_params.yaml"),
+           os.path.join(FIXTURES, "foreign_params.yaml")]
 
 
 def boxes_builder(label="person"):
@@ -88,11 +84,7 @@ def boxes_builder(label="person"):
 
 def write_bag(path, m, build, cls=None):
     with rosbag.Bag(path, "w") as bag:
-        tf = g.TransformStamped()
-        tf.header.stamp = genpy.Time.from_sec(T0 - 0.5)
-        tf.header.frame_id, tf.child_frame_id = "world", "base_link"
-        tf.transform.rotation.w = 1.0
-        bag.write("/tf_static", TFMessage(transforms=[tf]), tf.header.stamp)
+        write_world_tf(bag, T0)
         for k in range(61):
             stamp = genpy.Time.from_sec(T0) + genpy.Duration.from_sec(0.05 * k)
             t = (stamp - genpy.Time.from_sec(T0)).to_sec()
@@ -103,11 +95,6 @@ def write_bag(path, m, build, cls=None):
                     setattr(out, name, getattr(msg, name))
                 msg = out
             bag.write("/people", msg, stamp + genpy.Duration.from_sec(0.05))
-
-
-def read_csv(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))
 
 
 class ReplayForeign(unittest.TestCase):
@@ -130,16 +117,14 @@ class ReplayForeign(unittest.TestCase):
         bag = os.path.join(self.tmp, name + ".bag")
         write_bag(bag, m, build, cls)
         out = os.path.join(self.tmp, "out-" + name)
-        cmd = [REPLAY_BAG, bag, "--out", out, "--no-report"]
-        for c in CONFIGS + list(configs) + [os.path.join(self.tmp, "topics.yaml")]:
-            cmd += ["--config", c]
-        run = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=120)
+        topics = os.path.join(self.tmp, "topics.yaml")
+        run = run_replay(bag, out, CONFIGS + list(configs) + [topics])
         if not expect_ok:
             return run
         if run.returncode != 0:
             raise AssertionError("%s: replay_bag exit %d: %s" % (
                 name, run.returncode, run.stderr.decode(errors="replace")))
-        return read_csv(os.path.join(out, "events.csv")), read_csv(os.path.join(out, "cycles.csv"))
+        return outputs(out)
 
     def check(self, family):
         package, versions, build = FAMILIES[family]
@@ -168,12 +153,7 @@ class ReplayForeign(unittest.TestCase):
             compared += 1
             self.assertEqual(c["status"], r["status"], "%s: %s / %s" % (family, c["details"],
                                                                       r["details"]))
-            for key in ("separation", "approach_speed", "raw_scale"):
-                if r[key] == "":
-                    self.assertEqual(c[key], "", "%s %s at %s" % (family, key, c["stamp"]))
-                else:
-                    self.assertAlmostEqual(float(c[key]), float(r[key]), delta=1e-6,
-                                           msg="%s %s at %s" % (family, key, c["stamp"]))
+            assert_same_ssm(self, c, r, lambda key: "%s %s at %s" % (family, key, c["stamp"]))
         self.assertGreater(compared, 40, family)
 
     def check_detections(self, family):
@@ -334,14 +314,5 @@ for _family in DETECTION_FAMILIES:
     _add_detections(_family)
 
 
-def main():
-    global REPLAY_BAG
-    REPLAY_BAG = sys.argv.pop(1)
-    # This package's Python messages (TrackedBoxArray) from the devel space beside replay_bag.
-    devel = os.path.normpath(os.path.join(os.path.dirname(REPLAY_BAG), "..", ".."))
-    sys.path.insert(0, os.path.join(devel, "lib", "python3", "dist-packages"))
-    unittest.main()
-
-
 if __name__ == "__main__":
-    main()
+    main("test_replay_foreign.py")  # with the devel space's TrackedBoxArray

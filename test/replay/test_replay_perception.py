@@ -13,25 +13,18 @@ Checks (cycles.csv):
 - listing also /nobody/perception_status (not in the bag): every cycle DEGRADED naming it
   ("no status yet").
 """
-import csv
 import os
 import shutil
-import subprocess
-import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+import genpy
+import rosbag
 
-import genpy  # noqa: E402
-import rosbag  # noqa: E402
-import geometry_msgs.msg as g  # noqa: E402
-from tf2_msgs.msg import TFMessage  # noqa: E402
+from replay_testlib import FIXTURES, main, read_csv, run_replay, write_world_tf
 
-REPLAY_BAG = None
 T0 = 100.0
-CONFIG = os.path.join(ROOT, "test", "ros", "fixtures", "common_params.yaml")
+CONFIG = os.path.join(FIXTURES, "common_params.yaml")
 
 
 class ReplayPerception(unittest.TestCase):
@@ -41,11 +34,7 @@ class ReplayPerception(unittest.TestCase):
         cls.tmp = tempfile.mkdtemp()
         cls.bag = os.path.join(cls.tmp, "perception.bag")
         with rosbag.Bag(cls.bag, "w") as bag:
-            tf = g.TransformStamped()
-            tf.header.stamp = genpy.Time.from_sec(T0 - 0.5)
-            tf.header.frame_id, tf.child_frame_id = "world", "base_link"
-            tf.transform.rotation.w = 1.0
-            bag.write("/tf_static", TFMessage(transforms=[tf]), tf.header.stamp)
+            write_world_tf(bag, T0)
             for k in range(61):
                 stamp = genpy.Time.from_sec(T0 + 0.05 * k)
                 a = TrackedBoxArray()
@@ -69,12 +58,9 @@ class ReplayPerception(unittest.TestCase):
         with open(config, "w") as f:
             f.write("perception_status_topics: [%s]\n" % ", ".join(topics))
         out = os.path.join(self.tmp, "out-" + name)
-        run = subprocess.run([REPLAY_BAG, self.bag, "--out", out, "--no-report", "--config", CONFIG,
-                              "--config", config], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                             timeout=120)
+        run = run_replay(self.bag, out, [CONFIG, config])
         self.assertEqual(run.returncode, 0, run.stderr.decode(errors="replace"))
-        with open(os.path.join(out, "cycles.csv")) as f:
-            return list(csv.DictReader(f))
+        return read_csv(os.path.join(out, "cycles.csv"))
 
     def test_recorded_status_drives_the_cycles(self):
         cycles = self.replay("one", ["/perception_status"])
@@ -97,14 +83,5 @@ class ReplayPerception(unittest.TestCase):
             self.assertIn("perception /nobody/perception_status: no status yet", c["details"])
 
 
-def main():
-    global REPLAY_BAG
-    REPLAY_BAG = sys.argv.pop(1)
-    # This package's Python messages from the devel space beside replay_bag.
-    devel = os.path.normpath(os.path.join(os.path.dirname(REPLAY_BAG), "..", ".."))
-    sys.path.insert(0, os.path.join(devel, "lib", "python3", "dist-packages"))
-    unittest.main()
-
-
 if __name__ == "__main__":
-    main()
+    main("test_replay_perception.py")  # with the devel space's messages

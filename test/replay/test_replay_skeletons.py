@@ -15,30 +15,26 @@ scale too; the robot has events with at least 8 bones.
 
     test_replay_skeletons.py REPLAY_BAG [unittest args]
 """
-import csv
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+from replay_testlib import FIXTURES, ROOT, assert_same_ssm, main, outputs, run_replay, \
+    write_world_tf
+
 sys.path.insert(0, os.path.join(ROOT, "test", "foreign"))
 sys.path.insert(0, os.path.join(ROOT, "test", "ros"))
 
 import genpy  # noqa: E402
 import rosbag  # noqa: E402
-import geometry_msgs.msg as g  # noqa: E402
 from tf2_msgs.msg import TFMessage  # noqa: E402
 
 import make_fixtures  # noqa: E402
 
-REPLAY_BAG = None
 T0 = 100.0
 SKIP = 0.5
-FIXTURES = os.path.join(ROOT, "test", "ros", "fixtures")
 CONFIGS = [os.path.join(FIXTURES, n) for n in ("common_params.yaml", "foreign_params.yaml",
                                                "skeleton_params.yaml")]
 
@@ -46,11 +42,7 @@ CONFIGS = [os.path.join(FIXTURES, n) for n in ("common_params.yaml", "foreign_pa
 def write_bag(path, messages):
     """`messages(stamp, t)`: a list of (topic, message) for the stamp."""
     with rosbag.Bag(path, "w") as bag:
-        tf = g.TransformStamped()
-        tf.header.stamp = genpy.Time.from_sec(T0 - 0.5)
-        tf.header.frame_id, tf.child_frame_id = "world", "base_link"
-        tf.transform.rotation.w = 1.0
-        bag.write("/tf_static", TFMessage(transforms=[tf]), tf.header.stamp)
+        write_world_tf(bag, T0)
         for k in range(61):
             stamp = genpy.Time.from_sec(T0) + genpy.Duration.from_sec(0.05 * k)
             t = 0.05 * k
@@ -58,11 +50,6 @@ def write_bag(path, messages):
                 # tf as a tracker's own: written at the stamp; the rest received 50 ms later.
                 at = stamp if topic == "/tf" else stamp + genpy.Duration.from_sec(0.05)
                 bag.write(topic, msg, at)
-
-
-def read_csv(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))
 
 
 class ReplaySkeletons(unittest.TestCase):
@@ -79,12 +66,9 @@ class ReplaySkeletons(unittest.TestCase):
         with open(topics, "w") as f:
             f.write("input_topics: [/people]\n" + extra)
         out = os.path.join(self.tmp, "out-" + name)
-        cmd = [REPLAY_BAG, bag, "--out", out, "--no-report"]
-        for c in CONFIGS + [topics]:
-            cmd += ["--config", c]
-        run = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=120)
+        run = run_replay(bag, out, CONFIGS + [topics])
         self.assertEqual(run.returncode, 0, "%s: %s" % (name, run.stderr.decode(errors="replace")))
-        return read_csv(os.path.join(out, "events.csv")), read_csv(os.path.join(out, "cycles.csv"))
+        return outputs(out)
 
     def compare(self, skeleton, boxes):
         (events, cycles), (ref_events, ref_cycles) = skeleton, boxes
@@ -118,11 +102,7 @@ class ReplaySkeletons(unittest.TestCase):
             r = ref_cycles[c["stamp"]]
             compared += 1
             self.assertEqual(c["status"], r["status"], "%s / %s" % (c["details"], r["details"]))
-            for key in ("separation", "approach_speed", "raw_scale"):
-                if r[key] == "":
-                    self.assertEqual(c[key], "", key)
-                else:
-                    self.assertAlmostEqual(float(c[key]), float(r[key]), delta=1e-6, msg=key)
+            assert_same_ssm(self, c, r, lambda key: key)
         self.assertGreater(compared, 40)
 
     def test_k4abt_markers(self):
@@ -150,14 +130,5 @@ class ReplaySkeletons(unittest.TestCase):
         self.compare(skeleton, boxes)
 
 
-def main():
-    global REPLAY_BAG
-    REPLAY_BAG = sys.argv.pop(1)
-    # This package's Python messages (TrackedBoxArray) from the devel space beside replay_bag.
-    devel = os.path.normpath(os.path.join(os.path.dirname(REPLAY_BAG), "..", ".."))
-    sys.path.insert(0, os.path.join(devel, "lib", "python3", "dist-packages"))
-    unittest.main()
-
-
 if __name__ == "__main__":
-    main()
+    main("test_replay_skeletons.py")  # with the devel space's TrackedBoxArray

@@ -5,10 +5,7 @@ with a non-zero status (not a signal) and stderr naming the parameter. Positive 
 same start-up with valid parameters keeps running until interrupted.
 """
 import os
-import signal
-import subprocess
 import sys
-import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -16,7 +13,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import startup_refusals  # noqa: E402
+from wp_node_testlib import (  # noqa: E402
+    find_node_binary, run_for, start_node_binary, startup_refusals)
 
 TOPICS = {"cloud_topics": ["/cam/points"], "scan_topics": ["/scan"]}
 
@@ -46,38 +44,20 @@ CASES = [
 ]
 
 
-def binary():
-    from roslib.packages import find_node
-    found = find_node("workspace_proximity", "cloud_tracker")
-    return found[0] if found else None
-
-
-def start(name, params):
-    for key, value in params.items():
-        rospy.set_param("/%s/%s" % (name, key), value)
-    cmd = [binary(), "__name:=" + name, "_use_robot_description:=false"]
-    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=dict(os.environ))
-
-
 class CloudTrackerInvalidParamsTest(unittest.TestCase):
+    def setUp(self):
+        self.binary = find_node_binary("cloud_tracker")
+        self.assertTrue(self.binary, "cloud_tracker binary not found")
+
     def test_valid_parameters_keep_running(self):
-        self.assertTrue(binary(), "cloud_tracker binary not found")
-        proc = start("valid_control", TOPICS)
-        time.sleep(3.0)
-        running = proc.poll() is None
-        if running:
-            proc.send_signal(signal.SIGINT)
-        try:
-            out, err = proc.communicate(timeout=10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            out, err = proc.communicate()
+        proc = start_node_binary(self.binary, "valid_control", [], TOPICS)
+        running, text = run_for(proc, 3.0)
         self.assertTrue(running, "exited with valid parameters (status %s): %s" % (
-            proc.returncode, err.decode(errors="replace")[-2000:]))
+            proc.returncode, text[-2000:]))
 
     def test_invalid_parameters_exit(self):
-        self.assertTrue(binary(), "cloud_tracker binary not found")
-        started = [(name, words, start("bad_" + name, params)) for name, params, words in CASES]
+        started = [(name, words, start_node_binary(self.binary, "bad_" + name, [], params))
+                   for name, params, words in CASES]
         failures = startup_refusals(started)
         self.assertEqual(failures, [], "\n".join(failures))
 

@@ -62,9 +62,7 @@ class DetectionInput(unittest.TestCase):
         _static = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
 
         def ready(pub, r):
-            with r.lock:
-                return (pub.get_num_connections() >= 1 and bool(r.contacts) and
-                        not any("robot body" in d for d in r.contacts[-1].status_details))
+            return pub.get_num_connections() >= 1 and r.posed()
         pairs = [(s[0], s[3], s[4]) for s in scenes] + [("boxes", boxes_pub, twin)]
         deadline = rospy.Time.now() + rospy.Duration(20.0)
         while rospy.Time.now() < deadline and not all(ready(p, r) for _, p, r in pairs):

@@ -89,6 +89,59 @@ def as_class(msg, cls):
 Recorder = ContactStatusRecorder  # wp_node_testlib
 
 
+class RefusalScene(object):
+    """A foreign type's rostest scene (foreign_*.test): messages of `cls` on /scene/foreign
+    (the foreign and refusing monitors read it), the same with another md5 on /scene/wrong_md5
+    and under an unknown type name on /scene/unknown_type (the refusing monitor), the twin
+    TrackedBoxArray on /scene/boxes; world = base_link on tf; a recorder per monitor."""
+
+    def __init__(self, cls):
+        self.cls = cls
+        self.wrong_cls, self.unknown_cls = wrong_md5_class(cls), unknown_type_class(cls)
+        self.foreign_pub = rospy.Publisher("/scene/foreign", cls, queue_size=10)
+        self.wrong_pub = rospy.Publisher("/scene/wrong_md5", self.wrong_cls, queue_size=10)
+        self.unknown_pub = rospy.Publisher("/scene/unknown_type", self.unknown_cls, queue_size=10)
+        self.boxes_pub = rospy.Publisher("/scene/boxes", TrackedBoxArray, queue_size=10)
+        self.recorders = {ns: Recorder("/" + ns) for ns in ("boxes", "foreign", "refusing")}
+        self._static = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0),
+                                          (0.0, 0.0, 0.0))])
+
+    def wait_ready(self, tc):
+        """Waits (at most 20 s) for every monitor to subscribe and to pose the post (its tf
+        listener has the static transform) before the scene starts; asserts both."""
+        deadline = rospy.Time.now() + rospy.Duration(20.0)
+        while rospy.Time.now() < deadline and not (
+                self.foreign_pub.get_num_connections() >= 2 and
+                self.wrong_pub.get_num_connections() >= 1 and
+                self.unknown_pub.get_num_connections() >= 1 and
+                self.boxes_pub.get_num_connections() >= 1 and
+                all(r.posed() for r in self.recorders.values())):
+            rospy.sleep(0.05)
+        tc.assertTrue(all(r.posed() for r in self.recorders.values()), "the post is not posed")
+        tc.assertGreaterEqual(self.foreign_pub.get_num_connections(), 2,
+                              "monitors not subscribed")
+        tc.assertGreaterEqual(self.boxes_pub.get_num_connections(), 1)
+        tc.assertGreaterEqual(self.wrong_pub.get_num_connections(), 1,
+                              "the refusing monitor did not connect to the wrong md5")
+
+    def publish(self, boxes, message):
+        """The twin's `boxes`, and `message()` (a new foreign message each call) on the three
+        foreign topics."""
+        self.boxes_pub.publish(boxes)
+        self.foreign_pub.publish(message())
+        self.wrong_pub.publish(as_class(message(), self.wrong_cls))
+        self.unknown_pub.publish(as_class(message(), self.unknown_cls))
+
+    def check_refusals(self, tc, c):
+        """One contacts message `c` of the refusing monitor: DEGRADED, naming the type with
+        another md5 (its extra_field) and the unknown type name."""
+        tc.assertEqual(c.status, ContactEventArray.DEGRADED)
+        named = [d for d in c.status_details if self.cls._type in d and "extra_field" in d]
+        tc.assertTrue(named, "the refusal is not named: %s" % list(c.status_details))
+        named = [d for d in c.status_details if self.unknown_cls._type in d]
+        tc.assertTrue(named, "the unknown type is not named: %s" % list(c.status_details))
+
+
 class ForeignInputs(unittest.TestCase):
     def test_same_scene(self):
         family = rospy.get_param("~family")
@@ -98,34 +151,9 @@ class ForeignInputs(unittest.TestCase):
         sample = build(m, rospy.Time(1), (0, 0, 0), (0, 0, 0))
         cls = top_class(sample)
         rospy.loginfo("family %s: %s md5 %s", family, cls._type, cls._md5sum)
-        foreign_pub = rospy.Publisher("/scene/foreign", cls, queue_size=10)
-        wrong_cls = wrong_md5_class(cls)
-        wrong_pub = rospy.Publisher("/scene/wrong_md5", wrong_cls, queue_size=10)
-        unknown_cls = unknown_type_class(cls)
-        unknown_pub = rospy.Publisher("/scene/unknown_type", unknown_cls, queue_size=10)
-        boxes_pub = rospy.Publisher("/scene/boxes", TrackedBoxArray, queue_size=10)
-        recorders = {ns: Recorder("/" + ns) for ns in ("boxes", "foreign", "refusing")}
-        _static = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
-        deadline = rospy.Time.now() + rospy.Duration(20.0)
-        while rospy.Time.now() < deadline and not (
-                foreign_pub.get_num_connections() >= 2 and wrong_pub.get_num_connections() >= 1 and
-                unknown_pub.get_num_connections() >= 1 and
-                boxes_pub.get_num_connections() >= 1 and
-                all(len(r.contacts) > 0 for r in recorders.values())):
-            rospy.sleep(0.05)
-        # Every monitor has the post posed (its tf listener has the static transform) before
-        # the scene starts.
-        def posed(r):
-            with r.lock:
-                return bool(r.contacts) and not any("robot body" in d
-                                                    for d in r.contacts[-1].status_details)
-        while rospy.Time.now() < deadline and not all(posed(r) for r in recorders.values()):
-            rospy.sleep(0.05)
-        self.assertTrue(all(posed(r) for r in recorders.values()), "the post is not posed")
-        self.assertGreaterEqual(foreign_pub.get_num_connections(), 2, "monitors not subscribed")
-        self.assertGreaterEqual(boxes_pub.get_num_connections(), 1)
-        self.assertGreaterEqual(wrong_pub.get_num_connections(), 1,
-                                "the refusing monitor did not connect to the wrong md5")
+        scene = RefusalScene(cls)
+        recorders = scene.recorders
+        scene.wait_ready(self)
 
         person = Track("100", "person", (START_X, 0.0, HEIGHT), (0.6, 0.6, 1.8),
                        velocity=(-SPEED, 0.0, 0.0))
@@ -139,10 +167,7 @@ class ForeignInputs(unittest.TestCase):
             boxes.header.stamp = stamp
             boxes.header.frame_id = "world"
             boxes.boxes.append(person.to_msg(stamp))
-            boxes_pub.publish(boxes)
-            foreign_pub.publish(build(m, stamp, pos, vel))
-            wrong_pub.publish(as_class(build(m, stamp, pos, vel), wrong_cls))
-            unknown_pub.publish(as_class(build(m, stamp, pos, vel), unknown_cls))
+            scene.publish(boxes, lambda: build(m, stamp, pos, vel))
             rate.sleep()
         rospy.sleep(0.3)
 
@@ -182,11 +207,7 @@ class ForeignInputs(unittest.TestCase):
         contacts, _ = recorders["refusing"].since(since)
         self.assertGreater(len(contacts), 20)
         for c in contacts:
-            self.assertEqual(c.status, ContactEventArray.DEGRADED)
-            named = [d for d in c.status_details if cls._type in d and "extra_field" in d]
-            self.assertTrue(named, "the refusal is not named: %s" % list(c.status_details))
-            named = [d for d in c.status_details if unknown_cls._type in d]
-            self.assertTrue(named, "the unknown type is not named: %s" % list(c.status_details))
+            scene.check_refusals(self, c)
             self.assertEqual(len(c.events), 1, "the good input stopped working")
 
 

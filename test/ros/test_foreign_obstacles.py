@@ -53,10 +53,8 @@ import geometry_msgs.msg as g  # noqa: E402
 
 import make_fixtures  # noqa: E402  (genpy classes from foreign_msgs/)
 import twin_check  # noqa: E402
-from test_foreign_inputs import (Recorder, as_class, unknown_type_class,  # noqa: E402
-                                 wrong_md5_class)
-from wp_node_testlib import (ContactEventArray, Track, TrackedBoxArray,  # noqa: E402
-                             broadcast_static)
+from test_foreign_inputs import RefusalScene  # noqa: E402
+from wp_node_testlib import Track, TrackedBoxArray  # noqa: E402
 
 SPEED, START_X = 0.25, 1.6
 GAP0 = START_X - 0.3 - 0.5        # 0.8 m between the circle's and the post's faces at t0
@@ -78,28 +76,9 @@ class ForeignObstacles(unittest.TestCase):
     def test_obstacles_beside_their_twin(self):
         root = make_fixtures.generate({})
         m = make_fixtures.load(root, "obstacle_detector")
-        cls = m.Obstacles
-        foreign_pub = rospy.Publisher("/scene/foreign", cls, queue_size=10)
-        wrong_cls, unknown_cls = wrong_md5_class(cls), unknown_type_class(cls)
-        wrong_pub = rospy.Publisher("/scene/wrong_md5", wrong_cls, queue_size=10)
-        unknown_pub = rospy.Publisher("/scene/unknown_type", unknown_cls, queue_size=10)
-        boxes_pub = rospy.Publisher("/scene/boxes", TrackedBoxArray, queue_size=10)
-        recorders = {ns: Recorder("/" + ns) for ns in ("boxes", "foreign", "refusing")}
-        _static = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
-
-        def posed(r):
-            with r.lock:
-                return bool(r.contacts) and not any("robot body" in d
-                                                    for d in r.contacts[-1].status_details)
-        deadline = rospy.Time.now() + rospy.Duration(20.0)
-        while rospy.Time.now() < deadline and not (
-                foreign_pub.get_num_connections() >= 2 and wrong_pub.get_num_connections() >= 1 and
-                unknown_pub.get_num_connections() >= 1 and boxes_pub.get_num_connections() >= 1 and
-                all(posed(r) for r in recorders.values())):
-            rospy.sleep(0.05)
-        self.assertTrue(all(posed(r) for r in recorders.values()), "the post is not posed")
-        self.assertGreaterEqual(foreign_pub.get_num_connections(), 2, "monitors not subscribed")
-        self.assertGreaterEqual(wrong_pub.get_num_connections(), 1)
+        scene = RefusalScene(m.Obstacles)
+        recorders = scene.recorders
+        scene.wait_ready(self)
 
         circle = Track("circle", "unknown", (START_X, 0.0, 0.9), (0.6, 0.6, 1.8),
                        velocity=(-SPEED, 0.0, 0.0))
@@ -116,11 +95,8 @@ class ForeignObstacles(unittest.TestCase):
             boxes.header.stamp, boxes.header.frame_id = stamp, "world"
             boxes.boxes.append(circle.to_msg(stamp))
             boxes.boxes.append(wall.to_msg(stamp))
-            boxes_pub.publish(boxes)
             x = START_X - SPEED * (stamp - t0).to_sec()
-            foreign_pub.publish(self.obstacles(m, stamp, x))
-            wrong_pub.publish(as_class(self.obstacles(m, stamp, x), wrong_cls))
-            unknown_pub.publish(as_class(self.obstacles(m, stamp, x), unknown_cls))
+            scene.publish(boxes, lambda: self.obstacles(m, stamp, x))
             rate.sleep()
         rospy.sleep(0.3)
 
@@ -141,11 +117,7 @@ class ForeignObstacles(unittest.TestCase):
         contacts, _ = recorders["refusing"].since(since)
         self.assertGreater(len(contacts), 15)
         for c in contacts:
-            self.assertEqual(c.status, ContactEventArray.DEGRADED)
-            named = [d for d in c.status_details if cls._type in d and "extra_field" in d]
-            self.assertTrue(named, "the refusal is not named: %s" % list(c.status_details))
-            named = [d for d in c.status_details if unknown_cls._type in d]
-            self.assertTrue(named, "the unknown type is not named: %s" % list(c.status_details))
+            scene.check_refusals(self, c)
             self.assertEqual(len([e for e in c.events if "post" in (e.id_a, e.id_b)]), 2,
                              "the good input stopped working")
 

@@ -88,16 +88,12 @@ class Rep155(unittest.TestCase):
         _static = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
         deadline = rospy.Time.now() + rospy.Duration(20.0)
 
-        def posed(r):
-            with r.lock:
-                return bool(r.contacts) and not any("robot body" in d
-                                                    for d in r.contacts[-1].status_details)
         while rospy.Time.now() < deadline and not (
                 ids_pub.get_num_connections() >= 2 and boxes_pub.get_num_connections() >= 1 and
                 wrong_pub.get_num_connections() >= 1 and
-                all(posed(r) for r in recorders.values())):
+                all(r.posed() for r in recorders.values())):
             rospy.sleep(0.05)
-        self.assertTrue(all(posed(r) for r in recorders.values()), "the post is not posed")
+        self.assertTrue(all(r.posed() for r in recorders.values()), "the post is not posed")
         self.assertGreaterEqual(ids_pub.get_num_connections(), 2)
 
         t0 = rospy.Time.now()

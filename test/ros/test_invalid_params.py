@@ -5,10 +5,7 @@ non-zero status (not a signal) and stderr naming the parameter. Positive control
 start-up with valid parameters keeps running until interrupted.
 """
 import os
-import signal
-import subprocess
 import sys
-import time
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -16,7 +13,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rospy  # noqa: E402
 import rostest  # noqa: E402
 
-from wp_node_testlib import find_node_binary, startup_refusals  # noqa: E402
+from wp_node_testlib import (  # noqa: E402
+    find_node_binary, run_for, start_node_binary, startup_refusals)
 
 LABEL_OK = {"margin": 0.1, "warning_time": 1.0, "critical_time": 0.4,
             "warning_distance": 0.5, "critical_distance": 0.2}
@@ -57,41 +55,20 @@ CASES = [
 ]
 
 
-def start(binary, name, args, params):
-    for key, value in params.items():
-        rospy.set_param("/%s/%s" % (name, key), value)
-    cmd = [binary, "__name:=" + name, "_use_robot_description:=false"] + args
-    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            env=dict(os.environ))
-
-
-def run_for(proc, seconds):
-    """Lets the node run for `seconds`, then stops it. Returns (was still running, output)."""
-    time.sleep(seconds)
-    running = proc.poll() is None
-    if running:
-        proc.send_signal(signal.SIGINT)
-    try:
-        out, err = proc.communicate(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        out, err = proc.communicate()
-    return running, out.decode(errors="replace") + err.decode(errors="replace")
-
-
 class InvalidParamsTest(unittest.TestCase):
     def setUp(self):
         self.binary = find_node_binary()
         self.assertTrue(self.binary, "proximity_monitor binary not found")
 
     def test_valid_parameters_keep_running(self):
-        proc = start(self.binary, "valid_control", [], {})
+        proc = start_node_binary(self.binary, "valid_control", [], {})
         running, text = run_for(proc, 3.0)
         self.assertTrue(running, "the node exited with valid parameters (status %s): %s" % (
             proc.returncode, text[-2000:]))
 
     def test_unknown_keys_are_named_and_the_node_keeps_running(self):
-        proc = start(self.binary, "misspelled", ["_horizen:=3.0"], {"trak_timeout": 1.0})
+        proc = start_node_binary(self.binary, "misspelled", ["_horizen:=3.0"],
+                                 {"trak_timeout": 1.0})
         running, text = run_for(proc, 3.0)
         self.assertTrue(running, "an unknown key stopped the node: " + text[-2000:])
         self.assertIn("~horizen: unknown parameter, not used (did you mean ~horizon?)", text)
@@ -99,7 +76,7 @@ class InvalidParamsTest(unittest.TestCase):
                       text)
 
     def test_invalid_parameters_exit(self):
-        started = [(name, words, start(self.binary, "bad_" + name, args, params))
+        started = [(name, words, start_node_binary(self.binary, "bad_" + name, args, params))
                    for name, args, params, words in CASES]
         failures = startup_refusals(started)
         self.assertEqual(failures, [], "\n".join(failures))

@@ -239,8 +239,7 @@ TEST(RosParams, LabelsInheritFromDefaultWhateverTheirOrder) {
   labels["forklift"] = labelDict(0.5);
   XmlRpcValue robot = dict();
   robot["warning_distance"] = 0.6;
-  XmlRpcValue root = dict();
-  root["labels"] = labels;
+  XmlRpcValue root = with("labels", labels);
   root["robot_thresholds"] = robot;
 
   const wp::MonitorParams p = wp::readParams(root);
@@ -269,8 +268,7 @@ TEST(RosParams, GrowthSettingsPerLabelInheritFromDefault) {
   labels["default"] = def;
   labels["person"] = person;
   labels["forklift"] = labelDict(0.5);
-  XmlRpcValue root = dict();
-  root["labels"] = labels;
+  const XmlRpcValue root = with("labels", labels);
 
   const wp::MonitorParams p = wp::readParams(root);
   EXPECT_EQ(p.label("person").position_error, 0.1);
@@ -284,12 +282,7 @@ TEST(RosParams, GrowthSettingsPerLabelInheritFromDefault) {
   EXPECT_TRUE(wp::unknownParams(root).empty());
 
   // A negative value reads, and validate() names it.
-  XmlRpcValue bad = dict();
-  bad["max_speed"] = -1.0;
-  XmlRpcValue bad_labels = dict();
-  bad_labels["person"] = bad;
-  XmlRpcValue bad_root = dict();
-  bad_root["labels"] = bad_labels;
+  const XmlRpcValue bad_root = with("labels", with("person", with("max_speed", -1.0)));
   bool named = false;
   for (const std::string& e : wp::validate(wp::readParams(bad_root))) {
     named = named || e.find("~labels/person/max_speed = -1") != std::string::npos;
@@ -310,10 +303,7 @@ TEST(RosParams, PartLabelsWithASlashAreNestedSubLabels) {
   person["hand"] = hand;
   person["torso"] = dict();
   person["torso"]["size_x"] = 0.4;
-  XmlRpcValue labels = dict();
-  labels["person"] = person;
-  XmlRpcValue root = dict();
-  root["labels"] = labels;
+  XmlRpcValue root = with("labels", with("person", person));
 
   const wp::MonitorParams p = wp::readParams(root);
   EXPECT_EQ(p.label("person").margin, 0.2);
@@ -331,8 +321,7 @@ TEST(RosParams, PartLabelsWithASlashAreNestedSubLabels) {
   flat["person"] = dict();
   flat["person"]["margin"] = 0.2;
   flat["person/hand"] = hand;
-  XmlRpcValue flat_root = dict();
-  flat_root["labels"] = flat;
+  const XmlRpcValue flat_root = with("labels", flat);
   const wp::MonitorParams q = wp::readParams(flat_root);
   EXPECT_EQ(q.label("person/hand").max_speed, 2.0);
   EXPECT_EQ(q.label("person/hand").margin, 0.2);

@@ -713,10 +713,40 @@ def check_event_numbers(tc, msg, horizon, what=""):
                       "distance / closing speed: " + ctx)
 
 
-def find_node_binary():
+def find_node_binary(node="proximity_monitor"):
+    """The path of this package's executable `node`, None if it is not built."""
     from roslib.packages import find_node
-    found = find_node("workspace_proximity", "proximity_monitor")
+    found = find_node("workspace_proximity", node)
     return found[0] if found else None
+
+
+def start_node_binary(binary, name, args, params):
+    """Starts `binary` as node `name` (without robot_description) with the command-line private
+    parameters `args` ("_key:=value") after setting `params` under /name on the server; the
+    Popen, stdout and stderr piped."""
+    import subprocess
+    for key, value in params.items():
+        rospy.set_param("/%s/%s" % (name, key), value)
+    cmd = [binary, "__name:=" + name, "_use_robot_description:=false"] + list(args)
+    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            env=dict(os.environ))
+
+
+def run_for(proc, seconds):
+    """Lets the node run for `seconds`, then stops it (SIGINT, killed if not gone in 10 s).
+    Returns (was still running, stdout + stderr)."""
+    import signal
+    import subprocess
+    time.sleep(seconds)
+    running = proc.poll() is None
+    if running:
+        proc.send_signal(signal.SIGINT)
+    try:
+        out, err = proc.communicate(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        out, err = proc.communicate()
+    return running, out.decode(errors="replace") + err.decode(errors="replace")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -830,6 +860,13 @@ class ContactStatusRecorder(object):
             with self.lock:
                 where.append(msg)
         return cb
+
+    def posed(self):
+        """The monitor has published contacts and the last ones name no robot body without a
+        pose (its tf listener has the robot's transforms)."""
+        with self.lock:
+            return bool(self.contacts) and not any("robot body" in d
+                                                   for d in self.contacts[-1].status_details)
 
     def since(self, t):
         """Contacts and statuses stamped at or after t."""

@@ -20,4 +20,16 @@ inline void expectSameScalars(const workspace_proximity::MonitorParams& got,
   EXPECT_EQ(got.use_robot_description, want.use_robot_description);
 }
 
+/// Expects the multi-object tracker's settings in `got` to equal those in `want`, field by
+/// field: TrackerParams or DetectionTrackerSettings (~detection_tracker/), the same names.
+template <typename Got, typename Want>
+void expectSameTrackerSettings(const Got& got, const Want& want) {
+  EXPECT_EQ(got.gate_chi2, want.gate_chi2);
+  EXPECT_EQ(got.gate_distance, want.gate_distance);
+  EXPECT_EQ(got.confirm_hits, want.confirm_hits);
+  EXPECT_EQ(got.max_misses, want.max_misses);
+  EXPECT_EQ(got.timeout, want.timeout);
+  EXPECT_EQ(got.known_velocity_error, want.known_velocity_error);
+}
+
 }  // namespace wp_test

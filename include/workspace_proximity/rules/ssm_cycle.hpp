@@ -70,6 +70,9 @@ class SsmCycle {
   double reach() const { return reach_; }
 
  private:
+  // Starts `out`: no pair read yet, the raw scale `raw_scale` (in [0, 1]), DEGRADED as
+  // `degraded`. False when monitoring is off: `out` is then final (scale 1).
+  bool startVerdict(double raw_scale, bool degraded, SsmVerdict* out) const;
   void output(Stamp now, bool degraded, SsmVerdict* out);
 
   SsmParams params_;

@@ -121,6 +121,9 @@ class StopLatch {
   const std::string& haltWait() const { return halt_wait_; }
 
  private:
+  // True when the last cycle refuses `action` ("reset", "mute"): it was DEGRADED or had a
+  // monitored pair within S_p(v_max); `why` then says so ("<action> refused: ...").
+  bool lastCycleRefuses(const char* action, std::string* why) const;
   void endMute(const char* why);
   void updateHalt(Stamp now);
   void describeScope();
