@@ -1,5 +1,6 @@
 #include "workspace_proximity/perception/cluster_tracks.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -53,6 +54,7 @@ ClusterTracks::ClusterTracks(const ClusterTrackParams& params)
   parent_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
   lo_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
   hi_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
+  first_in_track_.reserve(static_cast<std::size_t>(params_.tracker.capacity));
   const auto cells = static_cast<std::size_t>(params_.tracker.capacity) * static_cast<std::size_t>(params_.sensors);
   sight_id_.assign(cells, 0);
   sight_stamp_.assign(cells, 0);
@@ -92,7 +94,7 @@ ClusterFrameUse ClusterTracks::update(Stamp stamp, const std::vector<Detection>&
   // Clusters beyond the tracker's max_detections are counted, never silently lost (the
   // node reports them; CloudFrame's max_clusters is the same 512 by default).
   overflow_ += static_cast<long>(clusters.size() - n);
-  if (params_.merge_fragments) mergeFragments();
+  if (params_.merge_fragments || params_.merge_within_tracks) mergeFragments(stamp);
   tracker_.update(stamp, detections_);
   unite(sensor, stamp);
   return use;
@@ -107,7 +109,47 @@ int ClusterTracks::root(int i) {
   return i;
 }
 
-void ClusterTracks::mergeFragments() {
+void ClusterTracks::linkWithinTracks(Stamp stamp) {
+  // The tracks as published after the last frame (output_), at the tracker's stamp.
+  if (output_.empty() || tracker_.stamp() == 0) return;
+  const double dt = std::max(0.0, secondsBetween(tracker_.stamp(), stamp));
+  const int n = static_cast<int>(detections_.size());
+  first_in_track_.assign(output_.size(), -1);  // within the reserved capacity
+  for (int j = 0; j < n; ++j) {
+    const auto k = static_cast<std::size_t>(j);
+    // The oldest track (smallest id) whose grown footprint holds the detection's whole.
+    int owner = -1;
+    std::uint64_t owner_id = 0;
+    for (std::size_t i = 0; i < output_.size(); ++i) {
+      const BoxObservation& b = output_[i];
+      const Eigen::Vector3d centre =
+          b.velocity_known ? Eigen::Vector3d(b.position + b.linear_velocity * dt) : b.position;
+      const double speed = b.velocity_known ? b.velocity_error : params_.max_speed;
+      const double grow = b.position_error + speed * dt;
+      bool inside = true;
+      for (int a = 0; a < 2 && inside; ++a) {
+        const double half = 0.5 * b.dimensions[a] + grow;
+        inside = lo_[k][a] >= centre[a] - half && hi_[k][a] <= centre[a] + half;
+      }
+      if (!inside) continue;
+      const std::uint64_t id = tracker_.idOfSlot(tracker_.outputSlot(static_cast<int>(i)));
+      if (owner < 0 || id < owner_id) {
+        owner = static_cast<int>(i);
+        owner_id = id;
+      }
+    }
+    if (owner < 0) continue;
+    int& first = first_in_track_[static_cast<std::size_t>(owner)];
+    if (first < 0) {
+      first = j;
+    } else if (root(j) != root(first)) {
+      parent_[static_cast<std::size_t>(root(j))] = root(first);
+      ++merged_within_tracks_;
+    }
+  }
+}
+
+void ClusterTracks::mergeFragments(Stamp stamp) {
   const int n = static_cast<int>(detections_.size());
   parent_.resize(detections_.size());
   lo_.resize(detections_.size());
@@ -119,7 +161,7 @@ void ClusterTracks::mergeFragments() {
     hi_[k] = detections_[k].position + 0.5 * detections_[k].dimensions;
   }
   // Every pair (n^2 / 2 footprint tests: 130 000 at the 512 clusters' capacity).
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < n && params_.merge_fragments; ++i) {
     const auto a = static_cast<std::size_t>(i);
     for (int j = i + 1; j < n; ++j) {
       const auto b = static_cast<std::size_t>(j);
@@ -130,6 +172,7 @@ void ClusterTracks::mergeFragments() {
       if (near) parent_[static_cast<std::size_t>(root(j))] = root(i);
     }
   }
+  if (params_.merge_within_tracks) linkWithinTracks(stamp);
   // Each root takes its members' union; the detections are then the roots, in order.
   for (int i = 0; i < n; ++i) {
     const auto r = static_cast<std::size_t>(root(i));
