@@ -17,6 +17,7 @@ people at the same places:
     stayed unknown, how many never got a velocity.
 
     /usr/bin/python3 tools/demo_ssm_share.py [--start 10] [--length 60] [--label NAME]
+    /usr/bin/python3 tools/demo_ssm_share.py --bag RUN.bag   (offline: how the tracks started)
 (a development tool, not installed; tools/demo_ssm_share.sh starts the demo and this together).
 """
 import argparse
@@ -243,12 +244,55 @@ def report(m, label, out):
             print('', file=out)
 
 
+def births(bag_path, out):
+    """Offline, from a bag of the run (tools/demo_ssm_share.sh with WP_SHARE_BAG): how each
+    track started, by the true box it is on: the first track on it, or beside another track on
+    the same box that lives on (a duplicate), or replacing one that ended at that array."""
+    import rosbag
+    truth, prev = None, {}
+    kinds, shares = collections.Counter(), collections.Counter()
+    for topic, msg, _ in rosbag.Bag(bag_path).read_messages(topics=['/true_objects', '/perceived_objects']):
+        if topic == '/true_objects':
+            truth = msg
+            continue
+        if truth is None:
+            continue
+        dt = (msg.header.stamp - truth.header.stamp).to_sec()
+        cur = {}
+        for b in msg.boxes:
+            if b.label == 'unseen':
+                continue
+            f = footprint(b)
+            d, oid = min((gap(f, shifted(t, dt)), t.id) for t in truth.boxes)
+            cur[b.id] = oid if d <= GHOST_DISTANCE else 'ghost'
+        for oid, n in collections.Counter(cur.values()).items():
+            shares[(oid, n)] += 1
+        for i, oid in cur.items():
+            if i in prev:
+                continue
+            ended = any(o == oid and j not in cur for j, o in prev.items())
+            beside = any(o == oid and j != i and j in prev for j, o in cur.items())
+            kind = 'beside a live track' if beside else ('replacing one that ended' if ended else 'first')
+            kinds[(re.sub(r'_\d+$', '', oid), kind)] += 1
+        prev = cur
+    print('Tracks started over the whole bag, by the true box they are on and how:', file=out)
+    for (oid, kind), n in sorted(kinds.items()):
+        print('  %-10s %-26s %d' % (oid, kind, n), file=out)
+    print('Arrays in which a true box was n tracks (box: {n: arrays}):', file=out)
+    for oid in sorted({k[0] for k in shares}):
+        print('  %-12s %s' % (oid, dict(sorted((n, c) for (o, n), c in shares.items() if o == oid))), file=out)
+
+
 def main():
     ap = argparse.ArgumentParser()
+    ap.add_argument('--bag', help='offline: how the tracks of this bag started (no master needed)')
     ap.add_argument('--start', type=float, default=10.0, help='s of scene time the window starts at')
     ap.add_argument('--length', type=float, default=60.0, help='s the window lasts')
     ap.add_argument('--label', default='demo', help='heading of the report')
     args = ap.parse_args(rospy.myargv()[1:])
+    if args.bag:
+        births(args.bag, sys.stdout)
+        return
     rospy.init_node('demo_ssm_share', anonymous=True)
     m = Meter(args.start, args.length)
     while not rospy.is_shutdown() and m.scene_start is None:
