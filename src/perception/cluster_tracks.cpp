@@ -9,6 +9,7 @@ namespace perception {
 namespace {
 
 bool finitePositive(double x) { return std::isfinite(x) && x > 0.0; }
+constexpr double kHuge = 1e300;
 
 // The tracker's parameters with the clusters' one label.
 TrackerParams trackerParams(const ClusterTrackParams& p) {
@@ -60,6 +61,10 @@ ClusterTracks::ClusterTracks(const ClusterTrackParams& params)
   sight_stamp_.assign(cells, 0);
   sight_min_.assign(cells, Eigen::Vector3d::Zero());
   sight_max_.assign(cells, Eigen::Vector3d::Zero());
+  core_min_.assign(cells, Eigen::Vector3d::Zero());
+  core_max_.assign(cells, Eigen::Vector3d::Zero());
+  core_lo_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
+  core_hi_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
   sensor_stamp_.assign(static_cast<std::size_t>(params_.sensors), -1);
   output_.reserve(static_cast<std::size_t>(params_.tracker.capacity));
 }
@@ -94,7 +99,7 @@ ClusterFrameUse ClusterTracks::update(Stamp stamp, const std::vector<Detection>&
   // Clusters beyond the tracker's max_detections are counted, never silently lost (the
   // node reports them; CloudFrame's max_clusters is the same 512 by default).
   overflow_ += static_cast<long>(clusters.size() - n);
-  if (params_.merge_fragments || params_.merge_within_tracks) mergeFragments(stamp);
+  mergeFragments(stamp);  // also with both merges off: it notes each detection's core
   tracker_.update(stamp, detections_);
   unite(sensor, stamp);
   return use;
@@ -110,9 +115,13 @@ int ClusterTracks::root(int i) {
 }
 
 void ClusterTracks::linkWithinTracks(Stamp stamp) {
-  // The tracks as published after the last frame (output_), at the tracker's stamp.
+  // The live tracks after the last frame: each one's cores (the largest cluster of what each
+  // sensor's latest frame gave it, where it was seen), not its published box, which holds
+  // what earlier merges took in: a box re-centred on what it took in, with an allowance every
+  // frame, would follow anything moving away at up to allowance / period (a person walking
+  // away from the forklift dragging its box along).
   if (output_.empty() || tracker_.stamp() == 0) return;
-  const double dt = std::max(0.0, secondsBetween(tracker_.stamp(), stamp));
+  const auto sensors = static_cast<std::size_t>(params_.sensors);
   const int n = static_cast<int>(detections_.size());
   first_in_track_.assign(output_.size(), -1);  // within the reserved capacity
   for (int j = 0; j < n; ++j) {
@@ -121,18 +130,26 @@ void ClusterTracks::linkWithinTracks(Stamp stamp) {
     int owner = -1;
     std::uint64_t owner_id = 0;
     for (std::size_t i = 0; i < output_.size(); ++i) {
-      const BoxObservation& b = output_[i];
-      const Eigen::Vector3d centre =
-          b.velocity_known ? Eigen::Vector3d(b.position + b.linear_velocity * dt) : b.position;
+      const BoxObservation& b = tracker_.tracks()[i];  // the filter's
+      const int slot = tracker_.outputSlot(static_cast<int>(i));
+      const std::uint64_t id = tracker_.idOfSlot(slot);
+      // Each core moved by the track's velocity when known, grown by its 3 sigma position
+      // error and what it may have moved beyond that (velocity error, or max_speed) since.
       const double speed = b.velocity_known ? b.velocity_error : params_.max_speed;
-      const double grow = b.position_error + speed * dt;
-      bool inside = true;
-      for (int a = 0; a < 2 && inside; ++a) {
-        const double half = 0.5 * b.dimensions[a] + grow;
-        inside = lo_[k][a] >= centre[a] - half && hi_[k][a] <= centre[a] + half;
+      Eigen::Vector3d lo = Eigen::Vector3d::Constant(kHuge), hi = -lo;
+      for (std::size_t o = 0; o < sensors; ++o) {
+        const std::size_t c = static_cast<std::size_t>(slot) * sensors + o;
+        if (sight_id_[c] != id || sight_stamp_[c] != sensor_stamp_[o]) continue;
+        const double dt = std::max(0.0, secondsBetween(sight_stamp_[c], stamp));
+        const Eigen::Vector3d shift = b.velocity_known ? Eigen::Vector3d(b.linear_velocity * dt)
+                                                       : Eigen::Vector3d::Zero();
+        const double grow = b.position_error + speed * dt;
+        lo = lo.cwiseMin(core_min_[c] + shift - Eigen::Vector3d::Constant(grow));
+        hi = hi.cwiseMax(core_max_[c] + shift + Eigen::Vector3d::Constant(grow));
       }
+      bool inside = lo.x() <= hi.x();  // false: no sensor's latest frame saw it
+      for (int a = 0; a < 2 && inside; ++a) inside = lo_[k][a] >= lo[a] && hi_[k][a] <= hi[a];
       if (!inside) continue;
-      const std::uint64_t id = tracker_.idOfSlot(tracker_.outputSlot(static_cast<int>(i)));
       if (owner < 0 || id < owner_id) {
         owner = static_cast<int>(i);
         owner_id = id;
@@ -173,6 +190,20 @@ void ClusterTracks::mergeFragments(Stamp stamp) {
     }
   }
   if (params_.merge_within_tracks) linkWithinTracks(stamp);
+  // Each root's core: its largest member's box (by footprint area), before the union.
+  core_lo_.assign(lo_.begin(), lo_.end());  // within the reserved capacity
+  core_hi_.assign(hi_.begin(), hi_.end());
+  auto area = [](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    return (hi.x() - lo.x()) * (hi.y() - lo.y());
+  };
+  for (int i = 0; i < n; ++i) {
+    const auto r = static_cast<std::size_t>(root(i));
+    const auto k = static_cast<std::size_t>(i);
+    if (area(lo_[k], hi_[k]) > area(core_lo_[r], core_hi_[r])) {
+      core_lo_[r] = lo_[k];
+      core_hi_[r] = hi_[k];
+    }
+  }
   // Each root takes its members' union; the detections are then the roots, in order.
   for (int i = 0; i < n; ++i) {
     const auto r = static_cast<std::size_t>(root(i));
@@ -184,12 +215,16 @@ void ClusterTracks::mergeFragments(Stamp stamp) {
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
     if (parent_[k] != i) continue;
+    core_lo_[out] = core_lo_[k];
+    core_hi_[out] = core_hi_[k];
     workspace_proximity::Detection& d = detections_[out++];
     d = detections_[k];
     d.position = 0.5 * (lo_[k] + hi_[k]);
     d.dimensions = hi_[k] - lo_[k];
   }
   detections_.resize(out);
+  core_lo_.resize(out);
+  core_hi_.resize(out);
 }
 
 void ClusterTracks::unite(int sensor, Stamp stamp) {
@@ -213,6 +248,8 @@ void ClusterTracks::unite(int sensor, Stamp stamp) {
       sight_stamp_[k] = stamp;
       sight_min_[k] = d.position - 0.5 * d.dimensions - b.position;
       sight_max_[k] = d.position + 0.5 * d.dimensions - b.position;
+      core_min_[k] = core_lo_[static_cast<std::size_t>(det)];  // where it was seen
+      core_max_[k] = core_hi_[static_cast<std::size_t>(det)];
     }
     // Every sensor whose latest frame saw this track, this one too: its detection where it
     // was seen, though the filter put the centre elsewhere (a reused slot has another id).

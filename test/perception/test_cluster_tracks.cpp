@@ -287,9 +287,9 @@ TEST(FootprintAssociation, OneFramesFragmentsOfOneObjectAreOneDetection) {
 // 2.3, y 0.8 .. 1.2), then at the same stamp the scanner's frame (sensor 1) with a leg (0.1 x
 // 0.1 at (1.85, 0.9): x 1.8 .. 1.9) and one beam's column on the far corner (0.05 x 0.05 at
 // (2.25, 1.15): x 2.225 .. 2.275, y 1.125 .. 1.175), 0.325 m apart in x: beyond fragment_gap,
-// two clusters. By hand, the track's footprint after the camera's frame: its box grown by its
-// 3 sigma position error 3 x 0.05 = 0.15 m (no time passes, nothing more): x 1.55 .. 2.45,
-// y 0.65 .. 1.35; the leg and the column lie wholly inside.
+// two clusters. By hand, the track's footprint after the camera's frame: its box, since no
+// time passes (nothing to grow by): x 1.7 .. 2.3, y 0.8 .. 1.2; the leg and the column lie
+// wholly inside.
 std::vector<pc::Detection> kBody = {cluster(2.0, 1.0, 0.9, 0.6, 0.4, 1.8)};
 
 pc::ClusterTracks twoSensors(bool within) {
@@ -335,11 +335,11 @@ TEST(WithinTracks, AFarFragmentInsideATracksFootprintIsPartOfItsObject) {
 }
 
 TEST(WithinTracks, ADetectionReachingOutOfTheFootprintStaysApart) {
-  // Beside the leg, a second object 0.3 x 0.3 m at (2.5, 1.0): x 2.35 .. 2.65 reaches past the
-  // footprint's 2.45 (and is 0.45 m from the leg: no fragment): its own track.
+  // Beside the leg, a second object 0.3 x 0.3 m at (2.4, 1.0): x 2.25 .. 2.55 reaches past the
+  // footprint's 2.3 (and is 0.35 m from the leg: no fragment): its own track.
   pc::ClusterTracks tracks = twoSensors(true);
   tracks.update(1000 * kMs, kBody, 0);
-  tracks.update(1000 * kMs, {cluster(1.85, 0.9, 0.75, 0.1, 0.1, 1.5), cluster(2.5, 1.0, 0.75, 0.3, 0.3, 1.5)}, 1);
+  tracks.update(1000 * kMs, {cluster(1.85, 0.9, 0.75, 0.1, 0.1, 1.5), cluster(2.4, 1.0, 0.75, 0.3, 0.3, 1.5)}, 1);
   EXPECT_EQ(tracks.tracker().stats().detections, 2);
   EXPECT_EQ(tracks.mergedWithinTracks(), 0);
   EXPECT_EQ(tracks.tracks().size(), 2u);
@@ -347,10 +347,10 @@ TEST(WithinTracks, ADetectionReachingOutOfTheFootprintStaysApart) {
 
 TEST(WithinTracks, TheFootprintMovesWithAKnownVelocityAndGrowsWithTime) {
   // One sensor, the body moving at 1 m/s along x, 10 Hz, until its velocity is known; then one
-  // frame 0.1 s later with two fragments 0.4 m apart (beyond fragment_gap). By hand from the
-  // published box b (centre c, size s, 3 sigma errors e_p, e_v, velocity v): the footprint is
-  // c + v dt +- (s / 2 + e_p + e_v dt); the fragments are placed inside it, then moved 0.1 m
-  // past its edge in x.
+  // frame 0.1 s later with two fragments 0.45 m apart (beyond fragment_gap). By hand from the
+  // last cluster (centre c, 0.6 m long: the track's core) and the track's velocity v and 3
+  // sigma errors e_p, e_v: the footprint is c + v dt +- (0.3 + e_p + e_v dt); the fragments
+  // are placed inside it, then moved 0.1 m past its edge in x.
   for (bool past : {false, true}) {
     SCOPED_TRACE(past);
     pc::ClusterTrackParams p;
@@ -362,8 +362,8 @@ TEST(WithinTracks, TheFootprintMovesWithAKnownVelocityAndGrowsWithTime) {
     ASSERT_TRUE(tracks.tracks()[0].velocity_known);
     const wp::BoxObservation b = tracks.tracks()[0];
     const double dt = 0.1;
-    const double cx = b.position.x() + b.linear_velocity.x() * dt;
-    const double half = 0.5 * b.dimensions.x() + b.position_error + b.velocity_error * dt;
+    const double cx = static_cast<double>(static_cast<float>(0.1 * (k - 1))) + b.linear_velocity.x() * dt;
+    const double half = 0.3 + b.position_error + b.velocity_error * dt;
     const double hi = cx + half - 0.03 + (past ? 0.1 : 0.0);  // the right fragment's far edge
     tracks.update((1000 + 100 * k) * kMs, {cluster(hi - 0.5 - 0.025, 0.0, 0.9, 0.05, 0.05, 1.8),
                                            cluster(hi - 0.025, 0.0, 0.9, 0.05, 0.05, 1.8)});
@@ -372,9 +372,44 @@ TEST(WithinTracks, TheFootprintMovesWithAKnownVelocityAndGrowsWithTime) {
   }
 }
 
+TEST(WithinTracks, AnObjectWalkingAwayIsNotDraggedAlong) {
+  // A forklift 2.4 x 1.2 m standing at the origin, 10 Hz, 20 frames (its velocity known); then
+  // a person's 0.3 x 0.3 m cluster appears inside its footprint (x 0.85 .. 1.15) and walks
+  // away along x at 0.8 m/s, 0.08 m a frame (the fragment rule is off here: it merges
+  // touching clusters by its own gap). The footprint is the forklift's own cluster (its core)
+  // grown by e = e_p + e_v x 0.1 s (3 sigma errors), to x = 1.2 + e, whatever the track's box
+  // took in: e < 0.19 here (asserted), so the person (far edge 1.15 + 0.08 step) is out by step
+  // 3 and its own track, and the forklift's box does not follow. Grown from the published box
+  // instead (which held the person), the footprint would move 0.08 m a frame with the person,
+  // less than e >= 0.09 here: the person would be held, the box dragged along, to the end.
+  pc::ClusterTrackParams p;
+  p.merge_fragments = false;
+  pc::ClusterTracks tracks(p);
+  const pc::Detection forklift = cluster(0.0, 0.0, 1.0, 2.4, 1.2, 2.0);
+  int k = 0;
+  for (; k < 20; ++k) tracks.update((1000 + 100 * k) * kMs, {forklift});
+  ASSERT_TRUE(tracks.tracks()[0].velocity_known);
+  const double e = tracks.tracks()[0].position_error + tracks.tracks()[0].velocity_error * 0.1;
+  ASSERT_LT(e, 0.19);
+  ASSERT_GE(e, 0.09);
+  for (int step = 0; step < 10; ++step, ++k) {
+    SCOPED_TRACE(step);
+    tracks.update((1000 + 100 * k) * kMs, {forklift, cluster(1.0 + 0.08 * step, 0.0, 0.9, 0.3, 0.3, 1.8)});
+    if (step == 0) {
+      EXPECT_EQ(tracks.tracker().stats().detections, 1);
+    } else if (step >= 3) {
+      EXPECT_EQ(tracks.tracker().stats().detections, 2);
+    }
+    EXPECT_EQ(std::string(tracks.tracks()[0].id), "c1");
+  }
+  const wp::BoxObservation& f = tracks.tracks()[0];
+  EXPECT_LT(f.position.x() + 0.5 * f.dimensions.x(), 1.25);  // the person's far edge is at 1.87
+  EXPECT_EQ(tracks.tracks().size(), 2u);  // the forklift and the person
+}
+
 TEST(WithinTracks, InsideTwoTracksTheOldestTakesIt) {
-  // Track c1: a 2 x 2 m box at the origin (footprint +- 1.15 m with its 3 sigma 0.15 m); track
-  // c2: a 0.4 x 0.4 m box at (0.5, 0.5) inside it (footprint 0.15 .. 0.85). The next frame (same
+  // Track c1: a 2 x 2 m box at the origin (footprint +- 1 m: no time passes); track c2: a
+  // 0.4 x 0.4 m box at (0.5, 0.5) inside it (footprint 0.3 .. 0.7). The next frame (same
   // stamp) has two columns: X at (0.5, 0.5), inside both, and Y at (-0.5, -0.5), inside c1
   // only. The oldest, c1, takes X: X and Y are one detection (had the smaller track taken X,
   // they would stay two).

@@ -33,13 +33,16 @@
 /// scanner's single beam on a person's far corner, the arm's shadow cutting a forklift in two)
 /// and would then start a second track beside the object's own, every frame anew (issue 23,
 /// demo3: two of every three tracks the demo started were such duplicates). So, with
-/// `merge_within_tracks`, one frame's detections whose footprints lie wholly inside the
-/// footprint of one live track's published box, predicted to the frame (moved by its velocity
-/// when known) and grown by its 3 sigma position error plus what it may have moved since (its
-/// velocity error, or `max_speed` when its velocity is unknown, times the time since), are one
-/// detection, their union; inside several tracks' footprints, the oldest track's. Nothing is
-/// dropped and the union lies inside the box the track already had; a detection reaching out
-/// of every track's footprint is left as it is (a person walking out of a box is not held in it).
+/// `merge_within_tracks`, one frame's detections whose (x, y) footprints lie wholly inside one
+/// live track's footprint are one detection, their union; inside several tracks' footprints,
+/// the oldest track's. A track's footprint is made of its cores, not of its published box: for
+/// every sensor whose latest frame saw it, the largest cluster of what that frame gave it (its
+/// box where it was seen, before any merge), moved by the track's velocity when known and
+/// grown by its 3 sigma position error plus its velocity error (or `max_speed` while unknown)
+/// times the time since. The published box holds what merges took in; a footprint made from it,
+/// with an allowance every frame, would follow anything moving away at up to allowance / period
+/// (a person walking away from the forklift would drag its box along). Nothing is dropped; a
+/// detection reaching out of every footprint keeps its own track.
 ///
 /// Every cluster is one detection of label `label` (the monitor's `unknown`: a cluster has no
 /// class), its axis-aligned box, 1 sigma centre noise `sigma` per axis. A track's velocity is
@@ -128,11 +131,13 @@ class ClusterTracks {
   std::vector<int> parent_;  // per detection: union-find over near footprints
   std::vector<Eigen::Vector3d> lo_, hi_;  // per detection: its box's corners
   std::vector<int> first_in_track_;  // per published track (last frame): its first detection inside
+  std::vector<Eigen::Vector3d> core_lo_, core_hi_;  // per detection: its largest member's box
   // Per (slot, sensor), flat at slot * sensors + sensor: that sensor's last box of the track
   // (corners relative to the filtered centre), the track's id then, and the frame's stamp.
   std::vector<std::uint64_t> sight_id_;
   std::vector<Stamp> sight_stamp_;
   std::vector<Eigen::Vector3d> sight_min_, sight_max_;
+  std::vector<Eigen::Vector3d> core_min_, core_max_;  // that detection's core, fixed frame
   std::vector<Stamp> sensor_stamp_;  // per sensor: its latest frame's (applied) stamp
   std::vector<BoxObservation> output_;
   long late_ = 0;
