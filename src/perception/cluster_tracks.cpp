@@ -56,6 +56,7 @@ ClusterTracks::ClusterTracks(const ClusterTrackParams& params)
   lo_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
   hi_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
   first_in_track_.reserve(static_cast<std::size_t>(params_.tracker.capacity));
+  tight_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
   const auto cells = static_cast<std::size_t>(params_.tracker.capacity) * static_cast<std::size_t>(params_.sensors);
   sight_id_.assign(cells, 0);
   sight_stamp_.assign(cells, 0);
@@ -129,6 +130,7 @@ void ClusterTracks::linkWithinTracks(Stamp stamp) {
     // The oldest track (smallest id) whose grown footprint holds the detection's whole.
     int owner = -1;
     std::uint64_t owner_id = 0;
+    bool owner_tight = false;
     for (std::size_t i = 0; i < output_.size(); ++i) {
       const BoxObservation& b = tracker_.tracks()[i];  // the filter's
       const int slot = tracker_.outputSlot(static_cast<int>(i));
@@ -137,6 +139,7 @@ void ClusterTracks::linkWithinTracks(Stamp stamp) {
       // error and what it may have moved beyond that (velocity error, or max_speed) since.
       const double speed = b.velocity_known ? b.velocity_error : params_.max_speed;
       Eigen::Vector3d lo = Eigen::Vector3d::Constant(kHuge), hi = -lo;
+      Eigen::Vector3d tight_lo = lo, tight_hi = hi;  // grown by the velocity error only
       for (std::size_t o = 0; o < sensors; ++o) {
         const std::size_t c = static_cast<std::size_t>(slot) * sensors + o;
         if (sight_id_[c] != id || sight_stamp_[c] != sensor_stamp_[o]) continue;
@@ -146,6 +149,8 @@ void ClusterTracks::linkWithinTracks(Stamp stamp) {
         const double grow = b.position_error + speed * dt;
         lo = lo.cwiseMin(core_min_[c] + shift - Eigen::Vector3d::Constant(grow));
         hi = hi.cwiseMax(core_max_[c] + shift + Eigen::Vector3d::Constant(grow));
+        tight_lo = tight_lo.cwiseMin(core_min_[c] + shift - Eigen::Vector3d::Constant(speed * dt));
+        tight_hi = tight_hi.cwiseMax(core_max_[c] + shift + Eigen::Vector3d::Constant(speed * dt));
       }
       bool inside = lo.x() <= hi.x();  // false: no sensor's latest frame saw it
       for (int a = 0; a < 2 && inside; ++a) inside = lo_[k][a] >= lo[a] && hi_[k][a] <= hi[a];
@@ -153,9 +158,14 @@ void ClusterTracks::linkWithinTracks(Stamp stamp) {
       if (owner < 0 || id < owner_id) {
         owner = static_cast<int>(i);
         owner_id = id;
+        owner_tight = true;
+        for (int a = 0; a < 2 && owner_tight; ++a) {
+          owner_tight = lo_[k][a] >= tight_lo[a] && hi_[k][a] <= tight_hi[a];
+        }
       }
     }
     if (owner < 0) continue;
+    tight_[k] = owner_tight ? 1 : 0;
     int& first = first_in_track_[static_cast<std::size_t>(owner)];
     if (first < 0) {
       first = j;
@@ -177,6 +187,7 @@ void ClusterTracks::mergeFragments(Stamp stamp) {
     lo_[k] = detections_[k].position - 0.5 * detections_[k].dimensions;
     hi_[k] = detections_[k].position + 0.5 * detections_[k].dimensions;
   }
+  tight_.assign(detections_.size(), 0);  // within the reserved capacity
   // Every pair (n^2 / 2 footprint tests: 130 000 at the 512 clusters' capacity).
   for (int i = 0; i < n && params_.merge_fragments; ++i) {
     const auto a = static_cast<std::size_t>(i);
@@ -190,7 +201,10 @@ void ClusterTracks::mergeFragments(Stamp stamp) {
     }
   }
   if (params_.merge_within_tracks) linkWithinTracks(stamp);
-  // Each root's core: its largest member's box (by footprint area), before the union.
+  // Each root's core: its largest member's box (by footprint area), before the union, with
+  // the members that lay inside the track's last cores grown by its velocity error (or
+  // max_speed) only: so a core grows no faster than the track's stated motion, while what the
+  // position error's allowance took in stays out of it (and cannot drag it along).
   core_lo_.assign(lo_.begin(), lo_.end());  // within the reserved capacity
   core_hi_.assign(hi_.begin(), hi_.end());
   auto area = [](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
@@ -203,6 +217,13 @@ void ClusterTracks::mergeFragments(Stamp stamp) {
       core_lo_[r] = lo_[k];
       core_hi_[r] = hi_[k];
     }
+  }
+  for (int i = 0; i < n; ++i) {
+    const auto r = static_cast<std::size_t>(root(i));
+    const auto k = static_cast<std::size_t>(i);
+    if (!tight_[k]) continue;
+    core_lo_[r] = core_lo_[r].cwiseMin(lo_[k]);
+    core_hi_[r] = core_hi_[r].cwiseMax(hi_[k]);
   }
   // Each root takes its members' union; the detections are then the roots, in order.
   for (int i = 0; i < n; ++i) {

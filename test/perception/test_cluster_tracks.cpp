@@ -407,6 +407,25 @@ TEST(WithinTracks, AnObjectWalkingAwayIsNotDraggedAlong) {
   EXPECT_EQ(tracks.tracks().size(), 2u);  // the forklift and the person
 }
 
+TEST(WithinTracks, AnObjectCutInTwoStaysOneTrack) {
+  // A forklift 2.4 x 1.2 m standing at the origin, seen whole once, then cut in two by a
+  // shadow, frame after frame (10 Hz): x -1.2 .. 0.2 and 0.5 .. 1.2, 0.3 m apart (beyond
+  // fragment_gap). Both pieces lie inside the forklift's core (its whole cluster) grown by its
+  // velocity error over 0.1 s, so the core stays the whole forklift and the pieces stay one
+  // detection. (Were the core only the largest piece, x -1.2 .. 0.2, the right piece would
+  // reach 1.0 m past it, beyond any position error: a second track from the third frame.)
+  pc::ClusterTrackParams p;
+  pc::ClusterTracks tracks(p);
+  tracks.update(1000 * kMs, {cluster(0.0, 0.0, 1.0, 2.4, 1.2, 2.0)});
+  for (int k = 1; k <= 10; ++k) {
+    SCOPED_TRACE(k);
+    tracks.update((1000 + 100 * k) * kMs, {cluster(-0.5, 0.0, 1.0, 1.4, 1.2, 2.0), cluster(0.85, 0.0, 1.0, 0.7, 1.2, 2.0)});
+    EXPECT_EQ(tracks.tracker().stats().detections, 1);
+    ASSERT_EQ(tracks.tracks().size(), 1u);
+    EXPECT_EQ(std::string(tracks.tracks()[0].id), "c1");
+  }
+}
+
 TEST(WithinTracks, InsideTwoTracksTheOldestTakesIt) {
   // Track c1: a 2 x 2 m box at the origin (footprint +- 1 m: no time passes); track c2: a
   // 0.4 x 0.4 m box at (0.5, 0.5) inside it (footprint 0.3 .. 0.7). The next frame (same

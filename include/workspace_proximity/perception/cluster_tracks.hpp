@@ -36,13 +36,16 @@
 /// `merge_within_tracks`, one frame's detections whose (x, y) footprints lie wholly inside one
 /// live track's footprint are one detection, their union; inside several tracks' footprints,
 /// the oldest track's. A track's footprint is made of its cores, not of its published box: for
-/// every sensor whose latest frame saw it, the largest cluster of what that frame gave it (its
-/// box where it was seen, before any merge), moved by the track's velocity when known and
-/// grown by its 3 sigma position error plus its velocity error (or `max_speed` while unknown)
-/// times the time since. The published box holds what merges took in; a footprint made from it,
-/// with an allowance every frame, would follow anything moving away at up to allowance / period
-/// (a person walking away from the forklift would drag its box along). Nothing is dropped; a
-/// detection reaching out of every footprint keeps its own track.
+/// every sensor whose latest frame saw it, a core (where it was seen), moved by the track's
+/// velocity when known and grown by its 3 sigma position error plus its velocity error (or
+/// `max_speed` while unknown) times the time since. A frame's core is the largest cluster the
+/// track got from it, with those of its clusters that lay inside the last cores grown by the
+/// velocity error part alone: a core grows no faster than the track's stated motion, and what
+/// only the position error's allowance took in stays out of it. (The published box holds what
+/// merges took in; a footprint made from it, with an allowance every frame, would follow
+/// anything moving away at up to allowance / period: a person walking away from the forklift
+/// would drag its box along.) Nothing is dropped; a detection reaching out of every footprint
+/// keeps its own track.
 ///
 /// Every cluster is one detection of label `label` (the monitor's `unknown`: a cluster has no
 /// class), its axis-aligned box, 1 sigma centre noise `sigma` per axis. A track's velocity is
@@ -132,6 +135,7 @@ class ClusterTracks {
   std::vector<Eigen::Vector3d> lo_, hi_;  // per detection: its box's corners
   std::vector<int> first_in_track_;  // per published track (last frame): its first detection inside
   std::vector<Eigen::Vector3d> core_lo_, core_hi_;  // per detection: its largest member's box
+  std::vector<std::uint8_t> tight_;  // per detection: inside its track's cores grown by velocity only
   // Per (slot, sensor), flat at slot * sensors + sensor: that sensor's last box of the track
   // (corners relative to the filtered centre), the track's id then, and the frame's stamp.
   std::vector<std::uint64_t> sight_id_;
