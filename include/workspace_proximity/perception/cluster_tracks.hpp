@@ -32,7 +32,7 @@
 /// A fragment may also lie farther than `fragment_gap` from the rest of its object (a floor
 /// scanner's single beam on a person's far corner, the arm's shadow cutting a forklift in two)
 /// and would then start a second track beside the object's own, every frame anew (issue 23,
-/// demo3: two of every three tracks the demo started were such duplicates). So, with
+/// demo3: four of every five tracks the demo started were such duplicates). So, with
 /// `merge_within_tracks`, one frame's detections whose (x, y) footprints lie wholly inside one
 /// live track's footprint are one detection, their union; inside several tracks' footprints,
 /// the oldest track's. A track's footprint is made of its cores, not of its published box: for
