@@ -57,6 +57,10 @@ ClusterTracks::ClusterTracks(const ClusterTrackParams& params)
   hi_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
   first_in_track_.reserve(static_cast<std::size_t>(params_.tracker.capacity));
   tight_.reserve(static_cast<std::size_t>(params_.tracker.max_detections));
+  track_lo_.reserve(static_cast<std::size_t>(params_.tracker.capacity));
+  track_hi_.reserve(static_cast<std::size_t>(params_.tracker.capacity));
+  tight_lo_.reserve(static_cast<std::size_t>(params_.tracker.capacity));
+  tight_hi_.reserve(static_cast<std::size_t>(params_.tracker.capacity));
   const auto cells = static_cast<std::size_t>(params_.tracker.capacity) * static_cast<std::size_t>(params_.sensors);
   sight_id_.assign(cells, 0);
   sight_stamp_.assign(cells, 0);
@@ -125,42 +129,56 @@ void ClusterTracks::linkWithinTracks(Stamp stamp) {
   const auto sensors = static_cast<std::size_t>(params_.sensors);
   const int n = static_cast<int>(detections_.size());
   first_in_track_.assign(output_.size(), -1);  // within the reserved capacity
+  // Each track's footprint once per frame: its cores moved by its velocity when known, grown
+  // by its 3 sigma position error and what it may have moved beyond that (velocity error, or
+  // max_speed) since each was seen; and the tight one, grown by the latter alone.
+  track_lo_.clear();  // within the reserved capacity
+  track_hi_.clear();
+  tight_lo_.clear();
+  tight_hi_.clear();
+  for (std::size_t i = 0; i < output_.size(); ++i) {
+    const BoxObservation& b = tracker_.tracks()[i];  // the filter's
+    const int slot = tracker_.outputSlot(static_cast<int>(i));
+    const std::uint64_t id = tracker_.idOfSlot(slot);
+    const double speed = b.velocity_known ? b.velocity_error : params_.max_speed;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(kHuge), hi = -lo;
+    Eigen::Vector3d tight_lo = lo, tight_hi = hi;
+    for (std::size_t o = 0; o < sensors; ++o) {
+      const std::size_t c = static_cast<std::size_t>(slot) * sensors + o;
+      if (sight_id_[c] != id || sight_stamp_[c] != sensor_stamp_[o]) continue;
+      const double dt = std::max(0.0, secondsBetween(sight_stamp_[c], stamp));
+      const Eigen::Vector3d shift = b.velocity_known ? Eigen::Vector3d(b.linear_velocity * dt)
+                                                     : Eigen::Vector3d::Zero();
+      const double grow = b.position_error + speed * dt;
+      lo = lo.cwiseMin(core_min_[c] + shift - Eigen::Vector3d::Constant(grow));
+      hi = hi.cwiseMax(core_max_[c] + shift + Eigen::Vector3d::Constant(grow));
+      tight_lo = tight_lo.cwiseMin(core_min_[c] + shift - Eigen::Vector3d::Constant(speed * dt));
+      tight_hi = tight_hi.cwiseMax(core_max_[c] + shift + Eigen::Vector3d::Constant(speed * dt));
+    }
+    track_lo_.push_back(lo);  // lo > hi: no sensor's latest frame saw it (holds nothing)
+    track_hi_.push_back(hi);
+    tight_lo_.push_back(tight_lo);
+    tight_hi_.push_back(tight_hi);
+  }
   for (int j = 0; j < n; ++j) {
     const auto k = static_cast<std::size_t>(j);
-    // The oldest track (smallest id) whose grown footprint holds the detection's whole.
+    // The oldest track (smallest id) whose footprint holds the detection's whole.
     int owner = -1;
     std::uint64_t owner_id = 0;
     bool owner_tight = false;
     for (std::size_t i = 0; i < output_.size(); ++i) {
-      const BoxObservation& b = tracker_.tracks()[i];  // the filter's
-      const int slot = tracker_.outputSlot(static_cast<int>(i));
-      const std::uint64_t id = tracker_.idOfSlot(slot);
-      // Each core moved by the track's velocity when known, grown by its 3 sigma position
-      // error and what it may have moved beyond that (velocity error, or max_speed) since.
-      const double speed = b.velocity_known ? b.velocity_error : params_.max_speed;
-      Eigen::Vector3d lo = Eigen::Vector3d::Constant(kHuge), hi = -lo;
-      Eigen::Vector3d tight_lo = lo, tight_hi = hi;  // grown by the velocity error only
-      for (std::size_t o = 0; o < sensors; ++o) {
-        const std::size_t c = static_cast<std::size_t>(slot) * sensors + o;
-        if (sight_id_[c] != id || sight_stamp_[c] != sensor_stamp_[o]) continue;
-        const double dt = std::max(0.0, secondsBetween(sight_stamp_[c], stamp));
-        const Eigen::Vector3d shift = b.velocity_known ? Eigen::Vector3d(b.linear_velocity * dt)
-                                                       : Eigen::Vector3d::Zero();
-        const double grow = b.position_error + speed * dt;
-        lo = lo.cwiseMin(core_min_[c] + shift - Eigen::Vector3d::Constant(grow));
-        hi = hi.cwiseMax(core_max_[c] + shift + Eigen::Vector3d::Constant(grow));
-        tight_lo = tight_lo.cwiseMin(core_min_[c] + shift - Eigen::Vector3d::Constant(speed * dt));
-        tight_hi = tight_hi.cwiseMax(core_max_[c] + shift + Eigen::Vector3d::Constant(speed * dt));
+      bool inside = true;
+      for (int a = 0; a < 2 && inside; ++a) {
+        inside = lo_[k][a] >= track_lo_[i][a] && hi_[k][a] <= track_hi_[i][a];
       }
-      bool inside = lo.x() <= hi.x();  // false: no sensor's latest frame saw it
-      for (int a = 0; a < 2 && inside; ++a) inside = lo_[k][a] >= lo[a] && hi_[k][a] <= hi[a];
       if (!inside) continue;
+      const std::uint64_t id = tracker_.idOfSlot(tracker_.outputSlot(static_cast<int>(i)));
       if (owner < 0 || id < owner_id) {
         owner = static_cast<int>(i);
         owner_id = id;
         owner_tight = true;
         for (int a = 0; a < 2 && owner_tight; ++a) {
-          owner_tight = lo_[k][a] >= tight_lo[a] && hi_[k][a] <= tight_hi[a];
+          owner_tight = lo_[k][a] >= tight_lo_[i][a] && hi_[k][a] <= tight_hi_[i][a];
         }
       }
     }

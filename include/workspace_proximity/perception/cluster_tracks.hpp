@@ -136,6 +136,7 @@ class ClusterTracks {
   std::vector<int> first_in_track_;  // per published track (last frame): its first detection inside
   std::vector<Eigen::Vector3d> core_lo_, core_hi_;  // per detection: its largest member's box
   std::vector<std::uint8_t> tight_;  // per detection: inside its track's cores grown by velocity only
+  std::vector<Eigen::Vector3d> track_lo_, track_hi_, tight_lo_, tight_hi_;  // per track: footprints
   // Per (slot, sensor), flat at slot * sensors + sensor: that sensor's last box of the track
   // (corners relative to the filtered centre), the track's id then, and the frame's stamp.
   std::vector<std::uint64_t> sight_id_;
