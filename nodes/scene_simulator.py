@@ -37,6 +37,7 @@ Parameters (private):
                           trajectory_msgs/JointTrajectory on this topic, and executed exactly
                           (linear between its points); "" = no episode
   ~plan_period (15.0)     s between planned moves
+Sets ~scene_start (s, ROS time) when the scene's clock starts: the paths' time t is counted from it.
 """
 
 import math
@@ -432,6 +433,8 @@ def main():
         plan_pub = rospy.Publisher(trajectory_topic, JointTrajectory, queue_size=2)
 
     start = rospy.Time.now()
+    # The scene's clock starts here: tools (tools/demo_ssm_share.py) align their windows to it.
+    rospy.set_param('~scene_start', start.to_sec())
     rate = rospy.Rate(rate_hz)
     arm_t = 0.0      # the arm's trajectory time: advances at the speed scale
     last = start

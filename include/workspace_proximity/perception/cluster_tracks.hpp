@@ -29,6 +29,24 @@
 /// (nothing is dropped: the union holds every point of each), so a fragment does not start a
 /// track of its own each frame.
 ///
+/// A fragment may also lie farther than `fragment_gap` from the rest of its object (a floor
+/// scanner's single beam on a person's far corner, the arm's shadow cutting a forklift in two)
+/// and would then start a second track beside the object's own, every frame anew (issue 23,
+/// demo3: four of every five tracks the demo started were such duplicates). So, with
+/// `merge_within_tracks`, one frame's detections whose (x, y) footprints lie wholly inside one
+/// live track's footprint are one detection, their union; inside several tracks' footprints,
+/// the oldest track's. A track's footprint is made of its cores, not of its published box: for
+/// every sensor whose latest frame saw it, a core (where it was seen), moved by the track's
+/// velocity when known and grown by its 3 sigma position error plus its velocity error (or
+/// `max_speed` while unknown) times the time since. A frame's core is the largest cluster the
+/// track got from it, with those of its clusters that lay inside the last cores grown by the
+/// velocity error part alone: a core grows no faster than the track's stated motion, and what
+/// only the position error's allowance took in stays out of it. (The published box holds what
+/// merges took in; a footprint made from it, with an allowance every frame, would follow
+/// anything moving away at up to allowance / period: a person walking away from the forklift
+/// would drag its box along.) Nothing is dropped; a detection reaching out of every footprint
+/// keeps its own track.
+///
 /// Every cluster is one detection of label `label` (the monitor's `unknown`: a cluster has no
 /// class), its axis-aligned box, 1 sigma centre noise `sigma` per axis. A track's velocity is
 /// unknown (velocity_known false: the monitor grows it at the label's max_speed) until its
@@ -56,6 +74,7 @@ struct ClusterTrackParams {
   int sensors = 1;                ///< sensors whose frames come in (update()'s `sensor` < this)
   bool merge_fragments = true;    ///< one frame's clusters with near footprints are one detection
   double fragment_gap = 0.1;      ///< m, footprints at most this far apart in x and y merge
+  bool merge_within_tracks = true;  ///< one frame's detections inside one track's footprint are one
   /// The tracker's gating and life (its labels are replaced by the one above). Defaults for
   /// clusters: a cluster is a track from its first frame (confirm_hits 1: unknown is never
   /// clear), and a track no sensor saw in `max_misses` frames in a row is gone.
@@ -99,27 +118,37 @@ class ClusterTracks {
   long tooLate() const { return too_late_; }
   /// Clusters beyond the tracker's max_detections, so far (not tracked: the node reports it).
   long overflow() const { return overflow_; }
+  /// Detections merged into another of their frame because both lay inside one track's
+  /// footprint (merge_within_tracks), so far.
+  long mergedWithinTracks() const { return merged_within_tracks_; }
 
  private:
   ClusterTrackParams params_;
   MultiObjectTracker tracker_;
   void unite(int sensor, Stamp stamp);
-  void mergeFragments();
+  void mergeFragments(Stamp stamp);
+  void linkWithinTracks(Stamp stamp);
   int root(int i);
 
   std::vector<workspace_proximity::Detection> detections_;
   std::vector<int> parent_;  // per detection: union-find over near footprints
   std::vector<Eigen::Vector3d> lo_, hi_;  // per detection: its box's corners
+  std::vector<int> first_in_track_;  // per published track (last frame): its first detection inside
+  std::vector<Eigen::Vector3d> core_lo_, core_hi_;  // per detection: its largest member's box
+  std::vector<std::uint8_t> tight_;  // per detection: inside its track's cores grown by velocity only
+  std::vector<Eigen::Vector3d> track_lo_, track_hi_, tight_lo_, tight_hi_;  // per track: footprints
   // Per (slot, sensor), flat at slot * sensors + sensor: that sensor's last box of the track
   // (corners relative to the filtered centre), the track's id then, and the frame's stamp.
   std::vector<std::uint64_t> sight_id_;
   std::vector<Stamp> sight_stamp_;
   std::vector<Eigen::Vector3d> sight_min_, sight_max_;
+  std::vector<Eigen::Vector3d> core_min_, core_max_;  // that detection's core, fixed frame
   std::vector<Stamp> sensor_stamp_;  // per sensor: its latest frame's (applied) stamp
   std::vector<BoxObservation> output_;
   long late_ = 0;
   long too_late_ = 0;
   long overflow_ = 0;
+  long merged_within_tracks_ = 0;
 };
 
 }  // namespace perception
