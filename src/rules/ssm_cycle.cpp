@@ -15,13 +15,20 @@ bool listed(const std::vector<std::string>& labels, const std::string& label) {
   return labels.empty() || std::find(labels.begin(), labels.end(), label) != labels.end();
 }
 
+// The label's least approach speed for this track: ssm_min_speed while its velocity is not
+// known; once known (measured, its own error added) at most ssm_min_speed_measured.
+double approachFloor(const LabelSettings& label, const TrackErrors& own) {
+  return own.velocity_known ? std::min(label.ssm_min_speed, label.ssm_min_speed_measured)
+                            : label.ssm_min_speed;
+}
+
 // The fastest the object can approach anything: its tracked speed (plus its tracker's own
 // velocity error), or its label's minimum. A track without a known velocity has nominal
 // velocity 0 here: its label's minimum is its approach speed.
 double fastestApproach(const BodyMotion& motion, const LabelSettings& label,
                        const TrackErrors& own) {
   const double error = own.velocity_known ? own.velocity_error : 0.0;
-  return std::max(motion.linear_velocity.norm() + error, label.ssm_min_speed);
+  return std::max(motion.linear_velocity.norm() + error, approachFloor(label, own));
 }
 
 // m: how much a track's own position error exceeds the sensor uncertainty Z_d that S_p already
@@ -123,7 +130,7 @@ void SsmCycle::evaluate(Stamp now, const ProximityWorld& world, const TrackTable
     const TrackErrors& own = object.errors;
     const double along = world.motion(o).linear_velocity.dot(towards) +
                          (own.velocity_known ? own.velocity_error : 0.0);
-    const double v_h = std::max({0.0, along, label.ssm_min_speed});
+    const double v_h = std::max({0.0, along, approachFloor(label, own)});
     const double extra = extraUncertainty(params_, own);
     const double required = protectiveSeparation(params_, v_h, params_.robot_max_speed) + extra;
     const double slack = near.distance - required;

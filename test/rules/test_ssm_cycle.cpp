@@ -205,6 +205,43 @@ TEST(SsmCycle, AnUnknownVelocityApproachesAtTheLabelsMinimum) {
   EXPECT_EQ(known.cycle(at(0), {u}).ssm.raw_scale, 0.0);
 }
 
+TEST(SsmCycle, AFloorUntilMeasuredHoldsOnlyWhileTheVelocityIsUnknown) {
+  // The `unknown` label as shipped: ssm_min_speed 1.6 until the velocity is known, then none.
+  wp::MonitorParams p = params();
+  p.labels["unknown"] = p.labels["person"];
+  p.labels["unknown"].ssm_min_speed = 1.6;
+  p.labels["unknown"].ssm_min_speed_measured = 0.0;
+  // 1.0 m away, standing still. Unknown: v_h = 1.6, (1.0 - 0.64 - 0.22) / 0.25 = 0.56.
+  Person u{"u", "unknown", {0.5 + 0.25 + 1.0, 0.0, 0.9}};
+  u.velocity_known = false;
+  Cell unknown(p, post());
+  EXPECT_NEAR(unknown.cycle(at(0), {u}).ssm.raw_scale, 0.56, 1e-9);
+  EXPECT_NEAR(unknown.monitor().report().ssm.approach_speed, 1.6, 1e-12);
+  // Known, with its filter's own error 0.5 m/s: v_h = 0.5, (1.0 - 0.2 - 0.22) / 0.25 = 2.32:
+  // full speed.
+  u.velocity_known = true;
+  u.velocity_error = 0.5;
+  Cell measured(p, post());
+  EXPECT_EQ(measured.cycle(at(0), {u}).ssm.raw_scale, 1.0);
+  // 0.6 m away, known: (0.6 - 0.2 - 0.22) / 0.25 = 0.72, v_h the error alone.
+  u.position = {0.5 + 0.25 + 0.6, 0.0, 0.9};
+  Cell near(p, post());
+  const wp::CycleReport& r = near.cycle(at(0), {u});
+  EXPECT_NEAR(r.ssm.raw_scale, 0.72, 1e-9);
+  EXPECT_NEAR(r.ssm.approach_speed, 0.5, 1e-12);
+  // A floor between: 1.0 once measured, (0.6 - 0.4 - 0.22) < 0: a stop.
+  p.labels["unknown"].ssm_min_speed_measured = 1.0;
+  Cell between(p, post());
+  const wp::CycleReport& rb = between.cycle(at(0), {u});
+  EXPECT_EQ(rb.ssm.raw_scale, 0.0);
+  EXPECT_NEAR(rb.ssm.approach_speed, 1.0, 1e-12);
+  // The default (20) keeps ssm_min_speed for life: known or not, v_h = 1.6.
+  p.labels["unknown"].ssm_min_speed_measured = 20.0;
+  u.position = {0.5 + 0.25 + 1.0, 0.0, 0.9};
+  Cell life(p, post());
+  EXPECT_NEAR(life.cycle(at(0), {u}).ssm.raw_scale, 0.56, 1e-9);
+}
+
 TEST(SsmCycle, ATracksOwnErrorsWidenTheSeparation) {
   Cell cell(params(), post());
   // Walking at 1 m/s at the robot from 1.0 m with its tracker's own velocity error 0.5 m/s:
@@ -338,6 +375,8 @@ TEST(SsmCycle, TheScaleIsTheMinimumOverEveryPairAgainstBruteForce) {
     wp::MonitorParams p = params();
     p.labels["cart"] = p.labels["default"];
     p.labels["cart"].ssm_min_speed = uniform(0.0, 2.0);
+    // Every velocity here is known (measured): the floor is at most ssm_min_speed_measured.
+    p.labels["cart"].ssm_min_speed_measured = scene % 3 ? uniform(0.0, 2.0) : 20.0;
     p.labels["person"].ssm_min_speed = scene % 2 ? 1.6 : 0.0;
     p.ssm.reaction_time = uniform(0.05, 0.3);
     p.ssm.stopping_time = uniform(0.1, 0.6);
@@ -377,7 +416,8 @@ TEST(SsmCycle, TheScaleIsTheMinimumOverEveryPairAgainstBruteForce) {
             gap[k] = std::max(0.0, lo_r - hi_o) - std::max(0.0, lo_o - hi_r);
           }
           const double d = gap.norm();
-          const double min_speed = p.label(q.label).ssm_min_speed;
+          const double min_speed =
+              std::min(p.label(q.label).ssm_min_speed, p.label(q.label).ssm_min_speed_measured);
           const double along = d > 0 ? q.velocity.dot(gap / d) : 0.0;
           const double v_h = std::max({0.0, along, min_speed});
           overlap = overlap || d == 0.0;

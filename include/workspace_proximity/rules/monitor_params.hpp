@@ -28,6 +28,11 @@ struct LabelSettings {
   /// m/s, speed and separation monitoring: the approach speed v_h assumed at least (1.6 is the
   /// standard's walking speed for people whose motion is not measured); 0: as tracked.
   double ssm_min_speed = 0.0;
+  /// m/s: once a track's velocity is known (measured, with its tracker's own error), its
+  /// approach-speed floor is min(ssm_min_speed, this). The default (20, the range's top) keeps
+  /// ssm_min_speed for the track's whole life; 0 makes ssm_min_speed hold only while the
+  /// velocity is unknown (issue 23: the `unknown` label of cloud_tracker's tracks).
+  double ssm_min_speed_measured = 20.0;
 
   // How far a track of this label can stray from its constant-velocity prediction (every one
   // 0 by default: no growth, today's prediction). The margin grows as
