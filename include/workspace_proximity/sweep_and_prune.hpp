@@ -37,8 +37,10 @@
 /// cost model (work units counted from the candidates scanned, swaps, searches and rebuilds)
 /// against what the same updates would have cost without coasting (estimated from the swaps of
 /// the jump); when coasting cost more (large motion, dense scenes), it switches itself off for
-/// 64 updates, twice as long after each failure in a row (up to 4 096), then tries again; the
-/// first three runs after it starts are not judged (and last coast_updates updates each, not 4
+/// 64 updates, twice as long after each failure in a row (up to 4 096), then tries again
+/// (unless the proxies' last displacements show that more than a quarter of them would leave
+/// their enlarged bounds within 4 updates: the retry is then put off by 64 updates, without
+/// enlarging anybody); the first three runs after it starts are not judged (and last coast_updates updates each, not 4
 /// coast_updates, so that the leads are measured again soon). Tracker jitter: each proxy also keeps a
 /// bound on the displacement that neither rest nor its drift (averaged over about 16 updates)
 /// explains (learnt only when more than one axis shows it: a one-axis residual is a bounce or a

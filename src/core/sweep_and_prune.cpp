@@ -160,6 +160,10 @@ Sorted handleEscapers(State& s) {
   }
   s.escapers.resize(w);
   s.stats.escaped = static_cast<int>(w);
+  // A retry of coasting that would fail at once is postponed without enlarging anybody.
+  if (s.moved && s.coast.retryDue(s.updates) && runsTooShort(s, s.config.coast_updates)) {
+    s.coast.postponeRetry(s.updates);
+  }
   switch (s.coast.step(s.updates, w, s.live_count, s.anyStale(), s.moved)) {
     case CoastPolicy::Step::kNothing:
       return Sorted::kNothing;

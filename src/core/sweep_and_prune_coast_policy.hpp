@@ -12,7 +12,8 @@
 /// (coast_updates while on probation), enlarge everybody again (step()). Each enlargement of everybody ends a run, which is judged
 /// with a cost model in work units against what the same updates would have cost without
 /// coasting; a run that cost more switches coasting off for 64 updates, twice as long after
-/// each failure in a row (up to 4 096), then it is tried again. The first three runs after
+/// each failure in a row (up to 4 096), then it is tried again (postponeRetry(): not when the
+/// last displacements show at once that it would fail). The first three runs after
 /// coasting starts are on probation (not judged): their leads were measured from an update or
 /// two. They are short (coast_updates updates each), so that each proxy's drift under tracker
 /// jitter is measured again soon, before the long runs: with the leads of the first update or
@@ -93,6 +94,24 @@ class CoastPolicy {
     if (escapers > 0 && escapers <= few && !any_stale && !run_over) return Step::kMoveFew;
     return Step::kEnlargeAll;
   }
+
+  /// Coasting is off and due to be tried again at `update` (with a proxy moving, step() would
+  /// start it).
+  bool retryDue(std::uint32_t update) const {
+    return lead_ <= 0.0 && coast_updates_ > 0.0 && update >= retry_at_;
+  }
+  /// The retry due at `update` would fail: many proxies would leave bounds enlarged with the
+  /// lead within kMinRun updates (runsTooShort() in sweep_and_prune_coasting.hpp). Postpones
+  /// it by kFirstBackoff updates without enlarging anybody (the back-off stays: that check is
+  /// one pass over the proxies, so coasting resumes soon once the motion calms). A retry that
+  /// fails costs several updates that enlarge everybody and rebuild with candidates several
+  /// times the pairs: they set the tail of the large-motion rows (uniform 20 %, N = 1 000:
+  /// p99 3.6x the median, one retry every 64-4 096 updates).
+  void postponeRetry(std::uint32_t update) { retry_at_ = update + kFirstBackoff; }
+  /// Updates of its last displacement that a proxy's enlarged bounds should hold at least, for
+  /// a retry to be worth it (half the lead's 8: an enlargement of everybody every other update
+  /// or so never pays).
+  static constexpr double kMinRun = 4.0;
 
   /// Counts of the re-sort that followed an enlargement of everybody.
   struct Resort {

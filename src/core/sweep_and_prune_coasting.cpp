@@ -141,6 +141,30 @@ void enlargeAll(State& s, double lead) {
   }
 }
 
+bool runsTooShort(const State& s, double lead) {
+  // While coasting is off, moveProxy keeps each proxy's bounds before its last move in base:
+  // its last displacement per side. A side moving d per update gets min(cap, lead |d|) of room,
+  // so the proxy stays inside for min(lead, cap / |d|) updates of its fastest side.
+  const double min_run = std::min(lead, CoastPolicy::kMinRun);
+  std::size_t short_runs = 0, live = 0;
+  for (std::size_t p = 0, slots = s.info.size(); p < slots; ++p) {
+    if (s.info[p].state != ProxyState::kLive) continue;
+    ++live;
+    const std::uint64_t* t = s.tight.data() + 6 * p;
+    const std::uint64_t* b = s.base.data() + 6 * p;
+    double extent = 0.0, fastest = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double lo = unsortable64(t[2 * axis]), hi = unsortable64(t[2 * axis + 1]);
+      extent = std::max(extent, hi - lo);
+      fastest = std::max(fastest, std::abs(lo - unsortable64(b[2 * axis])));
+      fastest = std::max(fastest, std::abs(hi - unsortable64(b[2 * axis + 1])));
+    }
+    // (Not a number anywhere: not counted as short; the retry then decides.)
+    short_runs += s.config.max_lead_fraction * extent < min_run * fastest;
+  }
+  return 4 * short_runs > live;
+}
+
 void validateFlags(State& s) {
   // Somebody is enlarged in this update: from here on candidates and pairs may differ, and each
   // candidate's `touching` must say what it was. Not kept so far, the candidates were the pairs

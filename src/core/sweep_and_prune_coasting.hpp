@@ -41,6 +41,11 @@ inline bool insideEnlarged(const State& s, ProxyId id, bool* equal) {
 void enlarge(State& s, ProxyId id, double lead);
 /// The same for every live proxy.
 void enlargeAll(State& s, double lead);
+/// Coasting off: true when more than a quarter of the live proxies would leave bounds
+/// enlarged with `lead` within CoastPolicy::kMinRun updates of their last displacement (the
+/// room ahead is capped at max_lead_fraction of the box's largest extent). One pass over the
+/// proxies, no allocation.
+bool runsTooShort(const State& s, double lead);
 /// Makes every candidate's `touching` flag valid (before anybody is enlarged).
 void validateFlags(State& s);
 /// pairs(), beganPairs() and endedPairs() from the candidates and their changes.

@@ -139,6 +139,27 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
     one_axis.update();
   }
   EXPECT_EQ(wp_test::allocationCount() - before_one_axis, 0);
+
+  // Large motion (issue 26, the tail): coasting switches itself off, and its retries, due every
+  // 64 updates, are postponed after a pass over the proxies without enlarging anybody:
+  // nothing allocated either.
+  wp::SweepAndPrune large(config);
+  std::vector<wp::SweepAndPrune::ProxyId> large_ids;
+  for (std::size_t i = 0; i < s.centre.size(); ++i) large_ids.push_back(large.createProxy(s.box(i)));
+  auto jump = [&]() {
+    s.advance(1.0);  // up to a metre per update and axis: one to four box sizes
+    for (std::size_t k = 0; k < s.centre.size(); ++k) large.moveProxy(large_ids[k], s.box(k));
+    large.update();
+  };
+  for (int i = 0; i < 100; ++i) jump();
+  const long before_large = wp_test::allocationCount();
+  bool large_enlarged = false;
+  for (int i = 0; i < 300; ++i) {
+    jump();
+    large_enlarged |= large.stats().enlarged_all;
+  }
+  EXPECT_FALSE(large_enlarged);  // every retry in these 300 updates was postponed
+  EXPECT_EQ(wp_test::allocationCount() - before_large, 0);
 }
 
 TEST(Allocations, EventTrackerSteadyStateAllocatesNothing) {

@@ -229,6 +229,31 @@ TEST(CoastPolicy, WithoutAnEstimateTheSwapsOfTheReSortStandIn) {
   EXPECT_DOUBLE_EQ(off.lead(), 0.0);
 }
 
+TEST(CoastPolicy, ARetryThatWouldFailIsPostponedWithoutEnlargingAnybody) {
+  CoastPolicy p(8.0);
+  for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p.enlargedAll(1, resort(100, 0, 640, 50));
+  p.scanned(1000000);
+  p.enlargedAll(33, resort(100, 0, 640, 50));  // fails: off until 33 + 64 = 97, 128 next time
+  ASSERT_DOUBLE_EQ(p.lead(), 0.0);
+  EXPECT_FALSE(p.retryDue(96));
+  EXPECT_TRUE(p.retryDue(97));
+  // Postponed at 97: due again 64 updates later, the back-off unchanged; coasting stays off
+  // and nobody is enlarged in between.
+  p.postponeRetry(97);
+  EXPECT_FALSE(p.retryDue(160));
+  EXPECT_EQ(p.step(160, 0, 100, false, true), Step::kResort);
+  EXPECT_TRUE(p.retryDue(161));
+  EXPECT_EQ(p.backoff(), 128u);
+  EXPECT_DOUBLE_EQ(p.lead(), 0.0);
+  // Not postponed: the retry starts as before.
+  EXPECT_EQ(p.step(161, 0, 100, false, true), Step::kEnlargeAll);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  EXPECT_FALSE(p.retryDue(161));
+  // Never due while coasting, nor with coasting turned off for good.
+  CoastPolicy never(0.0);
+  EXPECT_FALSE(never.retryDue(100000));
+}
+
 TEST(CoastPolicy, NoCoastUpdatesNeverCoasts) {
   CoastPolicy p(0.0);
   EXPECT_DOUBLE_EQ(p.lead(), 0.0);

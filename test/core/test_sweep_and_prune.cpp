@@ -1089,6 +1089,46 @@ TEST(SweepAndPrune, LargeMotionSwitchesCoastingOffAndStaysExact) {
   EXPECT_LE(counts.enlarged_all, 20);
 }
 
+// Issue 26 (the tail): while the motion stays large, the retries of coasting are postponed
+// without enlarging anybody (before, each enlarged everybody and rebuilt several times and
+// failed again); once the motion calms, coasting starts again within 64 updates. Brute force in
+// every update throughout.
+TEST(SweepAndPrune, LargeMotionPostponesRetriesUntilTheMotionCalms) {
+  Rng rng(260126);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Harness h(SweepAndPruneConfig(), true);
+  DriftScene scene(300, rng, h);
+  h.updateAndCheck();
+  CoastCounts early, large, calm;
+  for (int cycle = 0; cycle < 700; ++cycle) {
+    const bool calmed = cycle >= 400;
+    if (calmed) {
+      scene.step(h);  // the scene's steady drift, 0-2 grid steps per update and axis
+    } else {
+      for (std::size_t i = 0; i < scene.center.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+          // Up to two box sizes in a random direction.
+          scene.center[i][k] += 2.0 * (2.0 * unit(rng) - 1.0);
+          scene.center[i][k] =
+              std::clamp(scene.center[i][k], scene.half[i][k], scene.side - scene.half[i][k]);
+        }
+        h.move(scene.obj_of[i], gridBox(scene.center[i], scene.half[i]));
+      }
+    }
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    (cycle < 100 ? early : calmed ? calm : large).add(h.sap());
+  }
+  std::printf("large motion then calm: enlarged all %d (first 100 updates), %d (next 300), "
+              "%d (calm 300: %d coasted, %d moved a few alone)\n", early.enlarged_all,
+              large.enlarged_all, calm.enlarged_all, calm.coasted, calm.moved_alone);
+  EXPECT_GE(early.enlarged_all, 1);  // coasting was tried and switched itself off
+  EXPECT_EQ(large.enlarged_all, 0);  // its retries were postponed (before: one every 64-512)
+  EXPECT_EQ(large.tight_candidates, large.updates);
+  EXPECT_GE(calm.enlarged_all, 1);   // and it started again once the motion calmed
+  EXPECT_GE(calm.coasted + calm.moved_alone, 150);
+}
+
 TEST(SweepAndPrune, InvalidCoastSettingsAreRejected) {
   for (double bad : {-1.0, std::nan(""), 1e300}) {
     SweepAndPruneConfig cfg;
