@@ -1,6 +1,7 @@
 #include "workspace_proximity/ros/cloud_tracker.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -279,13 +280,28 @@ CloudTracker::~CloudTracker() {
   // No new share, then the one running (if any) finishes and the thread ends, before any
   // member it reads is destroyed (node shutdown and nodelet unload alike).
   unseen_timer_.stop();
-  unseen_stop_ = true;
+  {
+    const std::lock_guard<std::mutex> lock(handed_mutex_);
+    unseen_stop_ = true;
+  }
+  handed_cv_.notify_one();
   if (unseen_thread_.joinable()) unseen_thread_.join();
   unseen_queue_.disable();
   unseen_queue_.clear();
 }
 
 void CloudTracker::updateUnseen() {
+  {
+    // Start right after the next frame is handed over (at most half a period from now): a
+    // camera's frames come at regular intervals, so the share's work then falls in the gap
+    // before the following frame instead of competing with it for a core (and it uses that
+    // newest frame).
+    std::unique_lock<std::mutex> lock(handed_mutex_);
+    const std::uint64_t seen = handed_;
+    handed_cv_.wait_for(lock, std::chrono::duration<double>(0.5 / params_.unseen_rate),
+                        [&] { return handed_ != seen || unseen_stop_.load(); });
+  }
+  if (unseen_stop_.load()) return;
   // The robot now (its newest poses, tf is thread-safe), into this thread's own links; without
   // it the protective volume is unknown.
   unseen_why_.clear();
@@ -513,6 +529,11 @@ void CloudTracker::finish(int s, const std_msgs::Header& header, const std::stri
   if (sight != nullptr) {
     sight->write(frame.grid(), sensor_pose_[static_cast<std::size_t>(s)],
                  static_cast<std::int64_t>(header.stamp.toNSec()), now);
+    {
+      const std::lock_guard<std::mutex> lock(handed_mutex_);
+      ++handed_;
+    }
+    handed_cv_.notify_one();
   }
 }
 

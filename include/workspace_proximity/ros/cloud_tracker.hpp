@@ -12,6 +12,7 @@
 /// double buffer (SightBuffer) and never waits for the share's work.
 
 #include <atomic>
+#include <condition_variable>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -157,6 +158,12 @@ class CloudTracker {
   };
   std::mutex unseen_mutex_;
   UnseenOut unseen_out_;
+
+  // Frames handed over so far: the unseen thread waits for the next (at most half a period)
+  // so that its work falls in the gap after a frame, not across the next one.
+  std::mutex handed_mutex_;
+  std::condition_variable handed_cv_;
+  std::uint64_t handed_ = 0;
 
   // The unseen thread: its callback queue (the timer's only), served until stop.
   ros::CallbackQueue unseen_queue_;
