@@ -1,6 +1,7 @@
 #include "workspace_proximity/ros/cloud_tracker.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -214,19 +215,30 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
     frames_.push_back(std::make_unique<pc::CloudFrame>(params_.frame));
   }
   health_ = std::make_unique<pc::SensorHealth>(names, params_.source_timeout, nowNs());
-  unseen_.configure(frames_.front()->grid());
+  const pc::VoxelGrid& geometry = frames_.front()->grid();
+  unseen_.configure(geometry);
+  unseen_links_.resize(robot_.size());
+  unseen_out_.made_ns = nowNs();
   if (params_.unseen_occupied) {
     unseen_boxes_ = std::make_unique<pc::UnseenBoxes>(params_.unseen_max_boxes);
-    unseen_boxes_->configure(frames_.front()->grid());
+    unseen_boxes_->configure(geometry);
     for (int k = 0; k < params_.unseen_max_boxes; ++k) unseen_ids_.push_back("unseen_" + std::to_string(k + 1));
+    // Both copies of the boxes sized once: copying a result in or out allocates nothing.
+    unseen_out_.boxes.reserve(static_cast<std::size_t>(params_.unseen_max_boxes));
+    track_unseen_boxes_.reserve(static_cast<std::size_t>(params_.unseen_max_boxes));
   }
   sights_.resize(names.size());
   sensor_pose_.assign(names.size(), Eigen::Isometry3d::Identity());
-  last_frame_ns_.assign(names.size(), -1);
-  last_stamp_.assign(names.size(), ros::Time());
   for (const std::string& n : names) {
     const auto it = params_.views.find(n);
     view_.push_back(it == params_.views.end() ? nullptr : &it->second);
+    // Only a sensor with a view takes part in the unseen share; its buffer is two grids.
+    sight_buffers_.emplace_back();
+    if (view_.back() != nullptr) {
+      sight_buffers_.back() = std::make_unique<pc::SightBuffer>();
+      std::string why;
+      if (!sight_buffers_.back()->configure(geometry, &why)) throw std::runtime_error(why);
+    }
   }
   markers_ = pnh_.advertise<visualization_msgs::MarkerArray>("clusters", 2);
   // A track is gone when it missed one frame of every sensor in a row (a round of frames):
@@ -257,59 +269,113 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
   diag_timer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
   status_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.status_rate),
                                   [this](const ros::TimerEvent&) { publishStatus(); });
-  unseen_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.unseen_rate),
-                                  [this](const ros::TimerEvent&) { updateUnseen(); });
+  // The unseen share on its own thread: its timer's callbacks go to its own queue, so a frame
+  // never waits for the share's work (several ms) and the share never for a frame's.
+  ros::NodeHandle unseen_nh(nh_);
+  unseen_nh.setCallbackQueue(&unseen_queue_);
+  unseen_timer_ = unseen_nh.createTimer(ros::Duration(1.0 / params_.unseen_rate),
+                                        [this](const ros::TimerEvent&) { updateUnseen(); });
+  unseen_thread_ = std::thread([this] {
+    while (!unseen_stop_.load() && nh_.ok()) unseen_queue_.callAvailable(ros::WallDuration(0.05));
+  });
+}
+
+CloudTracker::~CloudTracker() {
+  // No new share, then the one running (if any) finishes and the thread ends, before any
+  // member it reads is destroyed (node shutdown and nodelet unload alike).
+  unseen_timer_.stop();
+  {
+    const std::lock_guard<std::mutex> lock(handed_mutex_);
+    unseen_stop_ = true;
+  }
+  handed_cv_.notify_one();
+  if (unseen_thread_.joinable()) unseen_thread_.join();
+  unseen_queue_.disable();
+  unseen_queue_.clear();
 }
 
 void CloudTracker::updateUnseen() {
-  // The robot now (its newest poses); without it the protective volume is unknown.
-  for (std::size_t i = 0; i < robot_.size(); ++i) {
+  {
+    // Start right after the next frame is handed over (at most half a period from now): a
+    // camera's frames come at regular intervals, so the share's work then falls in the gap
+    // before the following frame instead of competing with it for a core (and it uses that
+    // newest frame).
+    std::unique_lock<std::mutex> lock(handed_mutex_);
+    const std::uint64_t seen = handed_;
+    handed_cv_.wait_for(lock, std::chrono::duration<double>(0.5 / params_.unseen_rate),
+                        [&] { return handed_ != seen || unseen_stop_.load(); });
+  }
+  if (unseen_stop_.load()) return;
+  // The robot now (its newest poses, tf is thread-safe), into this thread's own links; without
+  // it the protective volume is unknown.
+  unseen_why_.clear();
+  for (std::size_t i = 0; i < robot_.size() && unseen_why_.empty(); ++i) {
     try {
       const geometry_msgs::TransformStamped t =
           tf_buffer_.lookupTransform(params_.fixed_frame, robot_[i].frame, ros::Time(0));
-      links_[i].shape = robot_[i].shape;
-      links_[i].pose = tf2::transformToEigen(t) * robot_[i].offset;
+      unseen_links_[i].shape = robot_[i].shape;
+      unseen_links_[i].pose = tf2::transformToEigen(t) * robot_[i].offset;
     } catch (const tf2::TransformException& e) {
-      unseen_problem_ = "unseen share unknown: link " + robot_[i].name + " not posed: " + e.what();
-      return;
+      unseen_why_ = "unseen share unknown: link " + robot_[i].name + " not posed: " + e.what();
     }
   }
-  // Each sensor with a view and a frame within the source timeout sees from where it was.
-  const std::int64_t now = nowNs();
-  const auto timeout = static_cast<std::int64_t>(params_.source_timeout * 1e9);
-  int count = 0;
-  for (std::size_t s = 0; s < view_.size(); ++s) {
-    if (view_[s] == nullptr || last_frame_ns_[s] < 0 || now - last_frame_ns_[s] > timeout) continue;
-    perception::SensorSight& sight = sights_[static_cast<std::size_t>(count++)];
-    sight.fov = view_[s]->fov;
-    sight.fov.pose = sensor_pose_[s];
-    if (view_[s]->optical) {
-      // Body frame (x forward, z up) from the optical frame (z forward, x right, y down).
-      Eigen::Matrix3d optical_body;
-      optical_body << 0, -1, 0, 0, 0, -1, 1, 0, 0;
-      sight.fov.pose.linear() = sensor_pose_[s].linear() * optical_body;
+  perception::UnseenResult result;
+  ros::Time stamp = ros::Time::now();
+  const pc::VoxelGrid& geometry = frames_.front()->grid();  // its geometry only (never changes)
+  if (unseen_why_.empty()) {
+    // Each sensor with a view and a frame within the source timeout sees from where it was:
+    // its newest complete sight, held (never written) until released below.
+    const std::int64_t now = nowNs();
+    const auto timeout = static_cast<std::int64_t>(params_.source_timeout * 1e9);
+    int count = 0;
+    for (std::size_t s = 0; s < view_.size(); ++s) {
+      if (sight_buffers_[s] == nullptr) continue;
+      const pc::SightSlot* slot = sight_buffers_[s]->acquire();
+      if (slot == nullptr || now - slot->received_ns > timeout) continue;
+      perception::SensorSight& sight = sights_[static_cast<std::size_t>(count++)];
+      sight.fov = view_[s]->fov;
+      sight.fov.pose = slot->pose;
+      if (view_[s]->optical) {
+        // Body frame (x forward, z up) from the optical frame (z forward, x right, y down).
+        Eigen::Matrix3d optical_body;
+        optical_body << 0, -1, 0, 0, 0, -1, 1, 0, 0;
+        sight.fov.pose.linear() = slot->pose.linear() * optical_body;
+      }
+      sight.grid = &slot->grid;
+      const ros::Time slot_stamp = ros::Time().fromNSec(static_cast<std::uint64_t>(std::max<std::int64_t>(0, slot->stamp_ns)));
+      if (count == 1 || slot_stamp < stamp) stamp = slot_stamp;
     }
-    sight.grid = &frames_[s]->grid();
-    if (count == 1 || last_stamp_[s] < unseen_stamp_) unseen_stamp_ = last_stamp_[s];
+    result = unseen_.compute(unseen_links_.data(), static_cast<int>(unseen_links_.size()), params_.ssm_reach,
+                             params_.frame.self_padding,
+                             params_.frame.floor_height + params_.frame.floor_tolerance,
+                             sights_.data(), count);
+    for (const std::unique_ptr<pc::SightBuffer>& b : sight_buffers_) {
+      if (b != nullptr) b->release();
+    }
+    if (result.refused) unseen_why_ = "unseen share unknown: a robot link's pose or shape refused";
   }
-  if (count == 0) unseen_stamp_ = ros::Time::now();
-  unseen_result_ = unseen_.compute(links_.data(), static_cast<int>(links_.size()), params_.ssm_reach,
-                                   params_.frame.self_padding,
-                                   params_.frame.floor_height + params_.frame.floor_tolerance,
-                                   sights_.data(), count);
-  unseen_problem_ = unseen_result_.refused ? "unseen share unknown: a robot link's pose or shape refused" : "";
   if (unseen_boxes_ != nullptr) {
     // ~unseen: occupied: what no sensor sees near the robot is taken as an object there. With
     // the share unknown the status is DEGRADED (and the scale at degraded_scale) anyway.
-    if (unseen_problem_.empty()) {
-      unseen_boxes_->build(frames_.front()->grid(), unseen_.unseenCells());
+    if (unseen_why_.empty()) {
+      unseen_boxes_->build(geometry, unseen_.unseenCells());
     } else {
-      unseen_boxes_->build(frames_.front()->grid(), {});
+      unseen_boxes_->build(geometry, {});
     }
   }
-  if (markers_.getNumSubscribers() == 0 || !unseen_problem_.empty()) return;
+  {
+    // Published for the status, the diagnostics and perceived_objects (copies, no allocation
+    // in steady state: the boxes' capacity is reserved, the reason is "" or unchanged).
+    const std::lock_guard<std::mutex> lock(unseen_mutex_);
+    unseen_out_.problem = unseen_why_;
+    unseen_out_.result = result;
+    if (unseen_boxes_ != nullptr) unseen_out_.boxes = unseen_boxes_->boxes();
+    unseen_out_.stamp = stamp;
+    unseen_out_.made_ns = nowNs();
+  }
+  if (markers_.getNumSubscribers() == 0 || !unseen_why_.empty()) return;
   // The unseen voxels of the protective volume, grey.
-  const perception::VoxelGrid& grid = frames_.front()->grid();
+  const perception::VoxelGrid& grid = geometry;
   visualization_msgs::Marker m;
   m.header.frame_id = params_.fixed_frame;
   m.header.stamp = ros::Time::now();
@@ -553,11 +619,22 @@ void CloudTracker::onScan(int s, const sensor_msgs::LaserScanConstPtr& msg) {
 
 void CloudTracker::finish(int s, const std_msgs::Header& header, const std::string& robot_problem) {
   const pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
-  health_->frameUsed(s, nowNs(), frame.stats(), robot_problem);
-  last_frame_ns_[static_cast<std::size_t>(s)] = nowNs();
-  last_stamp_[static_cast<std::size_t>(s)] = header.stamp;
+  const std::int64_t now = nowNs();
+  health_->frameUsed(s, now, frame.stats(), robot_problem);
   publishTracks(s, header);
   if (markers_.getNumSubscribers() > 0) publishMarkers(s, header);
+  // After the tracks are out: the frame's flags, pose and stamp to the unseen thread (a copy of
+  // the touched cells into the slot it does not hold; never waits for its work).
+  pc::SightBuffer* sight = sight_buffers_[static_cast<std::size_t>(s)].get();
+  if (sight != nullptr) {
+    sight->write(frame.grid(), sensor_pose_[static_cast<std::size_t>(s)],
+                 static_cast<std::int64_t>(header.stamp.toNSec()), now);
+    {
+      const std::lock_guard<std::mutex> lock(handed_mutex_);
+      ++handed_;
+    }
+    handed_cv_.notify_one();
+  }
 }
 
 void CloudTracker::publishTracks(int s, const std_msgs::Header& header) {
@@ -605,10 +682,17 @@ void CloudTracker::publishTracks(int s, const std_msgs::Header& header) {
     b.position_error = t.position_error;
     b.velocity_error = t.velocity_known ? t.velocity_error : 0.0;
   }
-  if (unseen_boxes_ != nullptr) {
+  if (params_.unseen_occupied) {
     // The unseen boxes of the latest unseen share, velocity unknown: the monitor grows them at
-    // the `unseen` label's max_speed, so a person in the arm's shadow stops the arm.
-    const std::vector<pc::CellBox>& boxes = unseen_boxes_->boxes();
+    // the `unseen` label's max_speed, so a person in the arm's shadow stops the arm. Copied out
+    // of the unseen thread's result under its mutex (a few boxes; capacity reserved).
+    ros::Time unseen_stamp;
+    {
+      const std::lock_guard<std::mutex> lock(unseen_mutex_);
+      track_unseen_boxes_ = unseen_out_.boxes;
+      unseen_stamp = unseen_out_.stamp;
+    }
+    const std::vector<pc::CellBox>& boxes = track_unseen_boxes_;
     for (std::size_t k = 0; k < boxes.size(); ++k) {
       TrackedBox& b = out.boxes.emplace_back();
       b.id = unseen_ids_[k];
@@ -621,9 +705,9 @@ void CloudTracker::publishTracks(int s, const std_msgs::Header& header) {
       b.dimensions.y = boxes[k].size.y();
       b.dimensions.z = boxes[k].size.z();
       b.velocity_unknown = true;
-      // Seen (not seen) at unseen_stamp_, published at the array's later stamp: what was
+      // Seen (not seen) at unseen_stamp, published at the array's later stamp: what was
       // there may have moved in between, at most track_max_speed.
-      b.position_error = params_.tracks.max_speed * std::max(0.0, (out.header.stamp - unseen_stamp_).toSec());
+      b.position_error = params_.tracks.max_speed * std::max(0.0, (out.header.stamp - unseen_stamp).toSec());
     }
   }
   objects_.publish(msg);
@@ -683,14 +767,39 @@ void CloudTracker::publishMarkers(int s, const std_msgs::Header& header) {
   markers_.publish(marker_msg_);
 }
 
+std::string CloudTracker::unseenNow(pc::UnseenResult* result) {
+  std::string problem;
+  std::int64_t made_ns = 0;
+  {
+    const std::lock_guard<std::mutex> lock(unseen_mutex_);
+    problem = unseen_out_.problem;
+    *result = unseen_out_.result;
+    made_ns = unseen_out_.made_ns;
+  }
+  if (!problem.empty()) return problem;
+  // A share the unseen thread has not renewed within its period and the source timeout is
+  // stale: unknown, not the last figure.
+  const double age = 1e-9 * static_cast<double>(nowNs() - made_ns);
+  const double limit = 1.0 / params_.unseen_rate + params_.source_timeout;
+  if (age > limit) {
+    char why[200];
+    std::snprintf(why, sizeof why, "unseen share stale: last computed %.3f s ago (1 / unseen_rate + "
+                  "source_timeout %.3f s)", age, limit);
+    return why;
+  }
+  return problem;
+}
+
 void CloudTracker::degradedReasons(std::vector<std::string>* reasons) {
   health_->degradedReasons(nowNs(), reasons);
+  pc::UnseenResult unseen;
+  const std::string problem = unseenNow(&unseen);
   char share[160];
-  if (!unseen_problem_.empty()) {
-    reasons->push_back(unseen_problem_);
-  } else if (unseen_result_.share > params_.unseen_limit) {
+  if (!problem.empty()) {
+    reasons->push_back(problem);
+  } else if (unseen.share > params_.unseen_limit) {
     std::snprintf(share, sizeof share, "unseen share %.3f of the protective volume above unseen_limit %.3f",
-                  unseen_result_.share, params_.unseen_limit);
+                  unseen.share, params_.unseen_limit);
     reasons->push_back(share);
   }
 }
@@ -701,8 +810,8 @@ void CloudTracker::publishStatus() {
   msg->header.frame_id = params_.fixed_frame;
   degradedReasons(&msg->reasons);
   msg->degraded = !msg->reasons.empty();
-  msg->unseen_share = unseen_problem_.empty() ? unseen_result_.share
-                                              : std::numeric_limits<double>::quiet_NaN();
+  pc::UnseenResult unseen;
+  msg->unseen_share = unseenNow(&unseen).empty() ? unseen.share : std::numeric_limits<double>::quiet_NaN();
   status_.publish(msg);
 }
 
@@ -716,12 +825,13 @@ void CloudTracker::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
     for (std::size_t i = 1; i < reasons.size(); ++i) all += "; " + reasons[i];
     status.summary(diagnostic_msgs::DiagnosticStatus::WARN, all);
   }
-  if (unseen_problem_.empty()) {
-    status.add("unseen share", unseen_result_.share);
-    status.add("protective voxels", unseen_result_.protective);
-    status.add("unseen voxels", unseen_result_.unseen);
-    status.add("unseen: outside every view", unseen_result_.outside_fov);
-    status.add("unseen: shadowed", unseen_result_.shadowed);
+  pc::UnseenResult unseen;
+  if (unseenNow(&unseen).empty()) {
+    status.add("unseen share", unseen.share);
+    status.add("protective voxels", unseen.protective);
+    status.add("unseen voxels", unseen.unseen);
+    status.add("unseen: outside every view", unseen.outside_fov);
+    status.add("unseen: shadowed", unseen.shadowed);
   }
   for (int s = 0; s < health_->size(); ++s) {
     const std::string n = health_->name(s) + ": ";

@@ -7,13 +7,21 @@
 ///     -> ClusterTracks (one MultiObjectTracker for every sensor's frames, cluster_tracks.hpp)
 ///     -> perceived_objects (TrackedBoxArray: label `unknown`, ids, velocities once known,
 ///        the filter's 3 sigma errors), ~clusters (markers), /diagnostics (SensorHealth)
+/// The unseen share runs on its own thread (its own callback queue and timer, ~unseen_rate):
+/// each frame's callback hands its voxel flags, sensor pose and stamp over by a per-sensor
+/// double buffer (SightBuffer) and never waits for the share's work.
 
+#include <atomic>
+#include <condition_variable>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <sensor_msgs/LaserScan.h>
@@ -30,6 +38,7 @@
 #include "workspace_proximity/perception/cluster_tracks.hpp"
 #include "workspace_proximity/perception/joint_self_poses.hpp"
 #include "workspace_proximity/perception/sensor_health.hpp"
+#include "workspace_proximity/perception/sight_buffer.hpp"
 #include "workspace_proximity/perception/unseen_boxes.hpp"
 #include "workspace_proximity/perception/unseen_share.hpp"
 #include "workspace_proximity/rules/monitor_params.hpp"
@@ -84,6 +93,10 @@ class CloudTracker {
  public:
   CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh,
                const CloudTrackerParams& params);
+  /// Stops the unseen share's timer and joins its thread before anything it uses goes.
+  ~CloudTracker();
+  CloudTracker(const CloudTracker&) = delete;
+  CloudTracker& operator=(const CloudTracker&) = delete;
 
  private:
   void onCloud(int sensor, const sensor_msgs::PointCloud2ConstPtr& msg);
@@ -107,8 +120,11 @@ class CloudTracker {
   void degradedReasons(std::vector<std::string>* reasons);
   // perception_status: the reasons and the unseen share, for the monitor.
   void publishStatus();
-  // The unseen share of the protective volume from every sensor's latest frame.
+  // The unseen share of the protective volume from every sensor's latest frame (on the
+  // unseen thread: reads only the sight buffers, tf and what the constructor set).
   void updateUnseen();
+  // The newest unseen result as the status sees it now: "" or why it is unknown or stale.
+  std::string unseenNow(perception::UnseenResult* result);
   std::int64_t nowNs() const { return static_cast<std::int64_t>(ros::Time::now().toNSec()); }
 
   ros::NodeHandle nh_, pnh_;
@@ -129,18 +145,45 @@ class CloudTracker {
   ros::Timer unseen_timer_;
   ros::Timer status_timer_;
   ros::Publisher status_;  // perception_status
+  std::vector<Eigen::Isometry3d> sensor_pose_;      // per sensor: its frame at its last frame
+  std::vector<const CloudTrackerParams::View*> view_;  // per sensor, or null
+  std::vector<std::string> unseen_ids_;                // "unseen_<k>", made once
+  std::vector<perception::CellBox> track_unseen_boxes_;  // publishTracks' copy (reserved)
+  visualization_msgs::MarkerArray marker_msg_;
+
+  // Handed from the frames' callbacks to the unseen thread: per sensor with a view, its
+  // latest frame's flags, pose and stamps (null for a sensor without a view).
+  std::vector<std::unique_ptr<perception::SightBuffer>> sight_buffers_;
+
+  // The unseen thread's own state (only it touches these).
   perception::UnseenShare unseen_{64};  // sensors beyond 64 see nothing there (counted unseen)
   std::vector<perception::SensorSight> sights_;
-  std::vector<Eigen::Isometry3d> sensor_pose_;      // per sensor: its frame at its last frame
-  std::vector<std::int64_t> last_frame_ns_;         // per sensor: when its last frame was used
-  std::vector<const CloudTrackerParams::View*> view_;  // per sensor, or null
-  std::string unseen_problem_ = "not computed yet";  // "" when the share below is current
-  perception::UnseenResult unseen_result_;
+  std::vector<perception::SelfLink> unseen_links_;          // the robot now, its own copy
   std::unique_ptr<perception::UnseenBoxes> unseen_boxes_;  // ~unseen: occupied
-  std::vector<std::string> unseen_ids_;                    // "unseen_<k>", made once
-  std::vector<ros::Time> last_stamp_;  // per sensor: the stamp of its last used frame
-  ros::Time unseen_stamp_;             // the oldest frame stamp the unseen share was made from
-  visualization_msgs::MarkerArray marker_msg_;
+  std::string unseen_why_;
+
+  // The unseen thread's newest result, copied in and out under unseen_mutex_ (small: the
+  // counts, the reason, at most ~unseen_max_boxes boxes).
+  struct UnseenOut {
+    std::string problem = "not computed yet";  // "" when `result` is known
+    perception::UnseenResult result;
+    std::vector<perception::CellBox> boxes;   // ~unseen: occupied
+    ros::Time stamp;           // the oldest frame stamp the share was made from
+    std::int64_t made_ns = 0;  // ROS time it was made (the constructor's before the first)
+  };
+  std::mutex unseen_mutex_;
+  UnseenOut unseen_out_;
+
+  // Frames handed over so far: the unseen thread waits for the next (at most half a period)
+  // so that its work falls in the gap after a frame, not across the next one.
+  std::mutex handed_mutex_;
+  std::condition_variable handed_cv_;
+  std::uint64_t handed_ = 0;
+
+  // The unseen thread: its callback queue (the timer's only), served until stop.
+  ros::CallbackQueue unseen_queue_;
+  std::atomic<bool> unseen_stop_{false};
+  std::thread unseen_thread_;
 };
 
 }  // namespace workspace_proximity
