@@ -218,6 +218,7 @@ CloudTracker::CloudTracker(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
   const pc::VoxelGrid& geometry = frames_.front()->grid();
   unseen_.configure(geometry);
   unseen_links_.resize(robot_.size());
+  posed_links_.resize(robot_.size());
   unseen_out_.made_ns = nowNs();
   if (params_.unseen_occupied) {
     unseen_boxes_ = std::make_unique<pc::UnseenBoxes>(params_.unseen_max_boxes);
@@ -306,10 +307,19 @@ void CloudTracker::updateUnseen() {
                         [&] { return handed_ != seen || unseen_stop_.load(); });
   }
   if (unseen_stop_.load()) return;
-  // The robot now (its newest poses, tf is thread-safe), into this thread's own links; without
-  // it the protective volume is unknown.
+  // The robot now, into this thread's own links: as the newest frame's self-filter posed it
+  // (from the joints where they move it) while that is within the source timeout, else its
+  // newest tf poses (tf is thread-safe); without either the protective volume is unknown.
   unseen_why_.clear();
-  for (std::size_t i = 0; i < robot_.size() && unseen_why_.empty(); ++i) {
+  bool from_frame = false;
+  {
+    const std::lock_guard<std::mutex> lock(posed_mutex_);
+    if (posed_ns_ >= 0 && nowNs() - posed_ns_ <= static_cast<std::int64_t>(params_.source_timeout * 1e9)) {
+      std::copy(posed_links_.begin(), posed_links_.end(), unseen_links_.begin());
+      from_frame = true;
+    }
+  }
+  for (std::size_t i = 0; i < robot_.size() && unseen_why_.empty() && !from_frame; ++i) {
     try {
       const geometry_msgs::TransformStamped t =
           tf_buffer_.lookupTransform(params_.fixed_frame, robot_[i].frame, ros::Time(0));
@@ -621,6 +631,13 @@ void CloudTracker::finish(int s, const std_msgs::Header& header, const std::stri
   const pc::CloudFrame& frame = *frames_[static_cast<std::size_t>(s)];
   const std::int64_t now = nowNs();
   health_->frameUsed(s, now, frame.stats(), robot_problem);
+  if (robot_problem.empty()) {
+    // Every link posed for this frame's self-filter: the unseen thread's robot (a copy of
+    // plain values, no allocation).
+    const std::lock_guard<std::mutex> lock(posed_mutex_);
+    std::copy(links_.begin(), links_.end(), posed_links_.begin());
+    posed_ns_ = now;
+  }
   publishTracks(s, header);
   if (markers_.getNumSubscribers() > 0) publishMarkers(s, header);
   // After the tracks are out: the frame's flags, pose and stamp to the unseen thread (a copy of

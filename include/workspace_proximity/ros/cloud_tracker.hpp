@@ -159,6 +159,11 @@ class CloudTracker {
   perception::UnseenShare unseen_{64};  // sensors beyond 64 see nothing there (counted unseen)
   std::vector<perception::SensorSight> sights_;
   std::vector<perception::SelfLink> unseen_links_;          // the robot now, its own copy
+  // The links as the newest frame's self-filter posed them (joints or tf, at its stamp), for
+  // the unseen thread: a robot posed from joint_states alone has no tf for its moving links.
+  std::mutex posed_mutex_;
+  std::vector<perception::SelfLink> posed_links_;  // guarded by posed_mutex_
+  std::int64_t posed_ns_ = -1;                     // ns, receipt of that frame; -1: none yet
   std::unique_ptr<perception::UnseenBoxes> unseen_boxes_;  // ~unseen: occupied
   std::string unseen_why_;
 
