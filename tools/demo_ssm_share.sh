@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs the demo headless and tools/demo_ssm_share.py beside it on a master of its own, and
 # prints the tool's report (issue 23, demo3). A development tool, not installed.
-#   tools/demo_ssm_share.sh LABEL START LENGTH [roslaunch args, e.g. sensors:=true]
+#   bash tools/demo_ssm_share.sh LABEL START LENGTH [roslaunch args, e.g. sensors:=true]
 # Build first (scripts/build); WP_BUILD_DIR as for scripts/demo.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
