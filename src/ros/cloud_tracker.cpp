@@ -406,6 +406,7 @@ void CloudTracker::updateUnseen() {
     p.z = c.z();
     m.points.push_back(p);
   }
+  if (m.points.empty()) m.action = visualization_msgs::Marker::DELETE;  // as for the voxels
   visualization_msgs::MarkerArray out;
   out.markers.push_back(std::move(m));
   markers_.publish(out);
@@ -780,6 +781,8 @@ void CloudTracker::publishMarkers(int s, const std_msgs::Header& header) {
     p.z = c.z();
     v.points.push_back(p);
   }
+  // rviz marks a list marker without points as an error: an empty frame deletes the last one.
+  if (v.points.empty()) v.action = visualization_msgs::Marker::DELETE;
   marker_msg_.markers.push_back(v);
   markers_.publish(marker_msg_);
 }
