@@ -801,6 +801,18 @@ struct DriftScene {
       h.move(obj_of[i], gridBox(center[i], half[i]));
     }
   }
+
+  // Every box up to two box sizes in a random direction (large motion), kept in the cell.
+  void jump(Harness& h, Rng& rng) {
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (std::size_t i = 0; i < center.size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        center[i][k] += 2.0 * (2.0 * unit(rng) - 1.0);
+        center[i][k] = std::clamp(center[i][k], half[i][k], side - half[i][k]);
+      }
+      h.move(obj_of[i], gridBox(center[i], half[i]));
+    }
+  }
 };
 
 // What the updates of a run did.
@@ -1065,20 +1077,12 @@ TEST(SweepAndPrune, TwoOverlappingBoxesJumpingTogetherKeepTheirPair) {
 // again later; brute force in every update throughout.
 TEST(SweepAndPrune, LargeMotionSwitchesCoastingOffAndStaysExact) {
   Rng rng(190019);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
   Harness h(SweepAndPruneConfig(), true);
   DriftScene scene(300, rng, h);
   h.updateAndCheck();
   CoastCounts counts;
   for (int cycle = 0; cycle < 200; ++cycle) {
-    for (std::size_t i = 0; i < scene.center.size(); ++i) {
-      for (int k = 0; k < 3; ++k) {
-        scene.center[i][k] += 2.0 * (2.0 * unit(rng) - 1.0);
-        scene.center[i][k] =
-            std::clamp(scene.center[i][k], scene.half[i][k], scene.side - scene.half[i][k]);
-      }
-      h.move(scene.obj_of[i], gridBox(scene.center[i], scene.half[i]));
-    }
+    scene.jump(h, rng);
     h.updateAndCheck();
     if (::testing::Test::HasFatalFailure()) return;
     counts.add(h.sap());
@@ -1095,7 +1099,6 @@ TEST(SweepAndPrune, LargeMotionSwitchesCoastingOffAndStaysExact) {
 // every update throughout.
 TEST(SweepAndPrune, LargeMotionPostponesRetriesUntilTheMotionCalms) {
   Rng rng(260126);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
   Harness h(SweepAndPruneConfig(), true);
   DriftScene scene(300, rng, h);
   h.updateAndCheck();
@@ -1105,15 +1108,7 @@ TEST(SweepAndPrune, LargeMotionPostponesRetriesUntilTheMotionCalms) {
     if (calmed) {
       scene.step(h);  // the scene's steady drift, 0-2 grid steps per update and axis
     } else {
-      for (std::size_t i = 0; i < scene.center.size(); ++i) {
-        for (int k = 0; k < 3; ++k) {
-          // Up to two box sizes in a random direction.
-          scene.center[i][k] += 2.0 * (2.0 * unit(rng) - 1.0);
-          scene.center[i][k] =
-              std::clamp(scene.center[i][k], scene.half[i][k], scene.side - scene.half[i][k]);
-        }
-        h.move(scene.obj_of[i], gridBox(scene.center[i], scene.half[i]));
-      }
+      scene.jump(h, rng);
     }
     h.updateAndCheck();
     if (::testing::Test::HasFatalFailure()) return;
