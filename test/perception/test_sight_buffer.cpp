@@ -96,12 +96,19 @@ void writeFrame(pc::SightBuffer* b, pc::VoxelGrid* g, std::int64_t k) {
 
 }  // namespace
 
-TEST(SightBuffer, NothingBeforeTheFirstWrite) {
-  pc::VoxelGrid g(100000);
-  configureGrid(&g);
+// A buffer configured for the test grid (every test but the refusals starts here).
+class ConfiguredSightBuffer : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    configureGrid(&g);
+    ASSERT_TRUE(b.configure(g, &why)) << why;
+  }
+  pc::VoxelGrid g{100000};
   pc::SightBuffer b;
   std::string why;
-  ASSERT_TRUE(b.configure(g, &why)) << why;
+};
+
+TEST_F(ConfiguredSightBuffer, NothingBeforeTheFirstWrite) {
   EXPECT_EQ(b.acquire(), nullptr);
   b.release();
 }
@@ -121,12 +128,7 @@ TEST(SightBuffer, RefusesAnEmptyGeometryAndAnotherGrid) {
   b.release();
 }
 
-TEST(SightBuffer, ASlotIsExactlyTheWrittenFrame) {
-  pc::VoxelGrid g(100000);
-  configureGrid(&g);
-  pc::SightBuffer b;
-  std::string why;
-  ASSERT_TRUE(b.configure(g, &why)) << why;
+TEST_F(ConfiguredSightBuffer, ASlotIsExactlyTheWrittenFrame) {
   // Frames of different density one after another: no cell of an earlier frame stays.
   for (std::int64_t k = 1; k <= 9; ++k) {
     writeFrame(&b, &g, k);
@@ -140,12 +142,7 @@ TEST(SightBuffer, ASlotIsExactlyTheWrittenFrame) {
   }
 }
 
-TEST(SightBuffer, AHeldSlotNeverChangesAndWritesNeverWait) {
-  pc::VoxelGrid g(100000);
-  configureGrid(&g);
-  pc::SightBuffer b;
-  std::string why;
-  ASSERT_TRUE(b.configure(g, &why)) << why;
+TEST_F(ConfiguredSightBuffer, AHeldSlotNeverChangesAndWritesNeverWait) {
   writeFrame(&b, &g, 1);
   const pc::SightSlot* held = b.acquire();
   ASSERT_NE(held, nullptr);
@@ -173,14 +170,9 @@ TEST(SightBuffer, AHeldSlotNeverChangesAndWritesNeverWait) {
   b.release();
 }
 
-TEST(SightBuffer, AReaderMovingOnGetsTheNewest) {
+TEST_F(ConfiguredSightBuffer, AReaderMovingOnGetsTheNewest) {
   // The reader holds frame 1 while frames 2 and 3 are written (both into the other slot), then
   // acquires again without releasing: frame 3, in the other slot, whole.
-  pc::VoxelGrid g(100000);
-  configureGrid(&g);
-  pc::SightBuffer b;
-  std::string why;
-  ASSERT_TRUE(b.configure(g, &why)) << why;
   writeFrame(&b, &g, 1);
   const pc::SightSlot* s1 = b.acquire();  // frame 1, slot A
   writeFrame(&b, &g, 2);                   // slot B, newest
@@ -192,12 +184,7 @@ TEST(SightBuffer, AReaderMovingOnGetsTheNewest) {
   b.release();
 }
 
-TEST(SightBuffer, NoAllocationOnceConfigured) {
-  pc::VoxelGrid g(100000);
-  configureGrid(&g);
-  pc::SightBuffer b;
-  std::string why;
-  ASSERT_TRUE(b.configure(g, &why)) << why;
+TEST_F(ConfiguredSightBuffer, NoAllocationOnceConfigured) {
   // Every frame's grid built first (VoxelGrid is allocation-free after configure too).
   const long before = wp_test::allocationCount();
   for (std::int64_t k = 1; k <= 20; ++k) {
@@ -213,15 +200,10 @@ TEST(SightBuffer, NoAllocationOnceConfigured) {
   EXPECT_EQ(wp_test::allocationCount(), before);
 }
 
-TEST(SightBuffer, AReaderThreadAlwaysSeesOneWholeFrame) {
+TEST_F(ConfiguredSightBuffer, AReaderThreadAlwaysSeesOneWholeFrame) {
   // One writer thread (a sensor's frames) and one reader thread (the unseen share): every slot
   // the reader holds is compared cell by cell with the frame its stamp names, twice (at once and
   // after a pause, so a write into a held slot would show), and the frames only go forward.
-  pc::VoxelGrid g(100000);
-  configureGrid(&g);
-  pc::SightBuffer b;
-  std::string why;
-  ASSERT_TRUE(b.configure(g, &why)) << why;
   constexpr std::int64_t kFrames = 1500;
   std::atomic<bool> done{false};
   std::atomic<std::int64_t> reads{0}, bad{0};
