@@ -79,6 +79,12 @@ struct SweepAndPruneConfig {
   double coast_updates = 8.0;
   /// Cap of that lead, as a fraction of the proxy's largest extent.
   double max_lead_fraction = 0.5;
+  /// A coasting run's end spread over up to this many updates (the next arrays: each proxy's
+  /// next enlarged bounds, the sorted endpoint arrays and their candidates, built a slice per
+  /// update beside the current ones before the run is expected to end, then swapped in; fewer
+  /// updates when runs are short); 0 enlarges everybody and re-sorts in one update, as the run
+  /// ends.
+  int spread_updates = 32;
 };
 
 /// Two proxies whose stored bounds overlap, with proxy_a < proxy_b.
@@ -101,13 +107,16 @@ struct SweepAndPruneStats {
   bool coasted = false;         ///< nothing was re-sorted (no proxy left its enlarged bounds)
   bool enlarged_all = false;    ///< every proxy was enlarged again (then re-sorted or rebuilt)
   int candidates = 0;           ///< pairs of enlarged bounds (pairs() is a subset)
+  bool building_next = false;   ///< a slice of the next arrays was built (spread_updates)
+  bool swapped_next = false;    ///< the next arrays were swapped in (a spread run's end)
 };
 
 class SweepAndPrune {
  public:
   using ProxyId = std::int32_t;
 
-  /// Throws std::invalid_argument on a coast_updates or max_lead_fraction outside [0, 1e6].
+  /// Throws std::invalid_argument on a coast_updates or max_lead_fraction outside [0, 1e6], or
+  /// a spread_updates outside [0, 1024].
   explicit SweepAndPrune(const SweepAndPruneConfig& config = SweepAndPruneConfig());
   ~SweepAndPrune();
   SweepAndPrune(SweepAndPrune&&) noexcept;

@@ -20,7 +20,7 @@ namespace sap {
 namespace {
 
 // What an update did to the arrays: nothing, moved a few proxies' endpoints, or re-sorted.
-enum class Sorted : std::uint8_t { kNothing, kFew, kAll };
+enum class Sorted : std::uint8_t { kNothing, kFew, kAll, kSwapped };
 
 void keepHeadroom(State& s) {
   // A quarter of headroom in the candidate table: it then grows while the count climbs to its
@@ -36,7 +36,12 @@ void keepHeadroom(State& s) {
   if (s.cands.capacity() < per_proxy) s.cands.reserve(per_proxy);
   // Every list holds candidates of this update or the last: with the table's capacity they
   // never grow unless the table does.
+  if (s.next.cands.capacity() < s.cands.capacity()) s.next.cands.reserve(s.cands.capacity());
+  if (s.cands.capacity() < s.next.cands.capacity()) s.cands.reserve(s.next.cands.capacity());
   const std::size_t cap = s.cands.capacity();
+  for (std::vector<BroadPair>* v : {&s.next.found, &s.next.ordered}) {
+    if (v->capacity() < cap) v->reserve(cap);
+  }
   for (std::vector<BroadPair>* v : {&s.cand_began, &s.cand_ended, &s.exact, &s.began, &s.ended}) {
     if (v->capacity() < cap) v->reserve(cap);
   }
@@ -164,7 +169,15 @@ Sorted handleEscapers(State& s) {
   if (s.moved && s.coast.retryDue(s.updates) && runsTooShort(s, s.config.coast_updates)) {
     s.coast.postponeRetry(s.updates);
   }
-  switch (s.coast.step(s.updates, w, s.live_count, s.anyStale(), s.moved)) {
+  const CoastPolicy::Step step = s.coast.step(s.updates, w, s.live_count, s.anyStale(), s.moved);
+  // The next arrays, built over the last updates, take over when due, or when the run ends
+  // early; a run that ends before they are built ends at once, as without them.
+  if (nextReady(s) && s.coast.lead() > 0.0 &&
+      (step == CoastPolicy::Step::kEnlargeAll || s.updates >= s.next.swap_at)) {
+    return swapInNext(s, step == CoastPolicy::Step::kEnlargeAll) ? Sorted::kAll : Sorted::kSwapped;
+  }
+  if (step == CoastPolicy::Step::kEnlargeAll || step == CoastPolicy::Step::kResort) abandonNext(s);
+  switch (step) {
     case CoastPolicy::Step::kNothing:
       return Sorted::kNothing;
     case CoastPolicy::Step::kResort:
@@ -201,6 +214,8 @@ Sorted handleEscapers(State& s) {
 
 }  // namespace
 
+void resortAll(State& s) { resort(s, true, false); }
+
 State::State(const SweepAndPruneConfig& c)
     : config(c), cands(c.initial_pair_capacity), coast(c.coast_updates) {
   reserveSlots(static_cast<std::size_t>(std::max(c.initial_proxy_capacity, 1)));
@@ -233,6 +248,7 @@ void State::reserveSlots(std::size_t slots) {
   pending_remove.reserve(slots);
   for (std::vector<std::uint64_t>& e : ends) e.reserve(2 * slots);
   for (std::vector<std::uint64_t>& e : prev_ends) e.reserve(2 * slots);
+  next.reserve(slots);
   tight.reserve(6 * slots);
   base.reserve(6 * slots);
   motion.reserve(slots);
@@ -258,6 +274,9 @@ SweepAndPrune::SweepAndPrune(const SweepAndPruneConfig& config) {
   }
   if (!(config.max_lead_fraction >= 0.0 && config.max_lead_fraction <= 1e6)) {
     throw std::invalid_argument("SweepAndPrune: max_lead_fraction must be in [0, 1e6]");
+  }
+  if (!(config.spread_updates >= 0 && config.spread_updates <= 1024)) {
+    throw std::invalid_argument("SweepAndPrune: spread_updates must be in [0, 1024]");
   }
   s_ = std::make_unique<sap::State>(config);
 }
@@ -360,6 +379,8 @@ void SweepAndPrune::update() {
   s.cand_began.clear();
   s.cand_ended.clear();
   ++s.updates;
+  // The next arrays hold the proxies of the update that started them.
+  if (!s.pending_insert.empty() || !s.pending_remove.empty()) sap::abandonNext(s);
   sap::applyRemovals(s);
   // (A run's end enlarges everybody even when nobody left: ask what it did.)
   const sap::Sorted done = s.live_count > 0 ? sap::handleEscapers(s) : sap::Sorted::kNothing;
@@ -371,7 +392,9 @@ void SweepAndPrune::update() {
   s.stats.coasted = !sorted;
   sap::insertPending(s);
   if (sorted) s.last_rebuilt = s.stats.rebuilt;
-  sap::reportTouching(s);
+  sap::advanceNext(s);
+  if (s.next.swapped) sap::reportSwapped(s);
+  else sap::reportTouching(s);
   sap::keepHeadroom(s);
   // The arrays are now sorted by the current keys: remember them for the next update's events
   // (none come from a stale axis: the next update rebuilds). Nothing changed when coasting;

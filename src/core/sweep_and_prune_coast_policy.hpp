@@ -81,6 +81,8 @@ class CoastPolicy {
       if (!(coast_updates_ > 0.0 && update >= retry_at_)) return Step::kResort;
       lead_ = coast_updates_;
       unjudged_ = 1 + kProbationRuns;  // the run starts here, on probation
+      settled_ = false;
+      expected_run_ = longestRun();
       return Step::kEnlargeAll;
     }
     // A run lasts at most 4 coast_updates updates (coast_updates on probation): then everybody
@@ -123,9 +125,55 @@ class CoastPolicy {
     std::int64_t estimated_swaps = -1; ///< swaps it estimated from the new keys (-1: none)
     std::size_t pairs = 0;             ///< pairs of given bounds at the last report
   };
-  /// Everybody was enlarged at `update` and re-sorted: ends the run under way (judging it,
-  /// unless it is the first since coasting started) and starts the next with that work.
-  void enlargedAll(std::uint32_t update, const Resort& r);
+  /// Everybody was enlarged at `update` and re-sorted, at once or by the next arrays swapped
+  /// in: ends the run under way (judging it, unless it is the first since coasting started)
+  /// and starts the next with that work. A judged run that ended at once sets how long the next
+  /// runs are expected to last; one ended early by a swap, before its proxies left their
+  /// bounds, lengthens that by an update (runs after a swap last as long as after everybody
+  /// enlarged at once: the next bounds hold the lead past the swap).
+  /// How a run ended: everybody enlarged at once; or the next arrays swapped in when the run
+  /// ended (many left their bounds, or its longest) or before (when it was expected to end).
+  enum class End : std::uint8_t { kAtOnce, kSpreadAtEnd, kSpreadEarly };
+  void enlargedAll(std::uint32_t update, const Resort& r, End end = End::kAtOnce);
+
+  /// Judged runs last at most this many updates (4 coast_updates).
+  std::uint32_t longestRun() const {
+    return static_cast<std::uint32_t>(std::max(2.0, std::min(1e6, 4.0 * coast_updates_)));
+  }
+  /// The next arrays (sweep_and_prune_next.hpp): true when a build spread over `slices`
+  /// updates is due to start at `update`, so that it is swapped in the update before the run
+  /// under way is expected to end (as long as the last judged run that ended at once, at first
+  /// the longest). Never while coasting is off, on probation, in its first judged run, or in
+  /// the update of an enlargement of everybody. (In the first long run the drifting boxes
+  /// still leave their bounds by the hundred per update while their drift is learnt: +-0.5 %
+  /// jitter, N = 10 000, 76-125 per update; a build on top of them made the dearest updates.)
+  bool nextDue(std::uint32_t update, std::uint32_t slices) const {
+    if (lead_ <= 0.0 || unjudged_ > 0 || !settled_ || slices == 0 || update <= last_global_) return false;
+    return update + slices + 1 >= last_global_ + expected_run_;
+  }
+  /// Runs shorter than this end at once. Steady motion of 1-5 % of the box size per update
+  /// ends its runs every 7-9 updates (everybody leaves together): a build squeezed into 4-6
+  /// updates fell behind the proxies leaving (their run then ended at once anyway), and its
+  /// means were 1.3-1.5 times those of runs ended at once (bench/results/NOTES.md section 21).
+  /// Tracker jitter around rest or a slow drift makes runs of 32 updates.
+  static constexpr std::uint32_t kMinSpreadRun = 16;
+  /// Updates a build may take, at most `spread`: it starts after an enlargement of everybody
+  /// (or a swap) and is swapped in the update before the next run is expected to end, so all
+  /// but the updates next to the run's ends carry a slice. (Builds over fewer than half of a
+  /// run's updates kept the median update free of them, but their slices were twice as dear:
+  /// p99 2.7-3.9 times the median at +-0.5-5 % jitter, against 1.4-2.0 spread over the whole
+  /// run, whose medians are 1.5-1.7 times as high and means 5-15 % higher; bench/results/
+  /// NOTES.md section 21.) 0: runs too short to spread their end.
+  std::uint32_t nextSlices(std::uint32_t spread) const {
+    if (expected_run_ < kMinSpreadRun) return 0;
+    return std::min(spread, expected_run_ - 3);
+  }
+  /// The update that swaps in a build started at `update` over `slices` updates.
+  std::uint32_t nextSwapAt(std::uint32_t update, std::uint32_t slices) const {
+    return std::max(update + slices, last_global_ + expected_run_ - 1);
+  }
+  /// Updates the run under way is expected to last.
+  std::uint32_t expectedRun() const { return expected_run_; }
 
   /// Work of the run under way: `candidates` scanned on their given bounds (while coasting);
   /// `escapers` moved alone with `swaps` swaps.
@@ -155,6 +203,9 @@ class CoastPolicy {
   std::uint32_t last_global_ = 0;            // update of the last enlargement of everybody
   std::uint32_t retry_at_ = 0;               // coasting off: the update that tries it again
   std::uint32_t backoff_ = kFirstBackoff;    // updates it stays off after failing
+  std::uint32_t expected_run_ = longestRun(); // length of the last judged run ended at once
+  double swaps_per_update_ = 0.0;             // its motion's estimated swaps per update
+  bool settled_ = false;                      // a judged run ended since coasting started
   double run_work_ = 0.0;                    // work of the coasting run under way
   // Enlargements of everybody before runs are judged: the first starts coasting's first run,
   // the next kProbationRuns end runs on probation, unjudged.

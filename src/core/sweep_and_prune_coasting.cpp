@@ -8,6 +8,10 @@ namespace workspace_proximity {
 namespace sap {
 
 void enlarge(State& s, ProxyId id, double lead) {
+  s.setFat(s.info[static_cast<std::size_t>(id)], enlargeInto(s, id, lead, s.ends, 0.0));
+}
+
+bool enlargeInto(State& s, ProxyId id, double lead, std::vector<std::uint64_t>* ends, double ahead) {
   // Lead ahead of each side that moved outward since the last enlargement: `lead` updates of
   // its displacement per update; behind it (and on a side that moved inward) one update's, so
   // that a body that turns or stops does not leave at once. A side that did not move gets no
@@ -20,13 +24,12 @@ void enlarge(State& s, ProxyId id, double lead) {
   info.enlarged_at = s.updates;
   if (!(lead > 0.0)) {
     for (int axis = 0; axis < 3; ++axis) {
-      std::uint64_t* e = s.ends[axis].data() + o;
+      std::uint64_t* e = ends[axis].data() + o;
       e[0] = b[2 * axis] = t[2 * axis];
       e[1] = b[2 * axis + 1] = t[2 * axis + 1];
       s.max_width[axis] = std::max(s.max_width[axis], unsortable64(e[1]) - unsortable64(e[0]));
     }
-    s.setFat(info, false);
-    return;
+    return false;
   }
   double lo[3], hi[3], extent = 0.0;
   for (int axis = 0; axis < 3; ++axis) {
@@ -106,33 +109,51 @@ void enlarge(State& s, ProxyId id, double lead) {
     const double d_lo = beyond((lo[axis] - unsortable64(b[2 * axis])) * per_update);
     const double d_hi = beyond((hi[axis] - unsortable64(b[2 * axis + 1])) * per_update);
     double below, above;
-    CoastPolicy::room(d_lo, d_hi, lead, cap, &below, &above);
+    CoastPolicy::room(d_lo, d_hi, lead + ahead, cap, &below, &above);
     // A slow drift under the jitter leads as a steady motion does, and further, up to a whole
     // run's drift (4 leads), by at most the jitter's room again: otherwise drifting boxes
     // leave their bounds one by one all through each run, and each costs a search and swaps.
     // (A steady motion has no jitter: its lead is as before.)
     const double v = static_cast<double>(m.drift[axis]);
-    const double ahead =
+    const double drift_room = ahead * std::abs(v) +
         std::min(4.0 * lead * std::abs(v), lead * std::abs(v) + kJitterRoom * jitter);
-    below = std::max(below, std::min(cap, v < 0.0 ? ahead : 0.0));
-    above = std::max(above, std::min(cap, v > 0.0 ? ahead : 0.0));
+    below = std::max(below, std::min(cap, v < 0.0 ? drift_room : 0.0));
+    above = std::max(above, std::min(cap, v > 0.0 ? drift_room : 0.0));
     below = std::min(cap, (below > 0.0 ? below : 0.0) + kJitterRoom * jitter);
     above = std::min(cap, (above > 0.0 ? above : 0.0) + kJitterRoom * jitter);
+    // The next arrays' bounds (ahead > 0) take over `ahead` updates from now: their room
+    // ahead of a moving side (and of the drift) is what it would be then plus the motion until
+    // then, and a side moving inward starts where it will be one update before then (the
+    // current bounds cover it until then). A side that moves less is outside at the swap and
+    // moves alone then.
+    double lo_from = lo[axis], hi_from = hi[axis];
+    std::uint64_t lo_key = t[2 * axis], hi_key = t[2 * axis + 1];
+    const double trim = ahead - 1.0;
+    if (trim > 0.0) {
+      const double lo_t = d_lo > 0.0 ? lo_from + trim * d_lo : lo_from;
+      const double hi_t = d_hi < 0.0 ? hi_from + trim * d_hi : hi_from;
+      if (std::isfinite(lo_t) && std::isfinite(hi_t) && lo_t <= hi_t) {
+        lo_from = lo_t;
+        hi_from = hi_t;
+        lo_key = lower64(lo_from);
+        hi_key = upper64(hi_from);
+      }
+    }
     // Not a number: no room on that side. Finite: keys of infinities read back as NaN.
     constexpr double kMax = std::numeric_limits<double>::max();
-    const double lo_e = std::max(-kMax, lo[axis] - (below > 0.0 ? below : 0.0));
-    const double hi_e = std::min(kMax, hi[axis] + (above > 0.0 ? above : 0.0));
-    std::uint64_t* e = s.ends[axis].data() + o;
+    const double lo_e = std::max(-kMax, lo_from - (below > 0.0 ? below : 0.0));
+    const double hi_e = std::min(kMax, hi_from + (above > 0.0 ? above : 0.0));
+    std::uint64_t* e = ends[axis].data() + o;
     // Outward of the given keys whatever the rounding of the subtraction above.
-    e[0] = std::min(t[2 * axis], lower64(lo_e));
-    e[1] = std::max(t[2 * axis + 1], upper64(hi_e));
+    e[0] = std::min(lo_key, lower64(lo_e));
+    e[1] = std::max(hi_key, upper64(hi_e));
     fat |= (e[0] != t[2 * axis]) | (e[1] != t[2 * axis + 1]);
     // (Widths only bound the windows of insertions, which allow for rounding.)
     s.max_width[axis] = std::max(s.max_width[axis], hi_e - lo_e);
     b[2 * axis] = t[2 * axis];
     b[2 * axis + 1] = t[2 * axis + 1];
   }
-  s.setFat(info, fat);
+  return fat;
 }
 
 void enlargeAll(State& s, double lead) {

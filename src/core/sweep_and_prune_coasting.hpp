@@ -6,6 +6,7 @@
 /// CoastPolicy's (sweep_and_prune_coast_policy.hpp).
 
 #include <cstdint>
+#include <vector>
 
 #include "sweep_and_prune_state.hpp"
 #include "workspace_proximity/aabb.hpp"
@@ -39,6 +40,14 @@ inline bool insideEnlarged(const State& s, ProxyId id, bool* equal) {
 /// New enlarged bounds from the given ones, with `lead` (CoastPolicy::room; 0: the given
 /// bounds themselves).
 void enlarge(State& s, ProxyId id, double lead);
+/// The same into `ends` (three arrays by endpoint code, as State::ends: the next arrays' while
+/// they are built); returns whether they differ from the given bounds. Everything else it
+/// learns (base, motion, enlarged_at, max_width) is the proxy's own, as in enlarge().
+/// `ahead` (the next arrays: the updates until they are swapped in; 0 otherwise): the room is
+/// what it would be then plus the motion until then, and a side moving inward starts
+/// `ahead` - 1 updates of its displacement on (the bounds may then leave out the given ones of
+/// now).
+bool enlargeInto(State& s, ProxyId id, double lead, std::vector<std::uint64_t>* ends, double ahead);
 /// The same for every live proxy.
 void enlargeAll(State& s, double lead);
 /// Coasting off: true when more than a quarter of the live proxies would leave bounds

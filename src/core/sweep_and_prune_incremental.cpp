@@ -9,16 +9,17 @@ namespace workspace_proximity {
 namespace sap {
 namespace {
 
-// The swaps an insertion sort of `axis` would make, estimated from its keys (just read).
-std::int64_t estimateSwaps(const State& s, int axis) {
+}  // namespace
+
+std::int64_t estimateSwapsOf(const std::vector<std::uint64_t>& keys) {
   // Insertion sort's swaps are the inversions of the keys just read against the array's order:
   // the sum over d >= 1 of the endpoints whose key is below the one d places before. Counted at
   // d = 1, 2, 4, ..., 64 for every 4th endpoint (about 1 000 endpoints on large axes); the
   // count at d = 2^j stands for the 2^(j-1) distances in (2^(j-1), 2^j]. Measured on the
   // uniform scenes this gives 75-93 % of the swaps at up to 10 swaps per endpoint, hence the
   // 5/4 (larger motion: an underestimate of a large number).
-  const std::uint64_t* key = s.keys[axis].data();
-  const std::size_t last = s.keys[axis].size() - 1;
+  const std::uint64_t* key = keys.data();
+  const std::size_t last = keys.size() - 1;
   const std::size_t stride = std::max<std::size_t>(4, last / 1024);
   std::int64_t below[7] = {0, 0, 0, 0, 0, 0, 0};
   for (std::size_t i = 2; i < last; i += stride) {
@@ -32,6 +33,11 @@ std::int64_t estimateSwaps(const State& s, int axis) {
   for (int j = 1; j < 7; ++j) sampled += below[j] << (j - 1);
   return 5 * static_cast<std::int64_t>(stride) * sampled / 4;
 }
+
+namespace {
+
+// The swaps an insertion sort of `axis` would make, estimated from its keys (just read).
+std::int64_t estimateSwaps(const State& s, int axis) { return estimateSwapsOf(s.keys[axis]); }
 
 std::size_t findBreaks(State& s, int axis, bool refresh) {
   // Without branches: read the current keys (if asked) and list the positions where the order

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace workspace_proximity {
 namespace sap {
@@ -24,6 +25,10 @@ void refreshAxis(State& s, int axis);
 /// Reads the keys of the axes in order and estimates the swaps of an insertion sort of all
 /// (after a streak rebuild: of the sweep axis alone, scaled by its last share).
 std::int64_t estimateAllSwaps(State& s);
+
+/// The swaps an insertion sort of one endpoint array would make, estimated from its keys (a
+/// sample of the inversions at distances 1 to 64).
+std::int64_t estimateSwapsOf(const std::vector<std::uint64_t>& keys);
 
 /// Gives the escapers (the few proxies that left their enlarged bounds) new enlarged bounds
 /// and moves their endpoints alone, with pair events; returns the swaps.

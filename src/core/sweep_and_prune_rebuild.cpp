@@ -47,17 +47,6 @@ inline Lanes4 candidates(const ActiveSet& set, std::size_t j, const ProbeLanes& 
   return valid & ~apart;
 }
 
-// Slabs of a second axis for a slab sweep; count 0: not worth it.
-struct SlabGrid {
-  int axis = -1;
-  double lo = 0.0, scale = 0.0;  // slab of x: (x - lo) * scale
-  std::size_t count = 0;
-  std::uint32_t slabOf(std::uint64_t key) const {
-    const double x = (unsortable64(key) - lo) * scale;
-    return static_cast<std::uint32_t>(std::clamp(x, 0.0, static_cast<double>(count - 1)));
-  }
-};
-
 void sortAxisFully(State& s, int axis) { sortEndpoints(&s.keys[axis], &s.owners[axis], &s.sort); }
 
 std::int64_t sweepTests(const State& s, int axis) {
@@ -96,6 +85,12 @@ void measureWidths(State& s, double* mean_width) {
 
 // Out of line: the sweep's kernel (testOpen) stays small enough to inline into the sweeps.
 __attribute__((noinline)) void foundPair(State& s, std::int32_t a, std::int32_t b, bool rebuild) {
+  if (s.filling_next) {
+    // The next arrays' sweep (sweep_and_prune_next): their candidates are listed, then put
+    // in their own table; nothing begins or ends until they are swapped in.
+    s.next.found.push_back(a < b ? BroadPair{a, b, 0, 0} : BroadPair{b, a, 0, 0});
+    return;
+  }
   if (!rebuild) {
     s.beginPair(a, b);
     return;
@@ -156,24 +151,26 @@ inline void close(State& s, ActiveSet& set, std::int32_t p) {
   if (moved >= 0) active_pos[moved] = static_cast<std::int32_t>(pos);
 }
 
-void sweepForPairs(State& s, int axis, bool only_new) {
-  // One sweep along `axis` with sets of open intervals. With only_new, old proxies are tested
-  // only against new ones, so an insertion costs O(n + k * overlaps); otherwise every pair is
-  // found and stamped (rebuild).
+void sweepPositions(State& s, int axis, bool only_new, std::size_t from, std::size_t to) {
+  // One sweep along `axis` with sets of open intervals, over the endpoint positions [from, to)
+  // (the sets persist between calls; the first call starts at 1). With only_new, old proxies
+  // are tested only against new ones, so an insertion costs O(n + k * overlaps); otherwise
+  // every pair is found and stamped (rebuild).
   const int axis_b = (axis + 1) % 3, axis_c = (axis + 2) % 3;
   const std::uint32_t* owner = s.owners[axis].data();
-  const std::size_t last = s.owners[axis].size() - 1;
   const std::uint64_t* eb = s.ends[axis_b].data();
   const std::uint64_t* ec = s.ends[axis_c].data();
   ActiveSet& active = s.sweep.active;
   ActiveSet& active_new = s.sweep.active_new;
-  active.reserve(s.reserved_slots);
-  active_new.reserve(s.reserved_slots);
-  active.clear();
-  active_new.clear();
+  if (from <= 1) {
+    active.reserve(s.reserved_slots);
+    active_new.reserve(s.reserved_slots);
+    active.clear();
+    active_new.clear();
+  }
   active.keys_b = active_new.keys_b = eb;
   active.keys_c = active_new.keys_c = ec;
-  for (std::size_t i = 1; i < last; ++i) {
+  for (std::size_t i = std::max<std::size_t>(from, 1); i < to; ++i) {
     const std::uint32_t o = owner[i];
     const std::int32_t p = static_cast<std::int32_t>(o >> 1);
     const bool p_new = only_new && s.info[p].is_new;
@@ -187,6 +184,10 @@ void sweepForPairs(State& s, int axis, bool only_new) {
     testOpen<false>(s, active_new, p, k, true, !only_new);
     open(s, set, p, k, false);
   }
+}
+
+void sweepForPairs(State& s, int axis, bool only_new) {
+  sweepPositions(s, axis, only_new, 1, s.owners[axis].size() - 1);
 }
 
 SlabGrid slabGrid(const State& s, int axis, const double* mean_width) {
@@ -255,8 +256,9 @@ bool binIntoSlabs(State& s, int axis, const SlabGrid& grid) {
   return true;
 }
 
-std::int64_t sweepEachSlab(State& s, int axis, const SlabGrid& grid, bool rebuild) {
-  // Returns the overlap tests done.
+std::int64_t sweepSlabRange(State& s, int axis, const SlabGrid& grid, bool rebuild,
+                            std::size_t from, std::size_t to) {
+  // Slabs [from, to); returns the overlap tests done.
   const int b = grid.axis, c = 3 - axis - grid.axis;
   const std::uint64_t* eb = s.ends[b].data();
   const std::uint64_t* ec = s.ends[c].data();
@@ -268,7 +270,7 @@ std::int64_t sweepEachSlab(State& s, int axis, const SlabGrid& grid, bool rebuil
   ActiveSet& set = s.sweep.active;
   set.keys_b = eb;
   set.keys_c = ec;
-  for (std::size_t slab_index = 0; slab_index < grid.count; ++slab_index) {
+  for (std::size_t slab_index = from; slab_index < to; ++slab_index) {
     set.clear();
     const std::uint32_t slab = static_cast<std::uint32_t>(slab_index);
     for (std::size_t i = slab_start[slab_index], end = slab_start[slab_index + 1]; i < end; ++i) {
@@ -297,7 +299,7 @@ bool sweepSlabs(State& s, int axis, const double* mean_width, bool rebuild) {
   // goes into every slab it overlaps; a pair is reported in one slab only.
   const SlabGrid grid = slabGrid(s, axis, mean_width);
   if (grid.count == 0 || !binIntoSlabs(s, axis, grid)) return false;
-  s.sweep_tests = sweepEachSlab(s, axis, grid, rebuild);
+  s.sweep_tests = sweepSlabRange(s, axis, grid, rebuild, 0, grid.count);
   return true;
 }
 
@@ -384,6 +386,41 @@ void findPairs(State& s, int axis, std::int64_t tests, SweepMode mode) {
     if (sweepSlabs(s, axis, s.mean_width, mode == SweepMode::kRebuild)) return;
   }
   sweepForPairs(s, axis, mode != SweepMode::kRebuild);
+}
+
+void beginSweep(State& s, int axis, std::int64_t tests, SweepCursor* c) {
+  // As findPairs() chooses for a rebuild: slabs when a plain sweep would test each proxy
+  // against many open intervals (and the boxes fit the slab lists).
+  c->axis = axis;
+  c->pos = 0;
+  c->grid = SlabGrid();
+  if (tests >= kSlabTestsPerProxy * s.live_count) {
+    // (measureWidths makes max_width exact for the bounds it reads, the next ones: the live
+    // bounds stay in the arrays until the swap, and insertions read their widest.)
+    const double widest[3] = {s.max_width[0], s.max_width[1], s.max_width[2]};
+    measureWidths(s, s.mean_width);
+    for (int axis_k = 0; axis_k < 3; ++axis_k) s.max_width[axis_k] = std::max(s.max_width[axis_k], widest[axis_k]);
+    const SlabGrid grid = slabGrid(s, axis, s.mean_width);
+    if (grid.count > 0 && binIntoSlabs(s, axis, grid)) c->grid = grid;
+  }
+  c->end = c->grid.count > 0 ? c->grid.count : s.owners[axis].size() - 1;
+  if (c->grid.count == 0) c->pos = 1;
+}
+
+bool sweepOn(State& s, SweepCursor* c, std::size_t endpoints) {
+  if (c->grid.count > 0) {
+    // Whole slabs, until about `endpoints` endpoints were swept.
+    const std::size_t* start = s.sweep.slab_start.data();
+    std::size_t to = c->pos;
+    while (to < c->end && (to == c->pos || start[to] - start[c->pos] < endpoints)) ++to;
+    sweepSlabRange(s, c->axis, c->grid, true, c->pos, to);
+    c->pos = to;
+  } else {
+    const std::size_t to = std::min(c->end, c->pos + std::max<std::size_t>(endpoints, 1));
+    sweepPositions(s, c->axis, false, c->pos, to);
+    c->pos = to;
+  }
+  return c->pos >= c->end;
 }
 
 }  // namespace sap

@@ -4,6 +4,7 @@
 /// slabs of a second axis when there are many bodies), and diff the new pair set against the
 /// old one. The same sweeps find the pairs of inserted proxies (sweep_and_prune_insert).
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -61,6 +62,17 @@ struct ActiveSet {
   }
 };
 
+/// Slabs of a second axis for a slab sweep; count 0: not worth it.
+struct SlabGrid {
+  int axis = -1;
+  double lo = 0.0, scale = 0.0;  // slab of x: (x - lo) * scale
+  std::size_t count = 0;
+  std::uint32_t slabOf(std::uint64_t key) const {
+    const double x = (unsortable64(key) - lo) * scale;
+    return static_cast<std::uint32_t>(std::clamp(x, 0.0, static_cast<double>(count - 1)));
+  }
+};
+
 /// Scratch of the sweeps, kept between updates.
 struct SweepScratch {
   std::vector<std::uint32_t> slab_lo, slab_hi;  // slab sweep: per proxy, first and last slab
@@ -88,6 +100,22 @@ int cheapestSweepAxis(const State& s, std::int64_t* tests);
 /// Sweeps along `axis` for the pairs `mode` asks for (a slab sweep when a plain one would make
 /// `tests` overlap tests, at least 16 per proxy, and every pair is wanted).
 void findPairs(State& s, int axis, std::int64_t tests, SweepMode mode);
+
+/// A sweep for every pair done in slices over several updates (the next arrays,
+/// sweep_and_prune_next): where it is, along which axis, and its slabs (grid.count 0: a plain
+/// sweep over endpoint positions [pos, end)). The open sets and the slab lists stay in
+/// State::sweep between slices: nothing else may sweep meanwhile.
+struct SweepCursor {
+  int axis = 0;
+  SlabGrid grid;
+  std::size_t pos = 0, end = 0;  // next slab or endpoint position; one past the last
+};
+
+/// Starts a sliced sweep along `axis` for every pair (`tests`: a plain sweep's overlap tests,
+/// which choose a slab sweep as findPairs does).
+void beginSweep(State& s, int axis, std::int64_t tests, SweepCursor* c);
+/// Sweeps on by about `endpoints` endpoints (whole slabs, at least one); true when done.
+bool sweepOn(State& s, SweepCursor* c, std::size_t endpoints);
 
 }  // namespace sap
 }  // namespace workspace_proximity

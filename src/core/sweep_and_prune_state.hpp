@@ -7,6 +7,7 @@
 ///   sweep_and_prune_insert       batched insertion of new proxies
 ///   sweep_and_prune_coasting     enlarged bounds and the pairs of given bounds among them
 ///   sweep_and_prune_coast_policy coasting's decisions and cost model (a value class)
+///   sweep_and_prune_next         a run's end spread over several updates (the next arrays)
 /// sweep_and_prune.cpp holds the public class: it runs update() through these steps.
 
 #include <cstdint>
@@ -14,6 +15,7 @@
 
 #include "sweep_and_prune_coast_policy.hpp"
 #include "sweep_and_prune_keys.hpp"
+#include "sweep_and_prune_next.hpp"
 #include "sweep_and_prune_rebuild.hpp"
 #include "workspace_proximity/pair_table.hpp"
 #include "workspace_proximity/sweep_and_prune.hpp"
@@ -168,6 +170,10 @@ struct State {
   unsigned rebuilds_since_choice = 0;
   double mean_width[3] = {0.0, 0.0, 0.0};  // mean bound width per axis when last measured, m
   bool widths_due = true;                  // the next rebuild's slab sweep re-measures them
+
+  // A run's end spread over several updates: the next arrays, built beside these.
+  NextArrays next;
+  bool filling_next = false;  // the sweep runs on the next arrays: found pairs only go in
 
   // Scratch, kept between updates so steady-state updates allocate nothing.
   SortScratch sort;

@@ -160,6 +160,36 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
   }
   EXPECT_FALSE(large_enlarged);  // every retry in these 300 updates was postponed
   EXPECT_EQ(wp_test::allocationCount() - before_large, 0);
+
+  // Tracker jitter around rest and a slow drift, without churn (issue 26, the tail): coasting's
+  // runs are long, and their ends are spread over the updates before them (the next arrays
+  // built in slices, then swapped in): nothing allocated either, once warmed up.
+  wp::SweepAndPrune jitter(config);
+  std::vector<wp::SweepAndPrune::ProxyId> jitter_ids;
+  for (std::size_t i = 0; i < s.centre.size(); ++i) jitter_ids.push_back(jitter.createProxy(s.box(i)));
+  auto jitter_cycle = [&](int i) {
+    for (std::size_t k = 0; k < s.centre.size(); ++k) {
+      wp::Aabb b = s.box(k);
+      const Eigen::Vector3d drift = Eigen::Vector3d::Constant(k % 2 == 0 ? 0.0 : 0.002 * i);
+      const Eigen::Vector3d n = rng.vector(-0.01, 0.01);
+      b.lower += drift + n;
+      b.upper += drift + n;
+      jitter.moveProxy(jitter_ids[k], b);
+    }
+    jitter.update();
+  };
+  int i = 0;
+  for (; i < 150; ++i) jitter_cycle(i);
+  const long before_jitter = wp_test::allocationCount();
+  int building = 0, swapped = 0;
+  for (; i < 450; ++i) {
+    jitter_cycle(i);
+    building += jitter.stats().building_next;
+    swapped += jitter.stats().swapped_next;
+  }
+  EXPECT_GE(building, 100);
+  EXPECT_GE(swapped, 5);
+  EXPECT_EQ(wp_test::allocationCount() - before_jitter, 0);
 }
 
 TEST(Allocations, EventTrackerSteadyStateAllocatesNothing) {

@@ -818,6 +818,7 @@ struct DriftScene {
 // What the updates of a run did.
 struct CoastCounts {
   int updates = 0, coasted = 0, moved_alone = 0, enlarged_all = 0, rebuilt = 0;
+  int swapped = 0, building = 0;  // the next arrays swapped in; updates that built a slice
   int tight_candidates = 0;  // updates with no candidate beyond pairs()
 
   void add(const SweepAndPrune& sap) {
@@ -827,6 +828,8 @@ struct CoastCounts {
     moved_alone += s.escaped > 0 && !s.enlarged_all && !s.rebuilt;
     enlarged_all += s.enlarged_all;
     rebuilt += s.rebuilt;
+    swapped += s.swapped_next;
+    building += s.building_next;
     tight_candidates += s.candidates == static_cast<int>(sap.pairs().size());
     EXPECT_GE(s.candidates, static_cast<int>(sap.pairs().size()));
   }
@@ -854,12 +857,16 @@ TEST(SweepAndPrune, SteadyMotionCoastsBetweenEnlargementsAndEqualsBruteForce) {
       counts.add(h.sap());
     }
     std::printf("coast %.0f: %d updates, %d coasted, %d moved a few alone, %d enlarged all, "
-                "%d rebuilt\n", coast, counts.updates, counts.coasted, counts.moved_alone,
-                counts.enlarged_all, counts.rebuilt);
+                "%d rebuilt, %d next arrays swapped in\n", coast, counts.updates, counts.coasted,
+                counts.moved_alone, counts.enlarged_all, counts.rebuilt, counts.swapped);
     if (coast > 0.0) {
       EXPECT_GE(counts.coasted + counts.moved_alone, 55);
       EXPECT_LE(counts.enlarged_all, 20);
       EXPECT_GE(counts.enlarged_all, 5);
+      // Runs of a few updates (everybody leaves together) end at once: too short to spread
+      // (CoastPolicy::kMinSpreadRun).
+      EXPECT_EQ(counts.swapped, 0);
+      EXPECT_EQ(counts.building, 0);
     } else {
       EXPECT_EQ(counts.coasted, 0);
       EXPECT_EQ(counts.moved_alone, 0);
@@ -913,10 +920,11 @@ TEST(SweepAndPrune, TrackerJitterCoastsAndEqualsBruteForce) {
       if (cycle >= 10) counts.add(h.sap());
     }
     std::printf("jitter %d/256: %d updates, %d coasted, %d moved a few alone, %d enlarged all, "
-                "%d rebuilt\n", noise, counts.updates, counts.coasted, counts.moved_alone,
-                counts.enlarged_all, counts.rebuilt);
+                "%d rebuilt, %d next arrays swapped in\n", noise, counts.updates, counts.coasted,
+                counts.moved_alone, counts.enlarged_all, counts.rebuilt, counts.swapped);
     EXPECT_GE(counts.coasted + counts.moved_alone, 120);
-    EXPECT_LE(counts.enlarged_all, 12);
+    EXPECT_LE(counts.enlarged_all + counts.swapped, 12);
+    EXPECT_GE(counts.swapped, 2);
   }
 }
 
@@ -1132,6 +1140,122 @@ TEST(SweepAndPrune, InvalidCoastSettingsAreRejected) {
     cfg = SweepAndPruneConfig();
     cfg.max_lead_fraction = bad;
     EXPECT_THROW(SweepAndPrune{cfg}, std::invalid_argument);
+  }
+  for (int bad : {-1, 1025}) {
+    SweepAndPruneConfig cfg;
+    cfg.spread_updates = bad;
+    EXPECT_THROW(SweepAndPrune{cfg}, std::invalid_argument);
+  }
+}
+
+// Issue 26 (the tail): a coasting run's end spread over several updates (the next arrays,
+// built beside the current ones, then swapped in). Long runs are what spreads them: tracker
+// jitter around rest and a slow drift (as in TrackerJitterCoastsAndEqualsBruteForce), with
+// everything that can upset a build: boxes created and destroyed while it is under way (it is
+// abandoned), every box jumping (most are outside their next bounds at a swap: everybody is
+// enlarged at once instead), a few boxes jumping (they move alone after the swap), drifting
+// boxes stopping. Brute force after every update (pairs, began, ended, candidates = the pairs
+// of enlarged bounds); with spread_updates 0 nothing is built, and steady motion (runs of a few
+// updates) never builds. A swap that reported the next bounds' candidates as pairs, kept the
+// last update's began pairs, or skipped the proxies outside their next bounds fails here.
+TEST(SweepAndPrune, RunEndsSpreadOverUpdatesEqualBruteForce) {
+  for (int spread : {32, 8, 0}) {
+    SCOPED_TRACE(testing::Message() << "spread_updates " << spread);
+    Rng rng(260226 + spread);
+    std::uniform_int_distribution<int> pick(0, 399);
+    std::uniform_int_distribution<int> offset(-4, 4);  // jitter, in 1/512 m
+    SweepAndPruneConfig cfg;
+    cfg.spread_updates = spread;
+    Harness h(cfg, true);
+    DriftScene scene(400, rng, h);
+    for (std::size_t i = 0; i < scene.velocity.size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        scene.velocity[i][k] = i % 2 == 0 ? 0.0 : (scene.velocity[i][k] > 0 ? 1 : -1) / 512.0;
+      }
+    }
+    h.updateAndCheck();
+    CoastCounts counts;
+    int swaps_with_escapers = 0, swaps_enlarging_all = 0, churn_while_building = 0;
+    bool was_building = false;
+    std::vector<int> extra;  // objects created by the churn, destroyed later
+    auto place = [&](std::size_t i) {
+      Aabb b;
+      for (int k = 0; k < 3; ++k) {
+        const double n = offset(rng) / 512.0;
+        b.lower[k] = scene.center[i][k] - scene.half[i][k] + n;
+        b.upper[k] = scene.center[i][k] + scene.half[i][k] + n;
+      }
+      h.move(scene.obj_of[i], b);
+    };
+    bool waiting = false;  // a build is done, waiting for its swap
+    bool few_jumped = false, all_jumped = false;
+    for (int cycle = 0; cycle < 900; ++cycle) {
+      // 0 jitter; 1 a few boxes jump while a build waits; 2 churn; 3 stops; 4 everybody jumps
+      // while a build waits (once); 5 jitter
+      const int phase = cycle < 200 ? 0 : cycle < 400 ? 1 : cycle < 520 ? 2 : cycle < 640 ? 3 : cycle < 760 ? 4 : 5;
+      const bool all_jump = phase == 4 && waiting && !all_jumped;
+      all_jumped |= all_jump;
+      for (std::size_t i = 0; i < scene.center.size(); ++i) {
+        Eigen::Vector3d& c = scene.center[i];
+        for (int k = 0; k < 3; ++k) {
+          c[k] += scene.velocity[i][k];
+          if (all_jump) c[k] += 0.25;
+          if (c[k] - scene.half[i][k] < 0.5 || c[k] + scene.half[i][k] > scene.side - 0.5) {
+            scene.velocity[i][k] = -scene.velocity[i][k];
+            c[k] = std::clamp(c[k], scene.half[i][k] + 0.5, scene.side - scene.half[i][k] - 0.5);
+            c[k] = std::round(512.0 * c[k]) / 512.0;
+          }
+        }
+        place(i);
+      }
+      if (phase == 1 && waiting && !few_jumped) {
+        few_jumped = true;  // once per build
+        for (int k = 0; k < 3; ++k) {
+          const std::size_t i = static_cast<std::size_t>(pick(rng));
+          scene.center[i] += Eigen::Vector3d(0.25, -0.25, 0.25);
+          for (int a = 0; a < 3; ++a) {
+            scene.center[i][a] = std::clamp(scene.center[i][a], scene.half[i][a] + 0.5,
+                                            scene.side - scene.half[i][a] - 0.5);
+          }
+          place(i);
+        }
+      }
+      if (phase == 2 && cycle % 7 == 3) {
+        churn_while_building += was_building;
+        if (extra.size() > 4) {
+          h.destroy(extra.front());
+          extra.erase(extra.begin());
+        }
+        const Eigen::Vector3d c = scene.center[static_cast<std::size_t>(pick(rng))];
+        extra.push_back(h.create(gridBox(c, Eigen::Vector3d(0.5, 0.5, 0.5))));
+      }
+      if (phase == 3 && cycle % 10 == 0) {
+        for (int k = 0; k < 40; ++k) scene.velocity[static_cast<std::size_t>(pick(rng))].setZero();
+      }
+      h.updateAndCheck();
+      if (::testing::Test::HasFatalFailure()) return;
+      counts.add(h.sap());
+      const auto& st = h.sap().stats();
+      swaps_with_escapers += st.swapped_next && st.escaped > 0 && !st.enlarged_all;
+      swaps_enlarging_all += st.swapped_next && st.enlarged_all;
+      waiting = (waiting || (was_building && !st.building_next)) && !st.swapped_next && !st.enlarged_all;
+      if (st.swapped_next) few_jumped = false;
+      was_building = st.building_next;
+    }
+    std::printf("spread %d: %d updates, %d building a slice, %d swapped in (%d moved some alone, "
+                "%d enlarged all), %d enlarged all at once, %d churns while building\n", spread,
+                counts.updates, counts.building, counts.swapped, swaps_with_escapers,
+                swaps_enlarging_all, counts.enlarged_all, churn_while_building);
+    if (spread == 0) {
+      EXPECT_EQ(counts.building, 0);
+      EXPECT_EQ(counts.swapped, 0);
+      continue;
+    }
+    EXPECT_GE(counts.swapped, 8);
+    EXPECT_GE(swaps_with_escapers, 2);
+    EXPECT_GE(swaps_enlarging_all, 1);
+    EXPECT_GE(churn_while_building, 1);
+    EXPECT_GE(counts.building, 100);
   }
 }
 

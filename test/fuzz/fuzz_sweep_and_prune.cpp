@@ -102,6 +102,10 @@ class Harness {
     c.rebuild_factor = wp_fuzz::pickByBits(factors, b, 4);
     static const double leads[] = {8.0, 0.0};  // coasting on (the default) or off
     c.coast_updates = wp_fuzz::pickByBits(leads, b, 7);
+    // The last factor (1.0 again) also shortens coasting's lead to 4 updates: its runs reach
+    // their longest (16 updates) within an input's updates, and their ends are then spread
+    // over the updates before them (the next arrays, issue 26).
+    if (((b >> 4) & 7) == 7 && c.coast_updates > 0.0) c.coast_updates = 4.0;
     return c;
   }
 

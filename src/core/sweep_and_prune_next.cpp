@@ -1,0 +1,396 @@
+#include "sweep_and_prune_next.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <utility>
+
+#include "sweep_and_prune_coasting.hpp"
+#include "sweep_and_prune_incremental.hpp"
+#include "sweep_and_prune_state.hpp"
+
+namespace workspace_proximity {
+namespace sap {
+namespace {
+
+using Stage = NextArrays::Stage;
+
+// Work units of a build's parts (about a nanosecond each on the benchmark machine, as
+// CoastPolicy's): one proxy enlarged; one endpoint copied and put in order on one axis (most
+// are in order already: the next bounds are near the current ones); one swap of that
+// insertion sort; one endpoint swept (its pairs found and inserted are counted apart).
+constexpr double kEnlargeUnits = 60.0;
+constexpr double kCopyUnits = 5.0;
+constexpr double kSortUnits = 2.0;
+constexpr double kSwapUnits = 2.0;
+constexpr double kSweepUnits = 16.0;
+constexpr double kRadixUnits = 6.0;  // per endpoint: a radix sort of one axis from scratch
+constexpr double kBeginSweepUnits = 20.0;  // per proxy: the widths and the slab lists
+constexpr double kListUnits = 3.0;   // per pair found: listed
+constexpr double kOrderUnits = 8.0;  // per pair found: counted and placed in proxy order
+
+// The arrays of the build and the current ones trade places (vectors and tables swap their
+// buffers: no copy, no allocation), so that the sweep kernel runs on the next arrays as on the
+// current ones.
+void exchange(State& s) {
+  NextArrays& n = s.next;
+  for (int axis = 0; axis < 3; ++axis) {
+    s.ends[axis].swap(n.ends[axis]);
+    s.keys[axis].swap(n.keys[axis]);
+    s.owners[axis].swap(n.owners[axis]);
+  }
+  std::swap(s.cands, n.cands);
+}
+
+// A step that cannot be cut (a radix sort, the sweep's start, the table's order) waits for the
+// next slice when less than its share of this one is left, unless the build is late (the swap
+// two updates off or less).
+bool waitForSlice(const State& s, double budget, double full) {
+  return budget < 0.75 * full && s.next.swap_at > s.updates + 2;
+}
+
+void start(State& s) {
+  NextArrays& n = s.next;
+  const std::uint32_t slices = s.coast.nextSlices(static_cast<std::uint32_t>(s.config.spread_updates));
+  n.started = s.updates;
+  n.swap_at = s.coast.nextSwapAt(s.updates, slices);
+  n.stage = Stage::kEnlarge;
+  n.cursor = 0;
+  n.axis = 0;
+  n.sort_swaps = 0;
+  n.jump_swaps = 0;
+  n.radix = false;
+  for (int axis = 0; axis < 3; ++axis) n.ends[axis].resize(s.ends[axis].size());
+  // Its work, spread over the updates before the one that swaps it in (the last of them has
+  // less to do: a margin for a sort that swaps more than estimated).
+  const double live = static_cast<double>(s.live_count);
+  const double work = kEnlargeUnits * live + 3.0 * (kCopyUnits + kSortUnits) * 2.0 * live +
+                      kSweepUnits * 2.0 * live + kBeginSweepUnits * live + kCopyUnits * live +
+                      (kListUnits + kOrderUnits + CoastPolicy::kFoundWork) *
+                          static_cast<double>(s.cands.size());
+  const double updates = std::max(1.0, static_cast<double>(n.swap_at - s.updates) - 1.0);
+  n.budget = 1.25 * work / updates;
+}
+
+// Next bounds for the slots from the cursor on, within `budget`; returns what is left of it.
+double enlargeSome(State& s, double budget) {
+  NextArrays& n = s.next;
+  // Each proxy's lead grows by the updates until the swap: after it, its bounds then hold as
+  // long as bounds enlarged at the swap would; a side moving inward starts where it will be
+  // then (trim), so that the room it passes through before the swap is not carried after it.
+  const double until_swap = static_cast<double>(n.swap_at - s.updates);
+  const std::size_t slots = s.info.size();
+  while (n.cursor < slots && budget > 0.0) {
+    const std::size_t p = n.cursor++;
+    if (s.info[p].state != ProxyState::kLive) continue;
+    enlargeInto(s, static_cast<ProxyId>(p), s.coast.lead(), n.ends, until_swap);
+    budget -= kEnlargeUnits;
+  }
+  if (n.cursor >= slots) {
+    n.stage = Stage::kSort;
+    n.axis = 0;
+    n.cursor = 0;
+  }
+  return budget;
+}
+
+// The endpoint arrays of the next bounds, axis after axis: the current order with the next
+// keys (nearly in order), then insertion sort without pair events, a slice at a time; or, when
+// the swaps estimated from those keys would cost more than sorting from scratch (large motion
+// against the spacing of the endpoints: +-5 % jitter at N = 10 000 made 450 000 swaps per axis),
+// a radix sort in a slice of its own.
+double sortSome(State& s, double budget, double full) {
+  NextArrays& n = s.next;
+  while (n.stage == Stage::kSort && budget > 0.0) {
+    const int axis = n.axis;
+    std::vector<std::uint64_t>& keys = n.keys[axis];
+    std::vector<std::uint32_t>& owners = n.owners[axis];
+    const std::size_t size = s.owners[axis].size();
+    const std::size_t last = size - 1;  // high sentinel
+    bool done = false;
+    if (n.cursor == 0) {
+      owners.resize(size);
+      keys.resize(size);
+      std::memcpy(owners.data(), s.owners[axis].data(), size * sizeof(std::uint32_t));
+      const std::uint64_t* e = n.ends[axis].data();
+      keys[0] = kLowSentinel;
+      keys[last] = kHighSentinel;
+      for (std::size_t i = 1; i < last; ++i) keys[i] = e[owners[i]];
+      // The jump's swaps, estimated as for everybody enlarged at once (the run's judgement
+      // compares them with the scans and searches coasting cost; they also choose the sort).
+      const std::int64_t estimate = estimateSwapsOf(keys);
+      n.jump_swaps += estimate;
+      n.radix = kSwapUnits * static_cast<double>(estimate) > kRadixUnits * static_cast<double>(size);
+      n.cursor = 1;
+      budget -= kCopyUnits * static_cast<double>(size);
+      continue;
+    }
+    if (n.radix) {
+      if (waitForSlice(s, budget, full)) return 0.0;  // a slice of its own
+      sortEndpoints(&keys, &owners, &s.sort);
+      budget -= kRadixUnits * static_cast<double>(size);
+      done = true;
+    } else {
+      std::uint64_t* key = keys.data();
+      std::uint32_t* owner = owners.data();
+      // Positions [1, i) are in order; insert the next ones (the low sentinel stops each),
+      // within the slice's budget.
+      std::size_t i = n.cursor;
+      double used = 0.0;
+      for (; i < last && used < budget; ++i) {
+        used += kSortUnits;
+        const std::uint64_t k = key[i];
+        if (key[i - 1] <= k) continue;
+        const std::uint32_t o = owner[i];
+        std::size_t j = i;
+        do {
+          key[j] = key[j - 1];
+          owner[j] = owner[j - 1];
+          --j;
+        } while (key[j - 1] > k);
+        key[j] = k;
+        owner[j] = o;
+        used += kSwapUnits * static_cast<double>(i - j);
+        n.sort_swaps += static_cast<std::int64_t>(i - j);
+      }
+      budget -= used;
+      n.cursor = i;
+      done = i >= last;
+    }
+    if (done) {
+      n.cursor = 0;
+      if (++n.axis == 3) {
+        n.stage = Stage::kSweep;
+        n.sweep_begun = false;
+      }
+    }
+  }
+  return budget;
+}
+
+double sweepSome(State& s, double budget, double full) {
+  NextArrays& n = s.next;
+  if (!n.sweep_begun) {
+    // Its start (the widths, and the slab lists when it sweeps in slabs: passes over every
+    // proxy) opens a slice of its own.
+    if (waitForSlice(s, budget, full)) return 0.0;
+    n.found.clear();
+    exchange(s);
+    beginSweep(s, s.sweep_axis, s.plain_tests, &n.sweep);
+    exchange(s);
+    n.sweep_begun = true;
+    budget -= kBeginSweepUnits * static_cast<double>(s.live_count);
+    if (budget <= 0.0) return 0.0;
+  }
+  const double per_endpoint =
+      kSweepUnits + kListUnits * static_cast<double>(s.cands.size()) /
+                        std::max(1.0, 2.0 * static_cast<double>(s.live_count));
+  const std::size_t endpoints = static_cast<std::size_t>(budget / per_endpoint) + 1;
+  exchange(s);
+  s.filling_next = true;
+  const bool done = sweepOn(s, &n.sweep, endpoints);
+  s.filling_next = false;
+  exchange(s);
+  if (done) {
+    n.stage = Stage::kTable;
+    n.cursor = 0;
+  }
+  return 0.0;
+}
+
+// The table of the next candidates: those whose given bounds overlap now first, then the
+// others, each part in the order of its pairs' first proxy along the sweep axis. The scan of
+// every update (reportTouching) keeps a candidate when it touches: in the sweep's order that
+// branch goes either way at random (a third touch at +-5 % jitter) and the scan took 1.9 times
+// as long (97 against 51 us, N = 10 000), in this order it is predicted (bench/results/NOTES.md
+// section 21). A counting sort, then the insertions, a slice at a time.
+double tableSome(State& s, double budget, double full) {
+  NextArrays& n = s.next;
+  if (n.cursor == 0) {
+    if (waitForSlice(s, budget, full)) return 0.0;  // a slice of its own
+    const std::size_t slots = s.info.size();
+    // Each proxy's rank along the sweep axis (its lower endpoint's place).
+    std::vector<std::uint32_t>& rank = n.rank;
+    rank.resize(slots);
+    {
+      const std::vector<std::uint32_t>& owners = n.owners[s.sweep_axis];
+      std::uint32_t r = 0;
+      for (std::size_t i = 1, last = owners.size() - 1; i < last; ++i) {
+        if ((owners[i] & 1u) == 0u) rank[owners[i] >> 1] = r++;
+      }
+    }
+    const std::uint32_t others = static_cast<std::uint32_t>(slots);
+    auto key = [&rank, &s, others](const BroadPair& c) {
+      const std::uint32_t r = std::min(rank[static_cast<std::size_t>(c.proxy_a)],
+                                       rank[static_cast<std::size_t>(c.proxy_b)]);
+      return s.touching(c.proxy_a, c.proxy_b) ? r : others + r;
+    };
+    std::vector<std::uint32_t>& start = n.first_of;
+    start.assign(2 * slots + 1, 0);
+    for (const BroadPair& c : n.found) ++start[key(c) + 1];
+    for (std::size_t p = 0; p < 2 * slots; ++p) start[p + 1] += start[p];
+    n.ordered.resize(n.found.size());
+    for (const BroadPair& c : n.found) n.ordered[start[key(c)]++] = c;
+    n.cands.clear();
+    if (n.cands.capacity() < n.ordered.size()) n.cands.reserve(2 * n.ordered.size());
+    n.cursor = 1;
+    budget -= kOrderUnits * static_cast<double>(n.found.size()) + kCopyUnits * static_cast<double>(slots);
+  }
+  const std::size_t total = n.ordered.size();
+  std::size_t i = n.cursor - 1;
+  for (; i < total && budget > 0.0; ++i) {
+    n.cands.insert(n.ordered[i].proxy_a, n.ordered[i].proxy_b, nullptr);
+    budget -= CoastPolicy::kFoundWork;
+  }
+  n.cursor = i + 1;
+  if (i >= total) n.stage = Stage::kReady;
+  return budget;
+}
+
+}  // namespace
+
+void NextArrays::reserve(std::size_t slots) {
+  first_of.reserve(2 * slots + 1);
+  rank.reserve(slots);
+  for (int axis = 0; axis < 3; ++axis) {
+    ends[axis].reserve(2 * slots);
+    keys[axis].reserve(2 * slots + 2);
+    owners[axis].reserve(2 * slots + 2);
+  }
+}
+
+void advanceNext(State& s) {
+  NextArrays& n = s.next;
+  if (n.stage == Stage::kIdle) {
+    if (s.config.spread_updates <= 0 || s.live_count == 0 || s.anyStale() ||
+        !s.coast.nextDue(s.updates, s.coast.nextSlices(static_cast<std::uint32_t>(s.config.spread_updates)))) {
+      return;
+    }
+    start(s);
+  }
+  s.stats.building_next = n.stage != Stage::kReady;
+  double budget = n.budget;
+  while (budget > 0.0 && n.stage != Stage::kReady) {
+    switch (n.stage) {
+      case Stage::kEnlarge:
+        budget = enlargeSome(s, budget);
+        break;
+      case Stage::kSort:
+        budget = sortSome(s, budget, n.budget);
+        break;
+      case Stage::kSweep:
+        budget = sweepSome(s, budget, n.budget);
+        break;
+      case Stage::kTable:
+        budget = tableSome(s, budget, n.budget);
+        break;
+      case Stage::kIdle:
+      case Stage::kReady:
+        budget = 0.0;
+        break;
+    }
+  }
+}
+
+void abandonNext(State& s) { s.next.stage = Stage::kIdle; }
+
+bool nextReady(const State& s) { return s.next.stage == Stage::kReady; }
+
+bool swapInNext(State& s, bool run_over) {
+  NextArrays& n = s.next;
+  // The table swapped out keeps whether each pair touched at the last update (the report
+  // diffs against it).
+  validateFlags(s);
+  n.prev_exact = s.pairs_out == &s.exact;
+  exchange(s);
+  n.stage = Stage::kIdle;
+  n.swapped = true;
+  s.stats.swapped_next = true;
+  // The arrays are in the order of these keys: remember them for the pair events of later
+  // re-sorts.
+  for (int axis = 1; axis < 3; ++axis) {
+    s.prev_ends[axis].resize(s.ends[axis].size());
+    std::memcpy(s.prev_ends[axis].data(), s.ends[axis].data(), s.ends[axis].size() * sizeof(std::uint64_t));
+  }
+  // Who is outside its next bounds now (its motion outran the lead since its slice)? The
+  // escapers listed this update were measured against the bounds swapped out.
+  for (ProxyId id : s.escapers) s.info[static_cast<std::size_t>(id)].escaped = false;
+  s.escapers.clear();
+  for (std::size_t p = 0, slots = s.info.size(); p < slots; ++p) {
+    ProxyInfo& info = s.info[p];
+    if (info.state != ProxyState::kLive) continue;
+    bool equal = false;
+    const bool inside = insideEnlarged(s, static_cast<ProxyId>(p), &equal);
+    s.setFat(info, !equal);
+    if (!inside) {
+      info.escaped = true;
+      s.escapers.push_back(static_cast<ProxyId>(p));
+    }
+  }
+  s.stats.escaped = static_cast<int>(s.escapers.size());
+  bool resorted = false;
+  CoastPolicy::Resort r;
+  r.rebuilt = true;
+  // What re-sorting the given bounds would have cost without coasting: the swaps between the
+  // current order and the next bounds' (the motion of the run), estimated as for a jump.
+  r.estimated_swaps = n.jump_swaps;
+  if (!s.escapers.empty()) {
+    const std::size_t few = 1 + static_cast<std::size_t>(s.live_count) / 32;
+    if (s.escapers.size() <= few) {
+      const std::size_t swaps = moveEscapers(s);
+      s.coast.movedFew(s.escapers.size(), swaps);
+    } else {
+      // Many outran their leads (the motion changed during the build): everybody at once.
+      s.last_estimate = -1;
+      enlargeAll(s, s.coast.lead());
+      s.stats.enlarged_all = true;
+      resortAll(s);
+      r.swaps = s.stats.swaps;
+      r.rebuilt = s.stats.rebuilt;
+      r.estimated_swaps = std::max(n.jump_swaps, s.last_estimate);
+      resorted = true;
+    }
+  }
+  r.live = s.live_count;
+  r.candidates = static_cast<std::size_t>(s.cands.size());
+  r.sweep_tests = s.sweep_tests;
+  r.pairs = s.exact.size();
+  s.coast.enlargedAll(s.updates, r, run_over ? CoastPolicy::End::kSpreadAtEnd : CoastPolicy::End::kSpreadEarly);
+  return resorted;
+}
+
+void reportSwapped(State& s) {
+  NextArrays& n = s.next;
+  n.swapped = false;
+  // The last update's pairs: its exact list, or (no enlarged bounds then) every candidate of
+  // the table swapped out. Those whose given bounds no longer overlap ended. A pair whose
+  // given bounds overlap is a candidate of the new table (every proxy is inside its bounds
+  // now), so the new table's candidates give pairs() and, looked up in the old table, what
+  // began.
+  const BasicPairTable<BroadPair>& old = n.cands;
+  const std::vector<BroadPair>& prev = n.prev_exact ? s.exact : old.pairs();
+  s.began.clear();
+  s.ended.clear();
+  for (const BroadPair& c : prev) {
+    if (!s.touching(c.proxy_a, c.proxy_b)) s.ended.push_back(c);
+  }
+  s.exact.clear();
+  std::vector<Candidate>& dense = s.cands.mutablePairs();
+  for (Candidate& c : dense) {
+    const std::uint32_t now = s.touching(c.proxy_a, c.proxy_b) ? 1u : 0u;
+    c.touching = now;
+    if (now == 0) continue;
+    s.exact.push_back(c);
+    const BroadPair* was = old.find(c.proxy_a, c.proxy_b);
+    if (was == nullptr || was->touching == 0) s.began.push_back(c);
+  }
+  s.pairs_out = &s.exact;
+  s.began_out = &s.began;
+  s.ended_out = &s.ended;
+  s.flags_valid = true;
+  s.tight_last = s.fat_count == 0;
+  s.stats.candidates = static_cast<int>(dense.size());
+  s.coast.scanned(dense.size());
+}
+
+}  // namespace sap
+}  // namespace workspace_proximity
