@@ -49,6 +49,21 @@
 /// the lead is sized from the displacement beyond it (or from the averaged drift), so a box
 /// reported a little off around where it was stays inside its bounds and costs no sort work.
 ///
+/// Long runs (at least 16 updates: tracker jitter around rest or a slow drift, where runs last
+/// their longest, 4 coast_updates) end without a dear update: the next arrays are built over
+/// the updates before the run's expected end, a slice per update (each proxy's next enlarged
+/// bounds, with its lead grown by the updates left until the swap and a side moving inward
+/// starting where it will be then; the three endpoint arrays, sorted from the current order by
+/// insertion sort or radix sort; one sweep for their candidates, put in a table of their own
+/// with the pairs touching then first), beside the current arrays, which answer every update
+/// meanwhile. Then the two trade places; the proxies outside their next bounds by then move
+/// alone (or, when more than a few are, everybody is enlarged at once), and that update's
+/// began and ended pairs come from the given bounds against the last update's pairs. An
+/// insertion, a removal, or everybody enlarged at once abandons the build (the run then ends
+/// at once). Shorter runs (steady motion: everybody leaves together every 7-9 updates) end at
+/// once: a build squeezed into them costs more than it spreads. SweepAndPruneConfig::
+/// spread_updates bounds the slices (0: every run ends at once).
+///
 /// The state is private: flat arrays by proxy id behind one pointer, and one file pair per job
 /// in src/core/ (sweep_and_prune_state.hpp lists them).
 
@@ -84,7 +99,7 @@ struct SweepAndPruneConfig {
   /// update beside the current ones before the run is expected to end, then swapped in; fewer
   /// updates when runs are short); 0 enlarges everybody and re-sorts in one update, as the run
   /// ends.
-  int spread_updates = 32;
+  int spread_updates = 16;
 };
 
 /// Two proxies whose stored bounds overlap, with proxy_a < proxy_b.
@@ -109,6 +124,7 @@ struct SweepAndPruneStats {
   int candidates = 0;           ///< pairs of enlarged bounds (pairs() is a subset)
   bool building_next = false;   ///< a slice of the next arrays was built (spread_updates)
   bool swapped_next = false;    ///< the next arrays were swapped in (a spread run's end)
+  bool next_ready = false;      ///< the next arrays are built, waiting for their swap
 };
 
 class SweepAndPrune {

@@ -393,6 +393,7 @@ void SweepAndPrune::update() {
   sap::insertPending(s);
   if (sorted) s.last_rebuilt = s.stats.rebuilt;
   sap::advanceNext(s);
+  s.stats.next_ready = sap::nextReady(s);
   if (s.next.swapped) sap::reportSwapped(s);
   else sap::reportTouching(s);
   sap::keepHeadroom(s);

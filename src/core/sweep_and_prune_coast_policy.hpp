@@ -141,15 +141,15 @@ class CoastPolicy {
     return static_cast<std::uint32_t>(std::max(2.0, std::min(1e6, 4.0 * coast_updates_)));
   }
   /// The next arrays (sweep_and_prune_next.hpp): true when a build spread over `slices`
-  /// updates is due to start at `update`, so that it is swapped in the update before the run
-  /// under way is expected to end (as long as the last judged run that ended at once, at first
-  /// the longest). Never while coasting is off, on probation, in its first judged run, or in
+  /// updates is due to start at `update`, so that it is swapped in kSwapMargin updates before
+  /// the run under way is expected to end (as long as the last judged run that ended at once,
+  /// at first the longest). Never while coasting is off, on probation, in its first judged run, or in
   /// the update of an enlargement of everybody. (In the first long run the drifting boxes
   /// still leave their bounds by the hundred per update while their drift is learnt: +-0.5 %
   /// jitter, N = 10 000, 76-125 per update; a build on top of them made the dearest updates.)
   bool nextDue(std::uint32_t update, std::uint32_t slices) const {
     if (lead_ <= 0.0 || unjudged_ > 0 || !settled_ || slices == 0 || update <= last_global_) return false;
-    return update + slices + 1 >= last_global_ + expected_run_;
+    return update + slices + kSwapMargin >= last_global_ + expected_run_;
   }
   /// Runs shorter than this end at once. Steady motion of 1-5 % of the box size per update
   /// ends its runs every 7-9 updates (everybody leaves together): a build squeezed into 4-6
@@ -157,20 +157,21 @@ class CoastPolicy {
   /// means were 1.3-1.5 times those of runs ended at once (bench/results/NOTES.md section 21).
   /// Tracker jitter around rest or a slow drift makes runs of 32 updates.
   static constexpr std::uint32_t kMinSpreadRun = 16;
-  /// Updates a build may take, at most `spread`: it starts after an enlargement of everybody
-  /// (or a swap) and is swapped in the update before the next run is expected to end, so all
-  /// but the updates next to the run's ends carry a slice. (Builds over fewer than half of a
-  /// run's updates kept the median update free of them, but their slices were twice as dear:
-  /// p99 2.7-3.9 times the median at +-0.5-5 % jitter, against 1.4-2.0 spread over the whole
-  /// run, whose medians are 1.5-1.7 times as high and means 5-15 % higher; bench/results/
-  /// NOTES.md section 21.) 0: runs too short to spread their end.
+  /// A build is due to be swapped in this many updates before the run's expected end: one
+  /// that takes longer than estimated still has the updates between to be done and swapped
+  /// before the run ends (at its longest, or when its proxies leave their bounds).
+  static constexpr std::uint32_t kSwapMargin = 3;
+  /// Updates a build may take, at most `spread`: under half of a run's updates (at least 6),
+  /// so that most updates carry no slice: spread over the whole run (29 of 32 updates) the p99
+  /// was as high in microseconds, and the medians 1.5-1.7 times and the means 5-15 % higher
+  /// (bench/results/NOTES.md section 21). 0: runs too short to spread their end.
   std::uint32_t nextSlices(std::uint32_t spread) const {
     if (expected_run_ < kMinSpreadRun) return 0;
-    return std::min(spread, expected_run_ - 3);
+    return std::min({spread, expected_run_ - kSwapMargin - 2, std::max<std::uint32_t>(6, expected_run_ / 2 - 2)});
   }
   /// The update that swaps in a build started at `update` over `slices` updates.
   std::uint32_t nextSwapAt(std::uint32_t update, std::uint32_t slices) const {
-    return std::max(update + slices, last_global_ + expected_run_ - 1);
+    return std::max(update + slices, last_global_ + expected_run_ - kSwapMargin);
   }
   /// Updates the run under way is expected to last.
   std::uint32_t expectedRun() const { return expected_run_; }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace workspace_proximity {
 namespace sap {
@@ -103,12 +104,19 @@ void radixSortEndpoints(std::vector<std::uint64_t>& keys, std::vector<std::uint3
   owners.swap(tmp_owners);
 }
 
-void insertionSortEndpoints(std::vector<std::uint64_t>& keys, std::vector<std::uint32_t>& owners) {
+
+}  // namespace
+
+std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
+                              std::size_t from, std::int64_t max_work, std::int64_t* swaps) {
   // Plain insertion sort, no pair events.
-  std::uint64_t* key = keys.data();
-  std::uint32_t* owner = owners.data();
-  const std::size_t n = keys.size() - 2;
-  for (std::size_t i = 2; i <= n; ++i) {
+  std::uint64_t* key = keys->data();
+  std::uint32_t* owner = owners->data();
+  const std::size_t last = keys->size() - 1;  // the high sentinel
+  std::int64_t work = 0, moved = 0;
+  std::size_t i = std::max<std::size_t>(from, 1);
+  for (; i < last && work < max_work; ++i) {
+    ++work;
     const std::uint64_t k = key[i];
     if (key[i - 1] <= k) continue;
     const std::uint32_t o = owner[i];
@@ -120,10 +128,12 @@ void insertionSortEndpoints(std::vector<std::uint64_t>& keys, std::vector<std::u
     } while (key[j - 1] > k);
     key[j] = k;
     owner[j] = o;
+    work += static_cast<std::int64_t>(i - j);
+    moved += static_cast<std::int64_t>(i - j);
   }
+  *swaps += moved;
+  return i;
 }
-
-}  // namespace
 
 void SortScratch::reserve(std::size_t slots) {
   items.reserve(2 * slots);
@@ -135,7 +145,8 @@ void SortScratch::reserve(std::size_t slots) {
 void sortEndpoints(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
                    SortScratch* scratch) {
   radixSortEndpoints(*keys, *owners, *scratch);
-  insertionSortEndpoints(*keys, *owners);
+  std::int64_t swaps = 0;
+  insertionSortFrom(keys, owners, 1, std::numeric_limits<std::int64_t>::max(), &swaps);
 }
 
 }  // namespace sap

@@ -6,6 +6,7 @@
 /// two parallel arrays, keys and owners (owner = proxy << 1 | is_upper), with a sentinel at
 /// each end: key 0 first, all ones last.
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -55,6 +56,13 @@ struct SortScratch {
   std::vector<std::uint32_t> tmp_owners;
   void reserve(std::size_t slots);
 };
+
+/// Insertion sort without pair events of one endpoint array (sentinels in place) from position
+/// `from` on, the positions before it in order already: stops at the high sentinel or once
+/// `max_work` positions and swaps are done. Returns the next position to insert; adds the
+/// swaps to *swaps. (Resumable: the next arrays sort a slice at a time.)
+std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
+                              std::size_t from, std::int64_t max_work, std::int64_t* swaps);
 
 /// Sorts one axis' endpoint array (sentinels in place) from scratch: radix sort by the 32
 /// most significant bits that vary over the axis, then an insertion pass for the endpoints

@@ -68,7 +68,7 @@ void start(State& s) {
                       (kListUnits + kOrderUnits + CoastPolicy::kFoundWork) *
                           static_cast<double>(s.cands.size());
   const double updates = std::max(1.0, static_cast<double>(n.swap_at - s.updates) - 1.0);
-  n.budget = 1.25 * work / updates;
+  n.budget = 1.05 * work / updates;
 }
 
 // Next bounds for the slots from the cursor on, within `budget`; returns what is left of it.
@@ -130,31 +130,14 @@ double sortSome(State& s, double budget, double full) {
       budget -= kRadixUnits * static_cast<double>(size);
       done = true;
     } else {
-      std::uint64_t* key = keys.data();
-      std::uint32_t* owner = owners.data();
-      // Positions [1, i) are in order; insert the next ones (the low sentinel stops each),
-      // within the slice's budget.
-      std::size_t i = n.cursor;
-      double used = 0.0;
-      for (; i < last && used < budget; ++i) {
-        used += kSortUnits;
-        const std::uint64_t k = key[i];
-        if (key[i - 1] <= k) continue;
-        const std::uint32_t o = owner[i];
-        std::size_t j = i;
-        do {
-          key[j] = key[j - 1];
-          owner[j] = owner[j - 1];
-          --j;
-        } while (key[j - 1] > k);
-        key[j] = k;
-        owner[j] = o;
-        used += kSwapUnits * static_cast<double>(i - j);
-        n.sort_swaps += static_cast<std::int64_t>(i - j);
-      }
-      budget -= used;
-      n.cursor = i;
-      done = i >= last;
+      // Within the slice's budget (a position and a swap cost the same).
+      static_assert(kSortUnits == kSwapUnits, "one work count for positions and swaps");
+      const std::int64_t before = n.sort_swaps;
+      const std::size_t from = n.cursor;
+      n.cursor = insertionSortFrom(&keys, &owners, from,
+                                   static_cast<std::int64_t>(budget / kSortUnits) + 1, &n.sort_swaps);
+      budget -= kSortUnits * static_cast<double>(n.cursor - from + static_cast<std::size_t>(n.sort_swaps - before));
+      done = n.cursor >= last;
     }
     if (done) {
       n.cursor = 0;

@@ -257,9 +257,10 @@ TEST(CoastPolicy, ARetryThatWouldFailIsPostponedWithoutEnlargingAnybody) {
 // Issue 26 (the tail): when a run's end is spread over the updates before it (the next
 // arrays), and over how many. Expected values from the documented rules: nothing before a
 // judged run has ended; runs shorter than 16 updates end at once; a build over
-// min(spread, run - 3) updates starts when it would be swapped in the update before the run's
-// expected end; a swap before the run ended lengthens the expected run by one (up to the
-// longest, 4 coast_updates), one at its end keeps it, a run ended at once sets it.
+// min(spread, run - 5, max(6, run / 2 - 2)) updates starts when it would be swapped in 3
+// updates before the run's expected end; a swap before the run ended lengthens the expected
+// run by one (up to the longest, 4 coast_updates), one at its end keeps it, a run ended at
+// once sets it.
 TEST(CoastPolicy, RunEndsAreSpreadOnlyOverLongRuns) {
   CoastPolicy p(8.0);
   const CoastPolicy::Resort cheap = resort(100, 0, 1000000, 0);  // a run well worth coasting
@@ -275,33 +276,34 @@ TEST(CoastPolicy, RunEndsAreSpreadOnlyOverLongRuns) {
   // Jitter around rest: the run lasted its longest, 32 updates (43 -> 75).
   p.enlargedAll(75, cheap);
   EXPECT_EQ(p.expectedRun(), 32u);
-  EXPECT_EQ(p.nextSlices(32), 29u);
+  EXPECT_EQ(p.nextSlices(32), 14u);  // 32 / 2 - 2
   EXPECT_EQ(p.nextSlices(8), 8u);
-  EXPECT_FALSE(p.nextDue(75, 29));  // not in the update of the enlargement
-  EXPECT_FALSE(p.nextDue(76, 29));  // 76 + 29 + 1 < 75 + 32
-  EXPECT_TRUE(p.nextDue(77, 29));
-  EXPECT_EQ(p.nextSwapAt(77, 29), 106u);  // the update before the run's expected end (107)
-  EXPECT_FALSE(p.nextDue(97, 8));
-  EXPECT_TRUE(p.nextDue(98, 8));
-  EXPECT_EQ(p.nextSwapAt(98, 8), 106u);
-  EXPECT_EQ(p.nextSwapAt(104, 8), 112u);  // a late start: its slices first
+  EXPECT_FALSE(p.nextDue(75, 14));  // not in the update of the enlargement
+  EXPECT_FALSE(p.nextDue(89, 14));  // 89 + 14 + 3 < 75 + 32
+  EXPECT_TRUE(p.nextDue(90, 14));
+  EXPECT_EQ(p.nextSwapAt(90, 14), 104u);  // 3 updates before the run's expected end (107)
+  EXPECT_FALSE(p.nextDue(95, 8));
+  EXPECT_TRUE(p.nextDue(96, 8));
+  EXPECT_EQ(p.nextSwapAt(96, 8), 104u);
+  EXPECT_EQ(p.nextSwapAt(100, 8), 108u);  // a late start: its slices first
   // A swap before the run ended: the next run is expected an update longer, up to the longest.
-  p.enlargedAll(106, cheap, CoastPolicy::End::kSpreadEarly);
+  p.enlargedAll(104, cheap, CoastPolicy::End::kSpreadEarly);
   EXPECT_EQ(p.expectedRun(), 32u);
-  // A run of 20 updates ended at once (126), then swaps before and at the runs' ends.
-  p.enlargedAll(126, cheap);
+  // A run of 20 updates ended at once (124), then swaps before and at the runs' ends.
+  p.enlargedAll(124, cheap);
   EXPECT_EQ(p.expectedRun(), 20u);
-  EXPECT_EQ(p.nextSlices(32), 17u);
-  p.enlargedAll(145, cheap, CoastPolicy::End::kSpreadEarly);
+  EXPECT_EQ(p.nextSlices(32), 8u);  // 20 / 2 - 2
+  EXPECT_EQ(p.nextSlices(4), 4u);
+  p.enlargedAll(141, cheap, CoastPolicy::End::kSpreadEarly);
   EXPECT_EQ(p.expectedRun(), 21u);
-  p.enlargedAll(166, cheap, CoastPolicy::End::kSpreadAtEnd);
+  p.enlargedAll(162, cheap, CoastPolicy::End::kSpreadAtEnd);
   EXPECT_EQ(p.expectedRun(), 21u);
   // Never while coasting is off: a costly run (a million candidates scanned, nothing to
   // re-sort without coasting) switches it off.
   p.scanned(1000000);
-  p.enlargedAll(176, resort(100, 0, 0, 0));
+  p.enlargedAll(172, resort(100, 0, 0, 0));
   EXPECT_DOUBLE_EQ(p.lead(), 0.0);
-  EXPECT_FALSE(p.nextDue(200, 17));
+  EXPECT_FALSE(p.nextDue(200, 8));
 }
 
 TEST(CoastPolicy, NoCoastUpdatesNeverCoasts) {

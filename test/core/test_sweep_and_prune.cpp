@@ -1238,7 +1238,7 @@ TEST(SweepAndPrune, RunEndsSpreadOverUpdatesEqualBruteForce) {
       const auto& st = h.sap().stats();
       swaps_with_escapers += st.swapped_next && st.escaped > 0 && !st.enlarged_all;
       swaps_enlarging_all += st.swapped_next && st.enlarged_all;
-      waiting = (waiting || (was_building && !st.building_next)) && !st.swapped_next && !st.enlarged_all;
+      waiting = st.next_ready;
       if (st.swapped_next) few_jumped = false;
       was_building = st.building_next;
     }
