@@ -674,6 +674,7 @@ class OurBroadPhase {
  public:
   using ProxyId = wp::SweepAndPrune::ProxyId;
 
+  explicit OurBroadPhase(const wp::SweepAndPruneConfig& config = wp::SweepAndPruneConfig()) : sap_(config) {}
   /// Room for `slots` bodies plus churn, so that steady-state cycles do not grow the map.
   void reserve(int slots) { slot_of_.reserve(2 * static_cast<std::size_t>(slots) + 64); }
   ProxyId create(const wp::Aabb& bounds, std::uint32_t slot) {
@@ -697,6 +698,7 @@ class OurBroadPhase {
 // Ours.
 class OursPeer : public Peer {
  public:
+  explicit OursPeer(const wp::SweepAndPruneConfig& config = wp::SweepAndPruneConfig()) : bp_(config) {}
   void setup(const SceneState& s) override {
     bp_.reserve(s.slots());
     id_.assign(s.slots(), -1);
@@ -1139,6 +1141,13 @@ struct PeerDef {
 std::vector<PeerDef> allPeers() {
   std::vector<PeerDef> peers;
   peers.push_back({"ours (SweepAndPrune)", [] { return std::make_unique<OursPeer>(); }, 1.3, 1 << 30});
+  // The same with a coasting run's end in one update (spread_updates 0: before issue 26's
+  // next arrays), for the tail's before/after in one run.
+  peers.push_back({"ours, run's end at once (spread_updates 0)", [] {
+                     wp::SweepAndPruneConfig c;
+                     c.spread_updates = 0;
+                     return std::make_unique<OursPeer>(c);
+                   }, 1.3, 1 << 30});
 #ifdef WP_BENCH_BASELINE_SAP
   // Another version's SweepAndPrune (say a branch under review), same process, same scenes.
   peers.push_back({"ours as in the baseline (WP_BENCH_BASELINE)", [] { return std::make_unique<BaselinePeer>(); }, 1.3, 1 << 30});
@@ -1455,10 +1464,10 @@ class Runner {
           // WP_BENCH_TRACE set: one line per timed cycle of ours on stderr (its time, µs, and
           // what it did), to see which cycles set the tail.
           const wp::SweepAndPruneStats& st = ours->broadPhase().stats();
-          std::fprintf(stderr, "trace %s|%d %d %.2f rebuilt=%d all=%d esc=%d swaps=%lld cand=%d\n",
-                       config.family.c_str(), config.bodies, c, dt * 1e6, st.rebuilt ? 1 : 0,
+          std::fprintf(stderr, "trace %s|%d|%s %d %.2f rebuilt=%d all=%d esc=%d swaps=%lld cand=%d build=%d swap=%d\n",
+                       config.family.c_str(), config.bodies, r.peer.c_str(), c, dt * 1e6, st.rebuilt ? 1 : 0,
                        st.enlarged_all ? 1 : 0, st.escaped, static_cast<long long>(st.swaps),
-                       st.candidates);
+                       st.candidates, st.building_next ? 1 : 0, st.swapped_next ? 1 : 0);
         }
 #ifdef WP_BENCH_BASELINE_SAP
         if (baseline && baseline->rebuilt()) ++slot->rebuilds;
