@@ -175,6 +175,9 @@ class CoastPolicy {
   }
   /// Updates the run under way is expected to last.
   std::uint32_t expectedRun() const { return expected_run_; }
+  /// The update of the last enlargement of everybody (at once or by a swap): the run under
+  /// way started there.
+  std::uint32_t lastEnlargement() const { return last_global_; }
 
   /// Work of the run under way: `candidates` scanned on their given bounds (while coasting);
   /// `escapers` moved alone with `swaps` swaps.

@@ -56,6 +56,9 @@ struct NextArrays {
   bool sweep_begun = false;    ///< kSweep: beginSweep() done
   double budget = 0.0;         ///< work per update (units of CoastPolicy, ~ns)
   bool swapped = false;        ///< swapped in by this update: its report diffs the pairs
+  /// The run (CoastPolicy::lastEnlargement) in which a build was last abandoned; none is
+  /// started again in that run.
+  std::uint32_t abandoned_run = ~std::uint32_t{0};
   bool prev_exact = false;     ///< at the swap: the last update's pairs() were State::exact
 
   void reserve(std::size_t slots);
