@@ -221,24 +221,6 @@ def sap_seeds():
         p.byte(UPDATE)
         p.write("fuzz_sweep_and_prune", name)
 
-    # Issue 26 (the tail): lead 4 (rebuild factor index 7, coasting on), 20 overlapping boxes
-    # jittering around rest for 90 updates: coasting's runs reach their longest, and the next
-    # arrays are built over the updates before each run's end and swapped in.
-    p = Program()
-    p.byte(0).byte(0x7F)
-    for _ in range(8):
-        p.grid(0)
-    for i in range(20):
-        p.byte(CREATE)
-        sap_box(p, (i % 5, i // 5, 0), (1.5, 1.5, 1))
-        p.u32(i)
-    p.byte(UPDATE)
-    for step in range(90):
-        p.byte(JITTER).byte(0x80)
-        p.data += bytes(((step * 7 + k * 13) % 5 + 254) % 256 for k in range(60))
-        p.byte(UPDATE)
-    p.write("fuzz_sweep_and_prune", "spread_run_ends")
-
     # Wide mode: anchors far apart in magnitude, boxes a few ulps apart.
     p = Program()
     p.byte(1).byte(0x03)
