@@ -125,6 +125,7 @@ struct SweepAndPruneStats {
   bool building_next = false;   ///< a slice of the next arrays was built (spread_updates)
   bool swapped_next = false;    ///< the next arrays were swapped in (a spread run's end)
   bool next_ready = false;      ///< the next arrays are built, waiting for their swap
+  bool finished_next = false;   ///< the run ended first: the rest of the build was done at once
 };
 
 class SweepAndPrune {

@@ -171,10 +171,12 @@ Sorted handleEscapers(State& s) {
   }
   const CoastPolicy::Step step = s.coast.step(s.updates, w, s.live_count, s.anyStale(), s.moved);
   // The next arrays, built over the last updates, take over when due, or when the run ends
-  // early; a run that ends before they are built ends at once, as without them.
-  if (nextReady(s) && s.coast.lead() > 0.0 &&
-      (step == CoastPolicy::Step::kEnlargeAll || s.updates >= s.next.swap_at)) {
-    return swapInNext(s, step == CoastPolicy::Step::kEnlargeAll) ? Sorted::kAll : Sorted::kSwapped;
+  // early (a build still under way is finished first, when past its enlargements); a run that
+  // ends before that ends at once, as without them.
+  const bool run_over = step == CoastPolicy::Step::kEnlargeAll;
+  if (s.coast.lead() > 0.0 &&
+      (run_over ? finishNext(s) : nextReady(s) && s.updates >= s.next.swap_at)) {
+    return swapInNext(s, run_over) ? Sorted::kAll : Sorted::kSwapped;
   }
   if (step == CoastPolicy::Step::kEnlargeAll || step == CoastPolicy::Step::kResort) abandonNext(s);
   switch (step) {

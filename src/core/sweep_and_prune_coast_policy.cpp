@@ -16,13 +16,15 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
     --unjudged_;
   } else {
     settled_ = true;
-    // A run that ended at once ended when its proxies left their bounds together (or at the
-    // longest run): the next ones are expected to last as long, and the next arrays are swapped
-    // in just before. A run ended early by a swap might have lasted longer: the next one is
-    // given an update more (until a swap comes when the run ends anyway).
-    if (!spread) {
+    // A run that ended at once, or by a swap when it ended, ended when its proxies left their
+    // bounds together (or at the longest run): the next ones are expected to last as long, and
+    // the next arrays are swapped in just before. A run ended early by a swap might have lasted
+    // longer: the next one is given an update more, until a swap comes when the run ends
+    // anyway. (Steady motion, lead 16, N = 10 000: without the reset at the run's end the
+    // expected run grew past the real one and every fourth run ended at once.)
+    if (end != End::kSpreadEarly) {
       expected_run_ = std::max<std::uint32_t>(2, std::min(longestRun(), update - last_global_));
-    } else if (end == End::kSpreadEarly) {
+    } else {
       expected_run_ = std::min(longestRun(), expected_run_ + 1);
     }
     // The run that ends here, from the last enlargement of everybody to this one, against what

@@ -108,7 +108,8 @@ void radixSortEndpoints(std::vector<std::uint64_t>& keys, std::vector<std::uint3
 }  // namespace
 
 std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
-                              std::size_t from, std::int64_t max_work, std::int64_t* swaps) {
+                              std::size_t from, std::int64_t max_work, std::int64_t* swaps,
+                              std::int64_t swap_work) {
   // Plain insertion sort, no pair events.
   std::uint64_t* key = keys->data();
   std::uint32_t* owner = owners->data();
@@ -128,7 +129,7 @@ std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std:
     } while (key[j - 1] > k);
     key[j] = k;
     owner[j] = o;
-    work += static_cast<std::int64_t>(i - j);
+    work += swap_work * static_cast<std::int64_t>(i - j);
     moved += static_cast<std::int64_t>(i - j);
   }
   *swaps += moved;

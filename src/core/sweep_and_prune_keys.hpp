@@ -59,10 +59,11 @@ struct SortScratch {
 
 /// Insertion sort without pair events of one endpoint array (sentinels in place) from position
 /// `from` on, the positions before it in order already: stops at the high sentinel or once
-/// `max_work` positions and swaps are done. Returns the next position to insert; adds the
-/// swaps to *swaps. (Resumable: the next arrays sort a slice at a time.)
+/// `max_work` is done (a position counts 1, a swap `swap_work`). Returns the next position to
+/// insert; adds the swaps to *swaps. (Resumable: the next arrays sort a slice at a time.)
 std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
-                              std::size_t from, std::int64_t max_work, std::int64_t* swaps);
+                              std::size_t from, std::int64_t max_work, std::int64_t* swaps,
+                              std::int64_t swap_work = 1);
 
 /// Sorts one axis' endpoint array (sentinels in place) from scratch: radix sort by the 32
 /// most significant bits that vary over the axis, then an insertion pass for the endpoints

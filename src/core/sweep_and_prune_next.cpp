@@ -15,15 +15,18 @@ namespace {
 using Stage = NextArrays::Stage;
 
 // Work units of a build's parts (about a nanosecond each on the benchmark machine, as
-// CoastPolicy's): one proxy enlarged; one endpoint copied and put in order on one axis (most
-// are in order already: the next bounds are near the current ones); one swap of that
-// insertion sort; one endpoint swept (its pairs found and inserted are counted apart).
+// CoastPolicy's): one proxy enlarged; one endpoint copied with its next key (and sampled for
+// the swap estimate); one position of the insertion sort and one of its swaps; one endpoint
+// swept (its pairs found and inserted are counted apart). Timed per stage at +-0.5 % jitter,
+// N = 1 000 (bench/results/NOTES.md section 22): a build's sort took 55 us by insertion
+// (1.2-1.4 swaps per endpoint: a swap ~5 ns, most of it the branch that guesses wrong) and
+// 37 us by radix sort, for 6 000 endpoints.
 constexpr double kEnlargeUnits = 60.0;
-constexpr double kCopyUnits = 5.0;
-constexpr double kSortUnits = 2.0;
-constexpr double kSwapUnits = 2.0;
+constexpr double kCopyUnits = 2.0;
+constexpr double kSortUnits = 1.0;
+constexpr double kSwapUnits = 5.0;
 constexpr double kSweepUnits = 16.0;
-constexpr double kRadixUnits = 6.0;  // per endpoint: a radix sort of one axis from scratch
+constexpr double kRadixUnits = 4.0;  // per endpoint: a radix sort of one axis from scratch
 constexpr double kBeginSweepUnits = 20.0;  // per proxy: the widths and the slab lists
 constexpr double kListUnits = 3.0;   // per pair found: listed
 constexpr double kOrderUnits = 8.0;  // per pair found: counted and placed in proxy order
@@ -41,11 +44,13 @@ void exchange(State& s) {
   std::swap(s.cands, n.cands);
 }
 
-// A step that cannot be cut (a radix sort, the sweep's start, the table's order) waits for the
-// next slice when less than its share of this one is left, unless the build is late (the swap
-// two updates off or less).
-bool waitForSlice(const State& s, double budget, double full) {
-  return budget < 0.75 * full && s.next.swap_at > s.updates + 2;
+// A step that cannot be cut (a radix sort, the sweep's start, the table's order) and costs
+// `cost` waits for the next slice when less than that is left of this one and less than its
+// share, unless the build is late (the swap two updates off or less). (Waiting whenever under
+// three quarters of a slice were left gave each axis' radix sort a slice of its own: a build
+// planned for 12 slices took 15, so that half the updates carried one.)
+bool waitForSlice(const State& s, double budget, double full, double cost) {
+  return budget < cost && budget < 0.75 * full && s.next.swap_at > s.updates + 2;
 }
 
 void start(State& s) {
@@ -64,7 +69,7 @@ void start(State& s) {
   // share per slice (a build that takes longer than estimated still has the updates up to
   // the run's expected end: CoastPolicy::kSwapMargin).
   const double live = static_cast<double>(s.live_count);
-  const double work = kEnlargeUnits * live + 3.0 * (kCopyUnits + kSortUnits) * 2.0 * live +
+  const double work = kEnlargeUnits * live + 3.0 * (kCopyUnits + kRadixUnits) * 2.0 * live +
                       kSweepUnits * 2.0 * live + kBeginSweepUnits * live + kCopyUnits * live +
                       (kListUnits + kOrderUnits + CoastPolicy::kFoundWork) *
                           static_cast<double>(s.cands.size());
@@ -97,9 +102,9 @@ double enlargeSome(State& s, double budget) {
 
 // The endpoint arrays of the next bounds, axis after axis: the current order with the next
 // keys (nearly in order), then insertion sort without pair events, a slice at a time; or, when
-// the swaps estimated from those keys would cost more than sorting from scratch (large motion
-// against the spacing of the endpoints: +-5 % jitter at N = 10 000 made 450 000 swaps per axis),
-// a radix sort in a slice of its own.
+// the swaps estimated from those keys would cost more than sorting from scratch (more than
+// about 0.6 per endpoint: +-0.5 % jitter at N = 1 000 makes 1.2-1.4, +-5 % at N = 10 000 made
+// 450 000 per axis), a radix sort in a slice of its own.
 double sortSome(State& s, double budget, double full) {
   NextArrays& n = s.next;
   while (n.stage == Stage::kSort && budget > 0.0) {
@@ -121,24 +126,26 @@ double sortSome(State& s, double budget, double full) {
       // compares them with the scans and searches coasting cost; they also choose the sort).
       const std::int64_t estimate = estimateSwapsOf(keys);
       n.jump_swaps += estimate;
-      n.radix = kSwapUnits * static_cast<double>(estimate) > kRadixUnits * static_cast<double>(size);
+      n.radix = kSortUnits * static_cast<double>(size) + kSwapUnits * static_cast<double>(estimate) >
+                kRadixUnits * static_cast<double>(size);
       n.cursor = 1;
       budget -= kCopyUnits * static_cast<double>(size);
       continue;
     }
     if (n.radix) {
-      if (waitForSlice(s, budget, full)) return 0.0;  // a slice of its own
+      if (waitForSlice(s, budget, full, kRadixUnits * static_cast<double>(size))) return 0.0;
       sortEndpoints(&keys, &owners, &s.sort);
       budget -= kRadixUnits * static_cast<double>(size);
       done = true;
     } else {
-      // Within the slice's budget (a position and a swap cost the same).
-      static_assert(kSortUnits == kSwapUnits, "one work count for positions and swaps");
+      // Within the slice's budget.
+      static_assert(kSwapUnits >= kSortUnits, "swap work in whole positions");
       const std::int64_t before = n.sort_swaps;
       const std::size_t from = n.cursor;
-      n.cursor = insertionSortFrom(&keys, &owners, from,
-                                   static_cast<std::int64_t>(budget / kSortUnits) + 1, &n.sort_swaps);
-      budget -= kSortUnits * static_cast<double>(n.cursor - from + static_cast<std::size_t>(n.sort_swaps - before));
+      n.cursor = insertionSortFrom(&keys, &owners, from, static_cast<std::int64_t>(budget / kSortUnits) + 1,
+                                   &n.sort_swaps, static_cast<std::int64_t>(kSwapUnits / kSortUnits));
+      budget -= kSortUnits * static_cast<double>(n.cursor - from) +
+                kSwapUnits * static_cast<double>(n.sort_swaps - before);
       done = n.cursor >= last;
     }
     if (done) {
@@ -156,8 +163,8 @@ double sweepSome(State& s, double budget, double full) {
   NextArrays& n = s.next;
   if (!n.sweep_begun) {
     // Its start (the widths, and the slab lists when it sweeps in slabs: passes over every
-    // proxy) opens a slice of its own.
-    if (waitForSlice(s, budget, full)) return 0.0;
+    // proxy) is not cut.
+    if (waitForSlice(s, budget, full, kBeginSweepUnits * static_cast<double>(s.live_count))) return 0.0;
     n.found.clear();
     exchange(s);
     beginSweep(s, s.sweep_axis, s.plain_tests, &n.sweep);
@@ -191,8 +198,11 @@ double sweepSome(State& s, double budget, double full) {
 double tableSome(State& s, double budget, double full) {
   NextArrays& n = s.next;
   if (n.cursor == 0) {
-    if (waitForSlice(s, budget, full)) return 0.0;  // a slice of its own
     const std::size_t slots = s.info.size();
+    if (waitForSlice(s, budget, full,
+                     kOrderUnits * static_cast<double>(n.found.size()) + kCopyUnits * static_cast<double>(slots))) {
+      return 0.0;
+    }
     // Each proxy's rank along the sweep axis (its lower endpoint's place).
     std::vector<std::uint32_t>& rank = n.rank;
     rank.resize(slots);
@@ -231,6 +241,9 @@ double tableSome(State& s, double budget, double full) {
   return budget;
 }
 
+// Goes on with the build by `budget` work units, stage after stage.
+void runStages(State& s, double budget);
+
 }  // namespace
 
 void NextArrays::reserve(std::size_t slots) {
@@ -254,7 +267,23 @@ void advanceNext(State& s) {
     start(s);
   }
   s.stats.building_next = n.stage != Stage::kReady;
-  double budget = n.budget;
+  runStages(s, n.budget);
+}
+
+bool finishNext(State& s) {
+  NextArrays& n = s.next;
+  if (n.stage == Stage::kReady) return true;
+  if (n.stage == Stage::kIdle || n.stage == Stage::kEnlarge) return false;
+  // (A budget no stage reaches: each then runs to its end without waiting for a slice.)
+  runStages(s, 1e15);
+  s.stats.finished_next = true;
+  return n.stage == Stage::kReady;
+}
+
+namespace {
+
+void runStages(State& s, double budget) {
+  NextArrays& n = s.next;
   while (budget > 0.0 && n.stage != Stage::kReady) {
     switch (n.stage) {
       case Stage::kEnlarge:
@@ -276,6 +305,8 @@ void advanceNext(State& s) {
     }
   }
 }
+
+}  // namespace
 
 void abandonNext(State& s) {
   // (A build abandoned for insertions or removals is not started again in the same run: in a

@@ -67,6 +67,11 @@ struct NextArrays {
 /// Starts a build when coasting's policy says it is due, or goes on with the one under way, by
 /// about a slice of its work. Called once per update, after the current arrays are settled.
 void advanceNext(State& s);
+/// The run under way ended (its proxies left their bounds, or its longest) before the build was
+/// swapped in: finishes it now when it is past its enlargements (the rest costs less than
+/// everybody enlarged at once, and the next bounds lead past the planned swap, so that the
+/// proxies are inside them); returns true when it is ready to be swapped in.
+bool finishNext(State& s);
 /// Abandons the build (insertions, removals, everybody enlarged at once, coasting off).
 void abandonNext(State& s);
 /// True when the next arrays are built and may be swapped in now.

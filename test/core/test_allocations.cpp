@@ -190,6 +190,33 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
   EXPECT_GE(building, 100);
   EXPECT_GE(swapped, 5);
   EXPECT_EQ(wp_test::allocationCount() - before_jitter, 0);
+
+  // Steady motion with a lead of 16 updates: runs long enough to spread their ends; the speed
+  // grows by a quarter now and then, so that a run ends before its build is done (finished at
+  // once, then swapped in): nothing allocated either.
+  wp::SweepAndPruneConfig lead16 = config;
+  lead16.coast_updates = 16.0;
+  wp::SweepAndPrune steady(lead16);
+  std::vector<wp::SweepAndPrune::ProxyId> steady_ids;
+  for (std::size_t k = 0; k < s.centre.size(); ++k) steady_ids.push_back(steady.createProxy(s.box(k)));
+  auto steady_cycle = [&](int i) {
+    s.advance(i % 100 < 70 ? 0.01 : 0.0125);
+    for (std::size_t k = 0; k < s.centre.size(); ++k) steady.moveProxy(steady_ids[k], s.box(k));
+    steady.update();
+  };
+  for (i = 0; i < 150; ++i) steady_cycle(i);
+  const long before_steady = wp_test::allocationCount();
+  int steady_swapped = 0, finished = 0;
+  for (; i < 650; ++i) {
+    steady_cycle(i);
+    steady_swapped += steady.stats().swapped_next;
+    finished += steady.stats().finished_next;
+  }
+  const long steady_allocations = wp_test::allocationCount() - before_steady;
+  std::printf("lead 16: %d swapped in, %d finished at the run's end\n", steady_swapped, finished);
+  EXPECT_GE(steady_swapped, 5);
+  EXPECT_GE(finished, 1);
+  EXPECT_EQ(steady_allocations, 0);
 }
 
 TEST(Allocations, EventTrackerSteadyStateAllocatesNothing) {

@@ -819,6 +819,7 @@ struct DriftScene {
 struct CoastCounts {
   int updates = 0, coasted = 0, moved_alone = 0, enlarged_all = 0, rebuilt = 0;
   int swapped = 0, building = 0;  // the next arrays swapped in; updates that built a slice
+  int finished = 0;  // builds finished at once when their run ended first
   int tight_candidates = 0;  // updates with no candidate beyond pairs()
 
   void add(const SweepAndPrune& sap) {
@@ -830,6 +831,7 @@ struct CoastCounts {
     rebuilt += s.rebuilt;
     swapped += s.swapped_next;
     building += s.building_next;
+    finished += s.finished_next;
     tight_candidates += s.candidates == static_cast<int>(sap.pairs().size());
     EXPECT_GE(s.candidates, static_cast<int>(sap.pairs().size()));
   }
@@ -873,6 +875,46 @@ TEST(SweepAndPrune, SteadyMotionCoastsBetweenEnlargementsAndEqualsBruteForce) {
       EXPECT_EQ(counts.tight_candidates, counts.updates);
     }
   }
+}
+
+// Steady motion with a lead of 16 updates: runs of about 16 updates, long enough to spread
+// their ends (the next arrays); a build that the run's end overtakes is finished at once and
+// swapped in. Pairs, began and ended equal brute force in every update.
+TEST(SweepAndPrune, SteadyMotionWithLongerLeadSpreadsRunEndsAndEqualsBruteForce) {
+  Rng rng(170216);
+  SweepAndPruneConfig cfg;
+  cfg.coast_updates = 16.0;
+  Harness h(cfg, true);
+  DriftScene scene(300, rng, h);
+  // Slower than the scene's own: 0 or 1/64 m per update on each axis (the grid's step, 1-3 %
+  // of a box's size), so that 16 updates of it stay within the lead's cap (half the box); and
+  // no wall nearby (a bounce leaves the bounds at once).
+  for (Eigen::Vector3d& v : scene.velocity) {
+    for (int k = 0; k < 3; ++k) v[k] = v[k] > 0.0 ? 1.0 / 64 : v[k] < 0.0 ? -1.0 / 64 : 0.0;
+  }
+  scene.side *= 4.0;
+  h.updateAndCheck();
+  CoastCounts counts;
+  bool sped_up = false;
+  for (int cycle = 0; cycle < 300; ++cycle) {
+    // Later, every third box speeds up to twice its speed while a build is under way: their
+    // run ends before the build is done.
+    if (cycle >= 200 && !sped_up && h.sap().stats().building_next) {
+      sped_up = true;
+      for (std::size_t i = 0; i < scene.velocity.size(); i += 3) scene.velocity[i] *= 2.0;
+    }
+    scene.step(h);
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    counts.add(h.sap());
+  }
+  std::printf("lead 16: %d updates, %d building a slice, %d swapped in (%d finished at the run's "
+              "end), %d enlarged all at once\n", counts.updates, counts.building, counts.swapped,
+              counts.finished, counts.enlarged_all);
+  EXPECT_GE(counts.swapped, 8);
+  EXPECT_GE(counts.finished, 1);
+  EXPECT_GE(counts.building, 50);
+  EXPECT_LE(counts.enlarged_all, counts.swapped);
 }
 
 // Tracker jitter (issue 26): half the boxes at rest, half drifting 1/512 m per update, every
