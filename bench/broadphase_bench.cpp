@@ -1148,6 +1148,13 @@ std::vector<PeerDef> allPeers() {
                      c.spread_updates = 0;
                      return std::make_unique<OursPeer>(c);
                    }, 1.3, 1 << 30});
+  // A longer lead (coast_updates 16: runs of 16 updates of steady motion, long enough to
+  // spread their ends; 64 under jitter), the proximity monitor's setting (~broad_phase_lead).
+  peers.push_back({"ours, lead 16 (coast_updates 16)", [] {
+                     wp::SweepAndPruneConfig c;
+                     c.coast_updates = 16.0;
+                     return std::make_unique<OursPeer>(c);
+                   }, 1.3, 1 << 30});
 #ifdef WP_BENCH_BASELINE_SAP
   // Another version's SweepAndPrune (say a branch under review), same process, same scenes.
   peers.push_back({"ours as in the baseline (WP_BENCH_BASELINE)", [] { return std::make_unique<BaselinePeer>(); }, 1.3, 1 << 30});
@@ -1983,7 +1990,11 @@ int main(int argc, char** argv) {
           "(the arrays hold bounds enlarged ahead of each box's motion, 8 updates of its own "
           "displacement; pairs() filters their candidates to the exact overlaps every cycle), so "
           "its cycles column says how often a cycle rebuilt and how often it re-sorted anything "
-          "at all (\"sorted\": a few boxes moved alone, or everybody enlarged again).\n"
+          "at all (\"sorted\": a few boxes moved alone, or everybody enlarged again). Two more "
+          "rows of ours, same driver: \"run's end at once\" (spread_updates 0: every coasting "
+          "run's end in one cycle, as before issue 26's next arrays) and \"lead 16\" "
+          "(coast_updates 16, the proximity monitor's ~broad_phase_lead: runs twice as long, "
+          "spread when they last 16 updates or more).\n"
           "- sort-and-sweep (scratch): copy the moved boxes, std::sort of all boxes by lower x, sweep "
           "with an active list testing y and z (double). Brute force: all pairs. CGAL: rebuild a "
           "Box_with_info_d vector, box_self_intersection_d (CLOSED, cutoff 10) with a callback that "
