@@ -8,6 +8,7 @@ namespace {
 WorldConfig worldConfig(const MonitorParams& params) {
   WorldConfig config;
   config.rules = makePairRules(params);
+  config.broad_phase.coast_updates = params.broad_phase_lead;
   return config;
 }
 

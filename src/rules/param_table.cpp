@@ -29,6 +29,8 @@ constexpr ParamRow kParams[] = {
      "arrays stamped further ahead of the node's clock are dropped"},
     {"max_tracks", WP_M(max_tracks), kStartup, 1, 1000000, nullptr, "tracks", "",
      "tracked objects kept at most; beyond it the ones nearest the robot win"},
+    {"broad_phase_lead", WP_M(broad_phase_lead), kStartup, 0.0, 64.0, nullptr, "updates", "",
+     "the broad phase's bounds lead each box by this many cycles of its own motion; 0: off"},
     {"input_topics", WP_M(input_topics), kWiring, 0, 0, nullptr, "", "",
      "TrackedBoxArray topics; empty: the single topic tracked_objects"},
     {"perception_status_topics", WP_M(perception_status_topics), kWiring, 0, 0, nullptr, "", "",
