@@ -396,8 +396,12 @@ void SweepAndPrune::update() {
   if (sorted) s.last_rebuilt = s.stats.rebuilt;
   sap::advanceNext(s);
   s.stats.next_ready = sap::nextReady(s);
-  if (s.next.swapped) sap::reportSwapped(s);
-  else sap::reportTouching(s);
+  if (s.next.swapped) {
+    sap::reportSwapped(s);
+  } else {
+    sap::reportTouching(s);
+    sap::trackNextFlags(s);
+  }
   sap::keepHeadroom(s);
   // The arrays are now sorted by the current keys: remember them for the next update's events
   // (none come from a stale axis: the next update rebuilds). Nothing changed when coasting;

@@ -59,6 +59,7 @@ void start(State& s) {
   n.started = s.updates;
   n.swap_at = s.coast.nextSwapAt(s.updates, slices);
   n.stage = Stage::kEnlarge;
+  n.flags_tracked = false;
   n.cursor = 0;
   n.axis = 0;
   n.sort_swaps = 0;
@@ -227,13 +228,16 @@ double tableSome(State& s, double budget, double full) {
     for (const BroadPair& c : n.found) n.ordered[start[key(c)]++] = c;
     n.cands.clear();
     if (n.cands.capacity() < n.ordered.size()) n.cands.reserve(2 * n.ordered.size());
+    n.flags_tracked = true;
     n.cursor = 1;
     budget -= kOrderUnits * static_cast<double>(n.found.size()) + kCopyUnits * static_cast<double>(slots);
   }
   const std::size_t total = n.ordered.size();
   std::size_t i = n.cursor - 1;
   for (; i < total && budget > 0.0; ++i) {
-    n.cands.insert(n.ordered[i].proxy_a, n.ordered[i].proxy_b, nullptr);
+    const BroadPair& c = n.ordered[i];
+    // Whether its given bounds overlap now: this update's report keeps it from here on.
+    n.cands.insert(c.proxy_a, c.proxy_b, nullptr)->touching = s.touching(c.proxy_a, c.proxy_b) ? 1u : 0u;
     budget -= CoastPolicy::kFoundWork;
   }
   n.cursor = i + 1;
@@ -245,6 +249,18 @@ double tableSome(State& s, double budget, double full) {
 void runStages(State& s, double budget);
 
 }  // namespace
+
+void trackNextFlags(State& s) {
+  NextArrays& n = s.next;
+  if (!n.flags_tracked || (n.stage != Stage::kTable && n.stage != Stage::kReady)) return;
+  // (Pairs not put in the table yet get theirs when they are.)
+  for (const BroadPair& c : *s.began_out) {
+    if (BroadPair* pair = n.cands.find(c.proxy_a, c.proxy_b)) pair->touching = 1;
+  }
+  for (const BroadPair& c : *s.ended_out) {
+    if (BroadPair* pair = n.cands.find(c.proxy_a, c.proxy_b)) pair->touching = 0;
+  }
+}
 
 void NextArrays::reserve(std::size_t slots) {
   first_of.reserve(2 * slots + 1);
@@ -274,8 +290,10 @@ bool finishNext(State& s) {
   NextArrays& n = s.next;
   if (n.stage == Stage::kReady) return true;
   if (n.stage == Stage::kIdle || n.stage == Stage::kEnlarge) return false;
-  // (A budget no stage reaches: each then runs to its end without waiting for a slice.)
+  // (A budget no stage reaches: each then runs to its end without waiting for a slice.) Its
+  // table's flags then say this update's overlaps, not the last update's.
   runStages(s, 1e15);
+  n.flags_tracked = false;
   s.stats.finished_next = true;
   return n.stage == Stage::kReady;
 }
@@ -366,6 +384,7 @@ bool swapInNext(State& s, bool run_over) {
       enlargeAll(s, s.coast.lead());
       s.stats.enlarged_all = true;
       resortAll(s);
+      n.flags_tracked = false;  // (a rebuild makes a table of its own)
       r.swaps = s.stats.swaps;
       r.rebuilt = s.stats.rebuilt;
       r.estimated_swaps = std::max(n.jump_swaps, s.last_estimate);
@@ -396,14 +415,33 @@ void reportSwapped(State& s) {
     if (!s.touching(c.proxy_a, c.proxy_b)) s.ended.push_back(c);
   }
   s.exact.clear();
+  // Each candidate's flag says whether it touched at the last update (NextArrays::
+  // flags_tracked), but for those the escapers moved alone after the swap put in: theirs from
+  // the old table. Otherwise every touching candidate is looked up there (at N = 10 000 that
+  // lookup was most of a swap's cost).
+  const bool tracked = n.flags_tracked;
+  n.flags_tracked = false;
+  if (tracked) {
+    for (const BroadPair& c : s.cand_began) {
+      Candidate* pair = s.cands.find(c.proxy_a, c.proxy_b);
+      if (pair == nullptr) continue;
+      const BroadPair* was = old.find(c.proxy_a, c.proxy_b);
+      pair->touching = was != nullptr && was->touching != 0 ? 1u : 0u;
+    }
+  }
   std::vector<Candidate>& dense = s.cands.mutablePairs();
   for (Candidate& c : dense) {
     const std::uint32_t now = s.touching(c.proxy_a, c.proxy_b) ? 1u : 0u;
+    const std::uint32_t before = c.touching;
     c.touching = now;
     if (now == 0) continue;
     s.exact.push_back(c);
-    const BroadPair* was = old.find(c.proxy_a, c.proxy_b);
-    if (was == nullptr || was->touching == 0) s.began.push_back(c);
+    if (tracked) {
+      if (before == 0) s.began.push_back(c);
+    } else {
+      const BroadPair* was = old.find(c.proxy_a, c.proxy_b);
+      if (was == nullptr || was->touching == 0) s.began.push_back(c);
+    }
   }
   s.pairs_out = &s.exact;
   s.began_out = &s.began;

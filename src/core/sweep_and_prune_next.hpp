@@ -60,6 +60,12 @@ struct NextArrays {
   /// started again in that run.
   std::uint32_t abandoned_run = ~std::uint32_t{0};
   bool prev_exact = false;     ///< at the swap: the last update's pairs() were State::exact
+  /// Each candidate's `touching` in the table of the build says whether its given bounds
+  /// overlapped at the last update: set when it is put in the table, kept by every later
+  /// update's report (trackNextFlags), so that the swap's report needs no lookup in the old
+  /// table. False when the table was filled in the update of the swap (finishNext) or the
+  /// swap re-sorted everybody.
+  bool flags_tracked = false;
 
   void reserve(std::size_t slots);
 };
@@ -83,6 +89,9 @@ bool nextReady(const State& s);
 bool swapInNext(State& s, bool run_over);
 /// pairs(), beganPairs() and endedPairs() of an update that swapped the next arrays in.
 void reportSwapped(State& s);
+/// After an update's report: the pairs that began or ended touching in it get their flag in the
+/// build's table too (NextArrays::flags_tracked).
+void trackNextFlags(State& s);
 /// Everybody enlarged at once: re-sorts every axis as a jump (sweep_and_prune.cpp).
 void resortAll(State& s);
 
