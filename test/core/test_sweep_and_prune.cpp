@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -398,6 +399,50 @@ TEST(SweepAndPrune, EmptyStructureUpdates) {
   EXPECT_TRUE(sap.beganPairs().empty());
   EXPECT_TRUE(sap.endedPairs().empty());
   EXPECT_EQ(sap.proxyCount(), 0);
+}
+
+// Bad bounds are refused by name (std::invalid_argument), by createProxy and moveProxy alike,
+// and the structure keeps working: every component NaN or infinite in turn, lower above upper;
+// a point box and the largest finite bounds are taken.
+TEST(SweepAndPrune, RejectsBoundsThatAreNotFiniteOrInverted) {
+  SweepAndPrune sap;
+  Aabb good;
+  good.lower = Eigen::Vector3d(0.0, 0.0, 0.0);
+  good.upper = Eigen::Vector3d(1.0, 1.0, 1.0);
+  const SweepAndPrune::ProxyId id = sap.createProxy(good);
+  const SweepAndPrune::ProxyId other = sap.createProxy(good);
+  sap.update();
+  const double bad[] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                        -std::numeric_limits<double>::infinity()};
+  for (int side = 0; side < 2; ++side) {
+    for (int k = 0; k < 3; ++k) {
+      for (double v : bad) {
+        Aabb b = good;
+        (side == 0 ? b.lower : b.upper)[k] = v;
+        EXPECT_FALSE(b.valid()) << side << " " << k << " " << v;
+        EXPECT_THROW(sap.createProxy(b), std::invalid_argument);
+        EXPECT_THROW(sap.moveProxy(id, b), std::invalid_argument);
+      }
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    Aabb inverted = good;
+    inverted.lower[k] = 1.5;
+    EXPECT_FALSE(inverted.valid());
+    EXPECT_THROW(sap.moveProxy(id, inverted), std::invalid_argument);
+  }
+  Aabb point;
+  point.lower = point.upper = Eigen::Vector3d(0.5, 0.5, 0.5);
+  Aabb huge;
+  huge.lower = Eigen::Vector3d::Constant(-std::numeric_limits<double>::max());
+  huge.upper = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
+  EXPECT_TRUE(point.valid());
+  EXPECT_TRUE(huge.valid());
+  sap.moveProxy(id, point);
+  sap.moveProxy(other, huge);
+  sap.update();
+  ASSERT_EQ(sap.pairs().size(), 1u);  // nothing refused was stored: the two given last touch
+  EXPECT_EQ(sap.proxyCount(), 2);
 }
 
 TEST(SweepAndPrune, TouchingGridReportsFaceEdgeAndCornerNeighbours) {
