@@ -3,7 +3,7 @@
 reports (bench/results/broadphase*.md): per configuration, ours and the best peer from the
 report's headline, ours' p99 / median (wall clock and thread CPU time), and the two other rows
 of ours measured in the same run: every run's end at once (spread_updates 0) and lead 16
-(coast_updates 16). Usage: bench/tail_table.py REPORT.md [REPORT.md ...] > table.md"""
+(coast_updates 16). Usage: python3 bench/tail_table.py REPORT.md [REPORT.md ...] > table.md"""
 import re
 import sys
 
