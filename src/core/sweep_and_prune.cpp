@@ -175,7 +175,7 @@ Sorted handleEscapers(State& s) {
   // ends before that ends at once, as without them.
   const bool run_over = step == CoastPolicy::Step::kEnlargeAll;
   if (s.coast.lead() > 0.0 &&
-      (run_over ? finishNext(s) : nextReady(s) && s.updates >= s.next.swap_at)) {
+      (run_over ? finishNext(s) : (nextReady(s) && s.updates >= s.next.swap_at))) {
     return swapInNext(s, run_over) ? Sorted::kAll : Sorted::kSwapped;
   }
   if (step == CoastPolicy::Step::kEnlargeAll || step == CoastPolicy::Step::kResort) abandonNext(s);

@@ -246,7 +246,29 @@ double tableSome(State& s, double budget, double full) {
 }
 
 // Goes on with the build by `budget` work units, stage after stage.
-void runStages(State& s, double budget);
+void runStages(State& s, double budget) {
+  NextArrays& n = s.next;
+  while (budget > 0.0 && n.stage != Stage::kReady) {
+    switch (n.stage) {
+      case Stage::kEnlarge:
+        budget = enlargeSome(s, budget);
+        break;
+      case Stage::kSort:
+        budget = sortSome(s, budget, n.budget);
+        break;
+      case Stage::kSweep:
+        budget = sweepSome(s, budget, n.budget);
+        break;
+      case Stage::kTable:
+        budget = tableSome(s, budget, n.budget);
+        break;
+      case Stage::kIdle:
+      case Stage::kReady:
+        budget = 0.0;
+        break;
+    }
+  }
+}
 
 }  // namespace
 
@@ -297,34 +319,6 @@ bool finishNext(State& s) {
   s.stats.finished_next = true;
   return n.stage == Stage::kReady;
 }
-
-namespace {
-
-void runStages(State& s, double budget) {
-  NextArrays& n = s.next;
-  while (budget > 0.0 && n.stage != Stage::kReady) {
-    switch (n.stage) {
-      case Stage::kEnlarge:
-        budget = enlargeSome(s, budget);
-        break;
-      case Stage::kSort:
-        budget = sortSome(s, budget, n.budget);
-        break;
-      case Stage::kSweep:
-        budget = sweepSome(s, budget, n.budget);
-        break;
-      case Stage::kTable:
-        budget = tableSome(s, budget, n.budget);
-        break;
-      case Stage::kIdle:
-      case Stage::kReady:
-        budget = 0.0;
-        break;
-    }
-  }
-}
-
-}  // namespace
 
 void abandonNext(State& s) {
   // (A build abandoned for insertions or removals is not started again in the same run: in a
