@@ -40,6 +40,17 @@ struct WorldConfig {
   /// Time the per-pair stages (contact window, narrow phase) separately. Costs two clock
   /// reads per pair, so off by default: ns_axis then holds both and ns_narrow is 0.
   bool time_pair_stages = false;
+  /// Threads for the per-pair stages of predict() (rules, contact window, narrow phase): 1,
+  /// the caller's alone; n > 1, the caller's and n - 1 workers of the world's own, started at
+  /// the first prediction with at least `parallel_pairs` broad-phase pairs (with fewer the
+  /// caller's thread does them alone: waking a worker costs some microseconds). The events,
+  /// their order and the stats' counts are the same for every value (the reports follow the
+  /// pairs' order); the stage times ns_axis and ns_narrow are then summed over the threads.
+  int pair_threads = 1;
+  int parallel_pairs = 2048;  ///< broad-phase pairs from which pair_threads > 1 are used
+  /// pair_threads is in [1, kMaxPairThreads] and parallel_pairs >= 1, or the world's
+  /// constructor throws std::invalid_argument.
+  static constexpr int kMaxPairThreads = 64;
 };
 
 /// Two bodies near each other now: an allowed pair whose bare shapes (margins not included) are

@@ -1,7 +1,9 @@
 #include "workspace_proximity/proximity_world.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -11,6 +13,7 @@
 #include "workspace_proximity/event_tracker.hpp"
 #include "workspace_proximity/pair_table.hpp"
 #include "workspace_proximity/swept_bounds.hpp"
+#include "worker_pool.hpp"
 
 namespace workspace_proximity {
 namespace {
@@ -131,7 +134,16 @@ struct ProximityWorld::Impl {
   void syncPairCache();
   void collectNearPairs();
   void predictPairs(double horizon);
-  void predictPiecewisePair(PairRecord& pair, PairBody* a, PairBody* b, double horizon);
+  // One pair's counts and stage times, summed into stats_ (per thread while in parallel).
+  struct PairCounters {
+    int allowed = 0, axis_candidates = 0, contacts = 0, narrow_iterations = 0;
+    std::int64_t ns_axis = 0, ns_narrow = 0;
+  };
+  bool evaluatePair(PairRecord& pair, double horizon, PairCounters* counters,
+                    ContactPrediction* prediction);
+  void predictPairsInParallel(double horizon);
+  void runPairPart(int part);
+  static void pairTask(void* impl, int part) { static_cast<Impl*>(impl)->runPairPart(part); }
   PairBody pairBody(std::int32_t slot) const;
   ContactWindow windowOf(PairBody* a, PairBody* b, double horizon);
   bool allowed(PairRecord& pair);
@@ -159,6 +171,24 @@ struct ProximityWorld::Impl {
   std::vector<NearPair> near_pairs_;
   std::vector<std::int32_t> reaching_;         // slots of the live bodies with a reach (scratch)
   WorldStats stats_;
+
+  // The per-pair stages on config_.pair_threads threads (predictPairsInParallel): the pairs
+  // in chunks that each thread claims in turn; every thread lists its contacts, and the
+  // reports then follow in the pairs' order, as on one thread.
+  struct PairPart {
+    std::vector<std::pair<std::int32_t, ContactPrediction>> contacts;  // pair index, prediction
+    PairCounters counters;
+    std::exception_ptr error;
+  };
+  std::unique_ptr<WorkerPool> workers_;        // started at the first parallel prediction
+  std::vector<PairPart> parts_;                // one per thread
+  std::vector<std::int32_t> chunk_part_;       // per chunk: the thread that took it
+  std::vector<std::int32_t> chunk_first_;      // its first contact in that thread's list
+  std::vector<std::int32_t> chunk_count_;      // and how many it found
+  std::atomic<int> next_chunk_{0};
+  int chunks_ = 0;
+  int chunk_size_ = 0;
+  double pair_horizon_ = 0.0;
 };
 
 struct ProximityWorld::Impl::BodyRecord {
@@ -194,8 +224,21 @@ struct ProximityWorld::Impl::BodyRecord {
   std::vector<PathSegment> path;
 };
 
+namespace {
+const WorldConfig& checked(const WorldConfig& config) {
+  if (config.pair_threads < 1 || config.pair_threads > WorldConfig::kMaxPairThreads) {
+    throw std::invalid_argument("ProximityWorld: pair_threads must be in [1, " +
+                                std::to_string(WorldConfig::kMaxPairThreads) + "]");
+  }
+  if (config.parallel_pairs < 1) {
+    throw std::invalid_argument("ProximityWorld: parallel_pairs must be at least 1");
+  }
+  return config;
+}
+}  // namespace
+
 ProximityWorld::Impl::Impl(const WorldConfig& config)
-    : config_(config),
+    : config_(checked(config)),
       broad_phase_(broadPhaseConfig(config)),
       pair_cache_(config.initial_pair_capacity),
       narrow_phase_(config.narrow_phase),
@@ -529,45 +572,127 @@ void ProximityWorld::Impl::predictPairs(double horizon) {
   // Per pair: rules, contact window, narrow phase inside the window, report.
   tracker_.beginCycle();
   stats_.broad_pairs = pair_cache_.size();
-  const bool timed_pairs = config_.time_pair_stages;
-  for (PairRecord& pair : pair_cache_.mutablePairs()) {
-    if (!allowed(pair)) continue;
-    ++stats_.allowed_pairs;
-    PairBody a = pairBody(pair.body_a), b = pairBody(pair.body_b);
-    if (a.piecewise() || b.piecewise()) {
-      predictPiecewisePair(pair, &a, &b, horizon);
-      continue;
+  if (config_.pair_threads > 1 && pair_cache_.size() >= config_.parallel_pairs) {
+    predictPairsInParallel(horizon);
+  } else {
+    PairCounters counters;
+    ContactPrediction prediction;
+    for (PairRecord& pair : pair_cache_.mutablePairs()) {
+      if (evaluatePair(pair, horizon, &counters, &prediction)) report(pair, prediction);
     }
-    const ContactWindow window =
-        timed(&stats_.ns_axis, timed_pairs, [&] { return windowOf(&a, &b, horizon); });
-    if (window.axis.empty()) continue;
-    ++stats_.axis_candidates;
-    if (window.empty()) continue;
-    const ContactPrediction prediction =
-        timed(&stats_.ns_narrow, timed_pairs, [&] { return narrow_phase_.predict(a, b, window); });
-    stats_.narrow_iterations += prediction.iterations;
-    if (!prediction.contact) continue;
-    ++stats_.contacts;
-    report(pair, prediction);
+    stats_.allowed_pairs += counters.allowed;
+    stats_.axis_candidates += counters.axis_candidates;
+    stats_.contacts += counters.contacts;
+    stats_.narrow_iterations += counters.narrow_iterations;
+    stats_.ns_axis += counters.ns_axis;
+    stats_.ns_narrow += counters.ns_narrow;
   }
   rules_changed_ = false;
 }
 
-void ProximityWorld::Impl::predictPiecewisePair(PairRecord& pair, PairBody* a, PairBody* b,
-                                         double horizon) {
-  // The merged breakpoints of both bodies, then the same steps as a constant-twist pair.
+inline bool ProximityWorld::Impl::evaluatePair(PairRecord& pair, double horizon,
+                                               PairCounters* counters,
+                                               ContactPrediction* prediction) {
+  // Reads the bodies and the narrow phase's geometry, and writes the pair's own record only:
+  // threads may evaluate different pairs at once.
+  if (!allowed(pair)) return false;
+  ++counters->allowed;
+  PairBody a = pairBody(pair.body_a), b = pairBody(pair.body_b);
   const bool timed_pairs = config_.time_pair_stages;
-  const PairPieces pieces(*a, *b, horizon);
-  const ContactWindow window =
-      timed(&stats_.ns_axis, timed_pairs, [&] { return piecewiseWindow(pieces); });
-  if (window.axis.empty()) return;
-  ++stats_.axis_candidates;
-  const ContactPrediction prediction =
-      timed(&stats_.ns_narrow, timed_pairs, [&] { return narrow_phase_.predict(*a, *b, window); });
-  stats_.narrow_iterations += prediction.iterations;
-  if (!prediction.contact) return;
-  ++stats_.contacts;
-  report(pair, prediction);
+  if (a.piecewise() || b.piecewise()) {
+    // The merged breakpoints of both bodies, then the same steps as a constant-twist pair.
+    const PairPieces pieces(a, b, horizon);
+    const ContactWindow window =
+        timed(&counters->ns_axis, timed_pairs, [&] { return piecewiseWindow(pieces); });
+    if (window.axis.empty()) return false;
+    ++counters->axis_candidates;
+    *prediction = timed(&counters->ns_narrow, timed_pairs,
+                        [&] { return narrow_phase_.predict(a, b, window); });
+  } else {
+    const ContactWindow window =
+        timed(&counters->ns_axis, timed_pairs, [&] { return windowOf(&a, &b, horizon); });
+    if (window.axis.empty()) return false;
+    ++counters->axis_candidates;
+    if (window.empty()) return false;
+    *prediction = timed(&counters->ns_narrow, timed_pairs,
+                        [&] { return narrow_phase_.predict(a, b, window); });
+  }
+  counters->narrow_iterations += prediction->iterations;
+  if (!prediction->contact) return false;
+  ++counters->contacts;
+  return true;
+}
+
+void ProximityWorld::Impl::predictPairsInParallel(double horizon) {
+  const int threads = config_.pair_threads;
+  if (!workers_) {
+    workers_ = std::make_unique<WorkerPool>(threads - 1);
+    parts_.resize(static_cast<std::size_t>(threads));
+  }
+  // Chunks small enough to share the pairs out evenly (eight or more a thread), large enough
+  // that claiming one (an atomic increment) costs nothing next to its pairs.
+  const int pairs = pair_cache_.size();
+  chunk_size_ = std::max(16, std::min(256, pairs / (8 * threads)));
+  chunks_ = (pairs + chunk_size_ - 1) / chunk_size_;
+  chunk_part_.resize(static_cast<std::size_t>(chunks_));
+  chunk_first_.resize(static_cast<std::size_t>(chunks_));
+  chunk_count_.resize(static_cast<std::size_t>(chunks_));
+  next_chunk_.store(0, std::memory_order_relaxed);
+  pair_horizon_ = horizon;
+  workers_->run(threads, &Impl::pairTask, this);
+  // Every part is finished: run() returns after the workers' last writes, under its mutex.
+  for (const PairPart& part : parts_) {
+    if (part.error) std::rethrow_exception(part.error);
+  }
+  for (const PairPart& part : parts_) {
+    stats_.allowed_pairs += part.counters.allowed;
+    stats_.axis_candidates += part.counters.axis_candidates;
+    stats_.contacts += part.counters.contacts;
+    stats_.narrow_iterations += part.counters.narrow_iterations;
+    stats_.ns_axis += part.counters.ns_axis;
+    stats_.ns_narrow += part.counters.ns_narrow;
+  }
+  // The reports in the pairs' order, as predictPairs makes them on one thread: the event
+  // tracker's records and the events are the same for any number of threads.
+  std::vector<PairRecord>& records = pair_cache_.mutablePairs();
+  for (std::size_t c = 0; c < static_cast<std::size_t>(chunks_); ++c) {
+    const PairPart& part = parts_[static_cast<std::size_t>(chunk_part_[c])];
+    const std::size_t first = static_cast<std::size_t>(chunk_first_[c]);
+    const std::size_t end = first + static_cast<std::size_t>(chunk_count_[c]);
+    for (std::size_t k = first; k < end; ++k) {
+      report(records[static_cast<std::size_t>(part.contacts[k].first)], part.contacts[k].second);
+    }
+  }
+}
+
+void ProximityWorld::Impl::runPairPart(int index) {
+  PairPart& part = parts_[static_cast<std::size_t>(index)];
+  part.contacts.clear();
+  part.counters = PairCounters();
+  part.error = nullptr;
+  std::vector<PairRecord>& records = pair_cache_.mutablePairs();
+  const int pairs = static_cast<int>(records.size());
+  try {
+    ContactPrediction prediction;
+    for (;;) {
+      const int c = next_chunk_.fetch_add(1, std::memory_order_relaxed);
+      if (c >= chunks_) break;
+      const std::size_t cu = static_cast<std::size_t>(c);
+      chunk_part_[cu] = index;
+      chunk_first_[cu] = static_cast<std::int32_t>(part.contacts.size());
+      const int end = std::min(pairs, (c + 1) * chunk_size_);
+      for (int i = c * chunk_size_; i < end; ++i) {
+        if (evaluatePair(records[static_cast<std::size_t>(i)], pair_horizon_, &part.counters,
+                         &prediction)) {
+          part.contacts.emplace_back(i, prediction);
+        }
+      }
+      chunk_count_[cu] = static_cast<std::int32_t>(part.contacts.size()) - chunk_first_[cu];
+    }
+  } catch (...) {
+    part.error = std::current_exception();
+    next_chunk_.store(chunks_, std::memory_order_relaxed);  // the others stop soon
+  }
 }
 
 inline PairBody ProximityWorld::Impl::pairBody(std::int32_t slot) const {

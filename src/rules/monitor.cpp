@@ -9,6 +9,7 @@ WorldConfig worldConfig(const MonitorParams& params) {
   WorldConfig config;
   config.rules = makePairRules(params);
   config.broad_phase.coast_updates = params.broad_phase_lead;
+  config.pair_threads = params.pair_threads;
   return config;
 }
 

@@ -31,6 +31,8 @@ constexpr ParamRow kParams[] = {
      "tracked objects kept at most; beyond it the ones nearest the robot win"},
     {"broad_phase_lead", WP_M(broad_phase_lead), kStartup, 0.0, 64.0, nullptr, "updates", "",
      "the broad phase's bounds lead each box by this many cycles of its own motion; 0: off"},
+    {"pair_threads", WP_M(pair_threads), kStartup, 1, 16, nullptr, "threads", "",
+     "threads for the per-pair stages (contact window, narrow phase) from 2 048 pairs on"},
     {"input_topics", WP_M(input_topics), kWiring, 0, 0, nullptr, "", "",
      "TrackedBoxArray topics; empty: the single topic tracked_objects"},
     {"perception_status_topics", WP_M(perception_status_topics), kWiring, 0, 0, nullptr, "", "",

@@ -292,6 +292,26 @@ TEST(Allocations, WorldPairCacheAllocatesNothingWhilePairsComeAndGo) {
   EXPECT_GT(broad.spread(), 10);
 }
 
+// The same cell with the per-pair stages on two threads (WorldConfig::pair_threads): the
+// worker is started in the warm-up, and then the chunks, each thread's list of contacts and
+// the hand-over between the threads allocate nothing.
+TEST(Allocations, WorldPairStagesOnTwoThreadsAllocateNothing) {
+  wp::WorldConfig config;
+  config.pair_threads = 2;
+  config.parallel_pairs = 1;
+  wp::ProximityWorld world(config);
+  wp_test::RobotCell cell(&world, 30, 200);
+  int began = 0, contacts = 0;
+  auto cycle = [&](int k) {
+    cell.step(k / 30.0, 1.0 / 30.0);
+    for (const wp::PairEvent& e : world.predict(2.0)) began += e.state == wp::ContactState::kBegin;
+    contacts += world.stats().contacts;
+  };
+  EXPECT_EQ(steadyAllocations(cycle, [&] { began = contacts = 0; }), 0);
+  EXPECT_GT(began, 100);
+  EXPECT_GT(contacts, 3000);
+}
+
 // The same cell with every link reaching 1.5 m (speed and separation monitoring's reach):
 // the near pairs' distances (upright boxes: the closed form) and their list allocate nothing,
 // also with predict in its two halves (predictNear, predictEvents: the monitor's cycle).

@@ -32,8 +32,9 @@ struct Prediction {
 // Runs `scenes` random scenes of `n` boxes; checks every pair against the sampled oracle.
 // `upright`: boxes turned and spinning about z only, as trackers report people and vehicles
 // (the narrow phase's closed-form path); otherwise any orientation and spin axis (FCL).
+// `threads`: WorldConfig::pair_threads, in parallel from the first pair on.
 void checkScenes(int scenes, int n, bool rotate, unsigned seed, int* contacts_checked,
-                 bool upright = false) {
+                 bool upright = false, int threads = 1) {
   wp_test::Rng rng(seed);
   const double horizon = 1.0;
   const double dt = 1e-3;
@@ -42,6 +43,8 @@ void checkScenes(int scenes, int n, bool rotate, unsigned seed, int* contacts_ch
   for (int scene = 0; scene < scenes; ++scene) {
     wp::WorldConfig config;
     config.rules = wp::PairRules::allowAll();
+    config.pair_threads = threads;
+    config.parallel_pairs = 1;
     wp::ProximityWorld world(config);
     std::vector<TestBody> bodies(n);
     for (int i = 0; i < n; ++i) {
@@ -133,6 +136,20 @@ TEST(NoFalseNegatives, TranslatingUprightBoxesAndExactTimes) {
 TEST(NoFalseNegatives, YawingAndTranslatingUprightBoxes) {
   int checked = 0;
   checkScenes(60, 14, true, 14, &checked, true);
+  EXPECT_GT(checked, 100);
+}
+
+// The per-pair stages shared among threads (chunks of 16 pairs taken in turn): the same
+// oracle, denser scenes (more pairs than chunks).
+TEST(NoFalseNegatives, TranslatingUprightBoxesOnThreeThreads) {
+  int checked = 0;
+  checkScenes(12, 24, false, 15, &checked, true, 3);
+  EXPECT_GT(checked, 100);
+}
+
+TEST(NoFalseNegatives, RotatingOrientedBoxesOnTwoThreads) {
+  int checked = 0;
+  checkScenes(12, 24, true, 16, &checked, false, 2);
   EXPECT_GT(checked, 100);
 }
 

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "random.hpp"
+#include "scenes.hpp"
 #include "workspace_proximity/proximity_world.hpp"
 
 namespace wp = workspace_proximity;
@@ -328,6 +329,92 @@ TEST(ProximityWorld, EventsStayConsistentUnderChurn) {
     }
     active = now;
   }
+}
+
+// The per-pair stages on several threads (WorldConfig::pair_threads) report exactly what one
+// thread reports: the same events in the same order, bit for bit, with the same pair numbers
+// and counts. A robot cell with every kind of pair: links on keyframed paths (the piecewise
+// stages), objects whose margins grow from the middle on, upright boxes against upright boxes (the
+// closed form) and against turning links (FCL), pairs beginning and ending all along, and
+// objects removed and added again (slots reused).
+TEST(ProximityWorld, PairThreadsReportExactlyWhatOneThreadReports) {
+  struct Run {
+    explicit Run(int threads) : world(config(threads)), cell(&world, 24, 160, 5) {}
+    static wp::WorldConfig config(int threads) {
+      wp::WorldConfig c;
+      c.pair_threads = threads;
+      c.parallel_pairs = 1;  // every cycle in parallel, in chunks of 16 pairs or more
+      return c;
+    }
+    wp::ProximityWorld world;
+    wp_test::RobotCell cell;
+  };
+  Run one(1), two(2), three(3);
+  Run* runs[] = {&one, &two, &three};
+  wp::MarginGrowth growth;
+  growth.velocity_error = 0.1;
+  growth.max_accel = 0.4;
+  growth.speed_cap = 0.3;
+  int events = 0, parallel_cycles = 0;
+  for (int k = 0; k < 240; ++k) {
+    for (Run* r : runs) {
+      if (k == 60) r->cell.setKeyframes(6, 2.0);
+      if (k == 120) r->cell.setObjectGrowth(growth);
+      if (k % 40 == 20) {  // an object leaves and comes back under a new handle
+        const wp::BodyHandle h = r->cell.object(k % 7);
+        const wp::BodyDesc desc = r->world.desc(h);
+        const wp::BodyMotion motion = r->world.motion(h);
+        r->world.removeBody(h);
+        r->world.predict(2.0);
+        r->cell.replaceObject(k % 7, r->world.addBody(desc, motion));
+      }
+      r->cell.step(k / 30.0, 1.0 / 30.0);
+    }
+    const std::vector<wp::PairEvent> expected = one.world.predict(2.0);
+    events += static_cast<int>(expected.size());
+    parallel_cycles += one.world.stats().broad_pairs > 64;  // several chunks
+    for (Run* r : {&two, &three}) {
+      const std::vector<wp::PairEvent>& got = r->world.predict(2.0);
+      ASSERT_EQ(got.size(), expected.size()) << "cycle " << k;
+      for (std::size_t i = 0; i < got.size(); ++i) {
+        const wp::PairEvent& e = expected[i];
+        const wp::PairEvent& g = got[i];
+        ASSERT_EQ(g.body_a.index, e.body_a.index) << "cycle " << k << " event " << i;
+        ASSERT_EQ(g.body_b.index, e.body_b.index);
+        ASSERT_EQ(g.state, e.state);
+        ASSERT_EQ(g.pair, e.pair);
+        // Bit for bit: the same arithmetic on the same inputs, whichever thread did it.
+        ASSERT_EQ(g.time_to_contact, e.time_to_contact);
+        ASSERT_EQ(g.time_to_separation, e.time_to_separation);
+        ASSERT_EQ(g.distance, e.distance);
+        ASSERT_EQ(g.closing_speed, e.closing_speed);
+        ASSERT_TRUE(g.point_a == e.point_a && g.point_b == e.point_b && g.normal == e.normal);
+      }
+      const wp::WorldStats& s1 = one.world.stats();
+      const wp::WorldStats& sn = r->world.stats();
+      ASSERT_EQ(sn.broad_pairs, s1.broad_pairs);
+      ASSERT_EQ(sn.allowed_pairs, s1.allowed_pairs);
+      ASSERT_EQ(sn.axis_candidates, s1.axis_candidates);
+      ASSERT_EQ(sn.contacts, s1.contacts);
+      ASSERT_EQ(sn.narrow_iterations, s1.narrow_iterations);
+    }
+  }
+  EXPECT_GT(events, 5000);
+  EXPECT_GT(parallel_cycles, 200);
+}
+
+TEST(ProximityWorld, PairThreadsOutsideTheirRangeAreRejected) {
+  for (const int threads : {0, -1, wp::WorldConfig::kMaxPairThreads + 1}) {
+    wp::WorldConfig c;
+    c.pair_threads = threads;
+    EXPECT_THROW(wp::ProximityWorld world(c), std::invalid_argument) << threads;
+  }
+  wp::WorldConfig c;
+  c.parallel_pairs = 0;
+  EXPECT_THROW(wp::ProximityWorld world(c), std::invalid_argument);
+  c.parallel_pairs = 1;
+  c.pair_threads = wp::WorldConfig::kMaxPairThreads;
+  EXPECT_NO_THROW(wp::ProximityWorld world(c));
 }
 
 // What a world keeps between cycles (each body's pose and the rotation it was built from, the

@@ -210,6 +210,9 @@ class RobotCell {
   }
   /// From the next step on, every object's margin grows with `growth` (its age ignored).
   void setObjectGrowth(const wp::MarginGrowth& growth) { growth_ = growth; }
+  /// Object i's body; replaceObject gives it a new one (its walk goes on).
+  wp::BodyHandle object(int i) const { return objects_[static_cast<std::size_t>(i)].handle; }
+  void replaceObject(int i, wp::BodyHandle handle) { objects_[static_cast<std::size_t>(i)].handle = handle; }
 
   /// Poses the arm at time t (s) and walks every object dt (s) on.
   void step(double t, double dt) {

@@ -92,6 +92,13 @@ struct MonitorParams {
   /// of steady motion then last long enough to be spread over the updates before their end,
   /// which lowers the cycle's tail (bench/results/NOTES.md section 22).
   double broad_phase_lead = 16.0;
+  /// Threads for the per-pair stages of each prediction (WorldConfig::pair_threads: the
+  /// contact window and narrow phase of every broad-phase pair), used from 2 048 pairs on.
+  /// 1 (the cycle's thread alone) by default: on the benchmark machine (a 2-vCPU VM) a worker
+  /// woken every 33 ms made the node no faster (bench/results/NOTES.md section 23); on a
+  /// machine with idle cores 2 or more shorten the stages (1.6-1.8 times on two threads when
+  /// cycles follow each other at once, as in a replay).
+  int pair_threads = 1;
   /// When a cycle runs: "timer" (every 1 / rate s) or "input" (as soon as an array of
   /// `trigger_source` arrives, at most `rate` times a second, and at least every 1 / rate s).
   std::string cycle_trigger = "timer";
