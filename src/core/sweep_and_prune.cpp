@@ -4,6 +4,7 @@
 #include "workspace_proximity/sweep_and_prune.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -126,11 +127,33 @@ std::int64_t rebuildCost(const State& s, bool sweep_axis_only) {
                        : static_cast<std::int64_t>(budget);
 }
 
+// What a re-sort did, for the measured choice of the off path (State::insertion_ns).
+enum class Resorted : std::uint8_t { kInsertion, kStreak, kOther, kFailedInsertion };
+
+// Updates a rebuild streak lasts before insertion sort is measured against it, and how long
+// (updates) such a measurement stands.
+constexpr std::uint32_t kProbeAfter = 4;
+constexpr std::uint32_t kMeasurementLife = 512;
+
+// The streak under way goes on only if insertion sort was not measured cheaper lately; a long
+// one whose estimate is within insertion sort's budget measures it when it has not lately.
+bool leaveStreak(State& s, std::int64_t swaps) {
+  if (!s.config.measure_streaks || swaps > rebuildCost(s, false)) return false;
+  if (s.probe_insertion) return true;
+  const bool recent = s.insertion_ns >= 0.0 && s.updates - s.insertion_at <= kMeasurementLife;
+  if (!recent) {
+    if (s.streak_length < kProbeAfter) return false;
+    s.probe_insertion = true;  // (a full rebuild now, insertion sort at the next update)
+    return true;
+  }
+  return s.streak_ns >= 0.0 && s.insertion_ns < 0.85 * s.streak_ns;
+}
+
 // Re-sorts every axis, incrementally or by a rebuild. `jump`: the enlarged bounds of many
 // proxies changed at once (skip the insertion-sort attempt when the swaps estimated from the
 // new keys exceed a rebuild); `allow_streak`: a rebuild may leave two axes unsorted (not while
 // coasting: moveEscapers needs them).
-void resort(State& s, bool jump, bool allow_streak) {
+Resorted resortOnce(State& s, bool jump, bool allow_streak) {
   const std::size_t began_mark = s.cand_began.size();
   const std::size_t ended_mark = s.cand_ended.size();
   if (!jump && !s.last_rebuilt && !s.anyStale()) {
@@ -139,19 +162,62 @@ void resort(State& s, bool jump, bool allow_streak) {
       // from scratch and diff the new pair set against the old one.
       rollBack(s, began_mark, ended_mark);
       rebuild(s, false, false);
+      return Resorted::kFailedInsertion;
     }
-    return;
+    return Resorted::kInsertion;
   }
   // After a rebuild: rebuild again (the sweep axis only) while insertion sort would cost more.
   const std::int64_t swaps = estimateAllSwaps(s);
   s.last_estimate = swaps;
   if (swaps > rebuildCost(s, allow_streak)) {
-    rebuild(s, allow_streak, !s.anyStale());
-  } else if (s.anyStale()) {
+    if (!(allow_streak && leaveStreak(s, swaps))) {
+      rebuild(s, allow_streak, !s.anyStale());
+      return allow_streak ? Resorted::kStreak : Resorted::kOther;
+    }
+    s.stats.left_streak = true;
+  }
+  if (s.anyStale()) {
     rebuild(s, false, false);  // stale axes: insertion sort would miss pair events
   } else if (!sortAxes(s, false, rebuildCost(s, false))) {
     rollBack(s, began_mark, ended_mark);
     rebuild(s, false, true);
+    return Resorted::kFailedInsertion;
+  } else {
+    return Resorted::kInsertion;
+  }
+  return Resorted::kOther;
+}
+
+void resort(State& s, bool jump, bool allow_streak) {
+  // Coasting off (the only caller that allows streaks): the kinds of re-sort timed, for
+  // leaveStreak(). Two clock reads per update, next to re-sorts of thousands of endpoints.
+  const bool timed = allow_streak && s.config.measure_streaks;
+  const auto start = timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
+  const Resorted kind = resortOnce(s, jump, allow_streak);
+  s.streak_length = kind == Resorted::kStreak ? s.streak_length + 1 : 0;
+  if (!timed) return;
+  const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count();
+  auto average = [](double* mean, double sample) { *mean = *mean < 0.0 ? sample : 0.75 * *mean + 0.25 * sample; };
+  switch (kind) {
+    case Resorted::kInsertion:
+      average(&s.insertion_ns, ns);
+      s.insertion_at = s.updates;
+      s.probe_insertion = false;
+      break;
+    case Resorted::kFailedInsertion:
+      // It cost an insertion sort given up, its roll-back and a rebuild: what insertion sort
+      // costs with this motion, as far as the choice is concerned.
+      if (s.probe_insertion || s.insertion_ns >= 0.0) {
+        average(&s.insertion_ns, ns);
+        s.insertion_at = s.updates;
+      }
+      s.probe_insertion = false;
+      break;
+    case Resorted::kStreak:
+      average(&s.streak_ns, ns);
+      break;
+    case Resorted::kOther:
+      break;
   }
 }
 

@@ -170,6 +170,13 @@ struct State {
   unsigned rebuilds_since_choice = 0;
   double mean_width[3] = {0.0, 0.0, 0.0};  // mean bound width per axis when last measured, m
   bool widths_due = true;                  // the next rebuild's slab sweep re-measures them
+  // Coasting off, the choice between a rebuild streak and insertion sort checked by their
+  // measured costs (SweepAndPruneConfig::measure_streaks; resort() in sweep_and_prune.cpp).
+  double insertion_ns = -1.0;        // an update whose insertion sort sufficed (average; -1: none)
+  double streak_ns = -1.0;           // a rebuild that followed a rebuild (average; -1: none)
+  std::uint32_t insertion_at = 0;    // update of the last insertion measurement
+  std::uint32_t streak_length = 0;   // rebuilds in a row, the streak under way
+  bool probe_insertion = false;      // leave the streak to measure insertion sort
 
   // A run's end spread over several updates: the next arrays, built beside these.
   NextArrays next;

@@ -634,6 +634,7 @@ TEST(SweepAndPrune, RebuildStreaksEnteredAndLeftUnderChurnEqualBruteForce) {
     const double factors[] = {1.0, 1.0, 0.3, 3.0};  // where the streaks start and end
     cfg.rebuild_factor = factors[scene % 4];
     cfg.coast_updates = 0.0;  // the arrays hold the given bounds: every move re-sorts
+    cfg.measure_streaks = false;  // the estimate alone: the paths counted below
     Harness h(cfg, true);
     StreakScene s(n, rng, h);
     std::vector<int>& obj_of = s.obj_of;
@@ -688,6 +689,53 @@ TEST(SweepAndPrune, RebuildStreaksEnteredAndLeftUnderChurnEqualBruteForce) {
   EXPECT_GT(streak_rebuilds, 100);
   EXPECT_GE(longest_streak, 10);
   EXPECT_GT(incremental_after_streak, 5);
+}
+
+// The same scenes with the off path's choice checked by measured costs (measure_streaks):
+// streaks of 4 rebuilds whose estimate is within insertion sort's budget are left to measure
+// it, and left again while it measures cheaper; whichever path the clock picks, the pairs and
+// their differences are the brute-force ones.
+TEST(SweepAndPrune, StreaksLeftByMeasuredCostsEqualBruteForce) {
+  Rng rng(170017);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int left = 0, left_then_incremental = 0;
+  for (int scene = 0; scene < 6; ++scene) {
+    SCOPED_TRACE(testing::Message() << "scene " << scene);
+    const int n = 200 + 100 * scene;
+    SweepAndPruneConfig cfg;
+    cfg.coast_updates = 0.0;
+    ASSERT_TRUE(cfg.measure_streaks);  // the default
+    Harness h(cfg, true);
+    StreakScene s(n, rng, h);
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    bool left_last = false;
+    for (int cycle = 0; cycle < 80; ++cycle) {
+      // Large motion starts streaks; then motion near where the estimate ends them, at
+      // scene-dependent sizes, so that the estimate sits between a streak's rebuild and the
+      // full rebuild that leaves it.
+      const double band[] = {0.02, 0.03, 0.045, 0.06, 0.08, 0.1};
+      const double step = cycle % 20 < 3 ? 2.0 : band[scene];
+      for (std::size_t i = 0; i < s.center.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+          s.center[i][k] += step * (2.0 * unit(rng) - 1.0);
+          s.center[i][k] = std::clamp(s.center[i][k], s.half[i][k], s.side - s.half[i][k]);
+        }
+        h.move(s.obj_of[i], gridBox(s.center[i], s.half[i]));
+      }
+      h.updateAndCheck();
+      if (::testing::Test::HasFatalFailure()) return;
+      const workspace_proximity::SweepAndPruneStats& st = h.sap().stats();
+      if (left_last && !st.rebuilt) ++left_then_incremental;
+      left_last = st.left_streak;
+      left += st.left_streak;
+    }
+  }
+  std::printf("measured streaks: %d left, %d followed by insertion sort\n", left, left_then_incremental);
+  // Each scene's first probe and the insertion sort after it do not depend on the clock (no
+  // measurement stands yet): both paths were taken.
+  EXPECT_GT(left, 0);
+  EXPECT_GT(left_then_incremental, 0);
 }
 
 // Rebuild after rebuild at small motion on a large scene (2 500 boxes, about 1 000 pairs;
