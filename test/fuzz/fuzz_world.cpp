@@ -196,6 +196,10 @@ class Harness {
     if (n & 1) c.narrow_phase.max_iterations = 1 + (n >> 5);
     if (n & 2) c.narrow_phase.distance_tolerance = 1e-3;
     c.rules = (n & 4) ? wp::PairRules::allowAll() : wp::PairRules();
+    if (n & 8) {  // the per-pair stages on two threads, from the first pair on
+      c.pair_threads = 2;
+      c.parallel_pairs = 1;
+    }
     return c;
   }
 
