@@ -143,13 +143,13 @@ TEST(NoFalseNegatives, YawingAndTranslatingUprightBoxes) {
 // oracle, denser scenes (more pairs than chunks).
 TEST(NoFalseNegatives, TranslatingUprightBoxesOnThreeThreads) {
   int checked = 0;
-  checkScenes(12, 24, false, 15, &checked, true, 3);
+  checkScenes(6, 24, false, 15, &checked, true, 3);
   EXPECT_GT(checked, 100);
 }
 
 TEST(NoFalseNegatives, RotatingOrientedBoxesOnTwoThreads) {
   int checked = 0;
-  checkScenes(12, 24, true, 16, &checked, false, 2);
+  checkScenes(6, 24, true, 16, &checked, false, 2);
   EXPECT_GT(checked, 100);
 }
 
