@@ -141,6 +141,7 @@ struct ProximityWorld::Impl {
   };
   bool evaluatePair(PairRecord& pair, double horizon, PairCounters* counters,
                     ContactPrediction* prediction);
+  void addCounters(const PairCounters& counters);
   void predictPairsInParallel(double horizon);
   void runPairPart(int part);
   static void pairTask(void* impl, int part) { static_cast<Impl*>(impl)->runPairPart(part); }
@@ -580,14 +581,18 @@ void ProximityWorld::Impl::predictPairs(double horizon) {
     for (PairRecord& pair : pair_cache_.mutablePairs()) {
       if (evaluatePair(pair, horizon, &counters, &prediction)) report(pair, prediction);
     }
-    stats_.allowed_pairs += counters.allowed;
-    stats_.axis_candidates += counters.axis_candidates;
-    stats_.contacts += counters.contacts;
-    stats_.narrow_iterations += counters.narrow_iterations;
-    stats_.ns_axis += counters.ns_axis;
-    stats_.ns_narrow += counters.ns_narrow;
+    addCounters(counters);
   }
   rules_changed_ = false;
+}
+
+void ProximityWorld::Impl::addCounters(const PairCounters& counters) {
+  stats_.allowed_pairs += counters.allowed;
+  stats_.axis_candidates += counters.axis_candidates;
+  stats_.contacts += counters.contacts;
+  stats_.narrow_iterations += counters.narrow_iterations;
+  stats_.ns_axis += counters.ns_axis;
+  stats_.ns_narrow += counters.ns_narrow;
 }
 
 inline bool ProximityWorld::Impl::evaluatePair(PairRecord& pair, double horizon,
@@ -644,14 +649,7 @@ void ProximityWorld::Impl::predictPairsInParallel(double horizon) {
   for (const PairPart& part : parts_) {
     if (part.error) std::rethrow_exception(part.error);
   }
-  for (const PairPart& part : parts_) {
-    stats_.allowed_pairs += part.counters.allowed;
-    stats_.axis_candidates += part.counters.axis_candidates;
-    stats_.contacts += part.counters.contacts;
-    stats_.narrow_iterations += part.counters.narrow_iterations;
-    stats_.ns_axis += part.counters.ns_axis;
-    stats_.ns_narrow += part.counters.ns_narrow;
-  }
+  for (const PairPart& part : parts_) addCounters(part.counters);
   // The reports in the pairs' order, as predictPairs makes them on one thread: the event
   // tracker's records and the events are the same for any number of threads.
   std::vector<PairRecord>& records = pair_cache_.mutablePairs();

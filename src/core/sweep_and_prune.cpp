@@ -178,14 +178,14 @@ Resorted resortOnce(State& s, bool jump, bool allow_streak) {
   }
   if (s.anyStale()) {
     rebuild(s, false, false);  // stale axes: insertion sort would miss pair events
-  } else if (!sortAxes(s, false, rebuildCost(s, false))) {
+    return Resorted::kOther;
+  }
+  if (!sortAxes(s, false, rebuildCost(s, false))) {
     rollBack(s, began_mark, ended_mark);
     rebuild(s, false, true);
     return Resorted::kFailedInsertion;
-  } else {
-    return Resorted::kInsertion;
   }
-  return Resorted::kOther;
+  return Resorted::kInsertion;
 }
 
 void resort(State& s, bool jump, bool allow_streak) {
