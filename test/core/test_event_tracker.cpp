@@ -272,11 +272,11 @@ TEST(EventTracker, EndCarriesThePairsLastEvent) {
   EXPECT_EQ(end->closing_speed, 1.0);
 }
 
-// The order comes from the last cycle's order and an insertion sort (std::sort past a budget
-// of moves): whatever the cycle, it must be exactly the order a full sort of (time, bodies)
-// gives. Cycles alternate between coherent ones (every time shrinks by the cycle and a
-// little noise, pairs come and go, ties at 0) and shuffled ones (fresh random times: the
-// fallback); clear() now and then forgets every place.
+// The order comes from the last cycle's order (its sorted part kept, the keys out of place
+// sorted and merged back in): whatever the cycle, it must be exactly the order a full sort of
+// (time, bodies) gives. Cycles alternate between coherent ones (every time shrinks by the
+// cycle and a little noise, pairs come and go, ties at 0) and shuffled ones (fresh random
+// times: most keys out of place); clear() now and then forgets every place.
 TEST(EventTracker, OrderEqualsAFullSortInCoherentAndShuffledCycles) {
   wp::EventTracker tracker(16);
   wp_test::Rng rng(11);
