@@ -207,7 +207,11 @@ struct ProximityWorld::Impl::BodyRecord {
   std::int32_t next_free = -1;
   double reach = 0.0;  // m: the broad phase sees `swept` grown by this (setReach)
   Eigen::Vector3d half = Eigen::Vector3d::Zero();  // rotation-inflated half extents + margin
-  Aabb swept;
+  // desc.shape and desc.margin, copied here beside the rest of what the pair stages read of a
+  // body (desc's names come first there: two more cache lines a body otherwise).
+  double margin = 0.0;
+  Shape shape;
+  BodyMotion motion;  // now: the constant twist, or the path's first segment
   // The pose at t = 0 (motion.poseAt(0)), set by updateBounds whenever the motion changed: the
   // swept bounds, every pair stage and the narrow phase's poses of a body that does not turn
   // start from it, so its rotation matrix is built once per motion, not once per use.
@@ -217,7 +221,7 @@ struct ProximityWorld::Impl::BodyRecord {
   // and a rotation matrix per cycle. The rotation depends on the orientation alone, so a
   // reused slot needs no reset.
   Eigen::Vector4d pose_orientation = Eigen::Vector4d::Constant(std::numeric_limits<double>::quiet_NaN());
-  BodyMotion motion;  // now: the constant twist, or the path's first segment
+  Aabb swept;
   BodyDesc desc;
   MarginGrowth growth;
   // Piecewise motion (setPath), or the one segment of a growing body: prepared by
@@ -299,6 +303,8 @@ BodyHandle ProximityWorld::Impl::addBody(const BodyDesc& desc, const BodyMotion&
   }
   BodyRecord& b = bodies_[index];
   b.desc = desc;
+  b.shape = desc.shape;
+  b.margin = desc.margin;
   b.motion = motion;
   b.has_path = false;
   b.growth = MarginGrowth();
@@ -373,8 +379,8 @@ void ProximityWorld::Impl::setShape(BodyHandle body, const Shape& shape, double 
   BodyRecord& b = liveRecord(body, "ProximityWorld::setShape");
   checkShape("ProximityWorld::setShape", b.desc.id, shape, margin);
   narrow_phase_.setShape(body.index, shape);
-  b.desc.shape = shape;
-  b.desc.margin = margin;
+  b.desc.shape = b.shape = shape;
+  b.desc.margin = b.margin = margin;
   b.dirty = true;
 }
 
@@ -506,16 +512,16 @@ void ProximityWorld::Impl::updateBounds(double horizon) {
         b.path[0].motion = b.motion;
         b.path[0].extra_margin = 0.0;
       }
-      b.swept = preparePath(b.desc.shape, b.desc.margin, b.growth, horizon, b.path.data(),
+      b.swept = preparePath(b.shape, b.margin, b.growth, horizon, b.path.data(),
                             static_cast<int>(b.path.size()));
       b.half = b.path[0].half;
     } else {
-      if (b.desc.shape.type == ShapeType::kBox && isExactlyZero(b.motion.angular_velocity)) {
+      if (b.shape.type == ShapeType::kBox && isExactlyZero(b.motion.angular_velocity)) {
         // A box that does not turn (most tracks): rotationHalfExtents' value, without the call.
-        b.half = (b.pose.linear().cwiseAbs() * b.desc.shape.half_extents).array() + b.desc.margin;
+        b.half = (b.pose.linear().cwiseAbs() * b.shape.half_extents).array() + b.margin;
       } else {
-        b.half = rotationHalfExtents(b.desc.shape, b.pose.linear(), b.motion.angular_velocity,
-                                     b.desc.margin, horizon);
+        b.half = rotationHalfExtents(b.shape, b.pose.linear(), b.motion.angular_velocity,
+                                     b.margin, horizon);
       }
       b.swept = sweptBoundsOfHalf(b.half, b.motion, horizon);
     }
@@ -696,9 +702,9 @@ void ProximityWorld::Impl::runPairPart(int index) {
 inline PairBody ProximityWorld::Impl::pairBody(std::int32_t slot) const {
   const BodyRecord& r = bodies_[slot];
   PairBody body;
-  body.shape = &r.desc.shape;
+  body.shape = &r.shape;
   body.motion = &r.motion;
-  body.margin = r.desc.margin;
+  body.margin = r.margin;
   body.half = r.half;
   body.geometry = slot;  // the narrow phase's geometry cache is indexed by body slot
   body.pose = &r.pose;   // updateBounds keeps it current
