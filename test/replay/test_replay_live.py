@@ -7,7 +7,8 @@ turned into events.csv rows (replay_data.contact_rows) and grouped into episodes
 replays the same bag with the same configuration files and URDF; its events.csv gives its
 episodes. Both use one episode definition (tools/replay_data.py).
 
-Tolerance: per pair, the same number of episodes, each starting and ending within two cycles
+Tolerance: per pair (episodes apart by one missed cycle joined on both paths), the same number
+of episodes, each starting and ending within two cycles
 (2 / ~rate, plus the 1 ms steps of the played clock) of the other path's, with the same peak
 level. Why two: the live node's cycles run when the played clock passes them (up to a clock
 step late), on a grid whose phase against the bag's differs by up to a cycle; and the node
@@ -99,7 +100,11 @@ class ReplayLiveTest(unittest.TestCase):
 
         tolerance = 2.0 / self.rate + 1.0 / CLOCK_HZ + 1e-6
         expected = [(ep.pair[0], ep.pair[1], ep.start, ep.end, ep.peak_level) for ep in offline]
-        problems = replay_data.compare_episodes(live, expected, tolerance)
+        # A contact grazing the threshold may miss one cycle on one path only (seen once in CI
+        # on a loaded machine: a live episode split in two by one cycle); such a gap counts as
+        # the same episode on both sides, as an end and a start each moved within the tolerance.
+        one_cycle = 1.0 / self.rate + 1.0 / CLOCK_HZ + 1e-6
+        problems = replay_data.compare_episodes(live, expected, tolerance, merge_gap=one_cycle)
         report = "\n".join(["live episodes:"] + ["  %r" % ep for ep in live] +
                            ["offline episodes:"] + ["  %r" % ep for ep in offline])
         print(report)

@@ -88,13 +88,18 @@ class Rep155(unittest.TestCase):
         _static = broadcast_static([("world", "base_link", (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))])
         deadline = rospy.Time.now() + rospy.Duration(20.0)
 
+        # Every node also hears /tf from this test before the scene starts: the REP-155 bodies'
+        # bones come from it, and a node whose /tf connection came late left them out of its
+        # first cycles (the likely cause of a failure seen once in CI on a loaded machine: one
+        # contacts message of the refusing node without the post's events).
         while rospy.Time.now() < deadline and not (
                 ids_pub.get_num_connections() >= 2 and boxes_pub.get_num_connections() >= 1 and
-                wrong_pub.get_num_connections() >= 1 and
+                wrong_pub.get_num_connections() >= 1 and tf_pub.pub_tf.get_num_connections() >= 3 and
                 all(r.posed() for r in recorders.values())):
             rospy.sleep(0.05)
         self.assertTrue(all(r.posed() for r in recorders.values()), "the post is not posed")
         self.assertGreaterEqual(ids_pub.get_num_connections(), 2)
+        self.assertGreaterEqual(tf_pub.pub_tf.get_num_connections(), 3)
 
         t0 = rospy.Time.now()
         rate = rospy.Rate(20.0)
