@@ -134,6 +134,12 @@ struct ProximityWorld::Impl {
   void syncPairCache();
   void collectNearPairs();
   void predictPairs(double horizon);
+  // Pairs ahead of the one evaluated whose bodies' records are prefetched, and how many cache
+  // lines of each record: the header, half, margin, shape, motion and pose (through the pose's
+  // translation, ~350 bytes; BodyRecord keeps them first).
+  static constexpr std::size_t kPrefetchAhead = 8;
+  static constexpr int kPrefetchLines = 6;
+  void prefetchBodies(const PairRecord& pair) const;
   // One pair's counts and stage times, summed into stats_ (per thread while in parallel).
   struct PairCounters {
     int allowed = 0, axis_candidates = 0, contacts = 0, narrow_iterations = 0;
@@ -196,7 +202,8 @@ struct ProximityWorld::Impl::BodyRecord {
   enum class State : std::uint8_t { kFree, kLive, kRemoved };
 
   // Hot first, in the order updateBounds and the pair stages read them, so that a body's
-  // per-cycle work touches few cache lines; the names and the path come last.
+  // per-cycle work touches few cache lines (prefetchBodies asks for the first six); the names
+  // and the path come last.
   State state = State::kFree;
   bool dirty = true;
   bool has_path = false;  // set by setPath (else path holds the growing body's one segment)
@@ -584,8 +591,11 @@ void ProximityWorld::Impl::predictPairs(double horizon) {
   } else {
     PairCounters counters;
     ContactPrediction prediction;
-    for (PairRecord& pair : pair_cache_.mutablePairs()) {
-      if (evaluatePair(pair, horizon, &counters, &prediction)) report(pair, prediction);
+    std::vector<PairRecord>& pairs = pair_cache_.mutablePairs();
+    const std::size_t n = pairs.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i + kPrefetchAhead < n) prefetchBodies(pairs[i + kPrefetchAhead]);
+      if (evaluatePair(pairs[i], horizon, &counters, &prediction)) report(pairs[i], prediction);
     }
     addCounters(counters);
   }
@@ -686,6 +696,9 @@ void ProximityWorld::Impl::runPairPart(int index) {
       chunk_first_[cu] = static_cast<std::int32_t>(part.contacts.size());
       const int end = std::min(pairs, (c + 1) * chunk_size_);
       for (int i = c * chunk_size_; i < end; ++i) {
+        if (i + static_cast<int>(kPrefetchAhead) < end) {
+          prefetchBodies(records[static_cast<std::size_t>(i) + kPrefetchAhead]);
+        }
         if (evaluatePair(records[static_cast<std::size_t>(i)], pair_horizon_, &part.counters,
                          &prediction)) {
           part.contacts.emplace_back(i, prediction);
@@ -696,6 +709,17 @@ void ProximityWorld::Impl::runPairPart(int index) {
   } catch (...) {
     part.error = std::current_exception();
     next_chunk_.store(chunks_, std::memory_order_relaxed);  // the others stop soon
+  }
+}
+
+inline void ProximityWorld::Impl::prefetchBodies(const PairRecord& pair) const {
+  // The pairs come in the sweep's order, their bodies' records from all over the array: the
+  // first cache lines of both (what evaluatePair reads) are asked for a few pairs ahead. At
+  // 10 000 dense walkers (30 000 pairs, the records 6 MB) the per-pair stages took ~17 % less
+  // (4.8 -> 4.0 ms, alternating; 3 lines: 8 %).
+  for (const std::int32_t slot : {pair.body_a, pair.body_b}) {
+    const char* r = reinterpret_cast<const char*>(&bodies_[static_cast<std::size_t>(slot)]);
+    for (int line = 0; line < kPrefetchLines; ++line) __builtin_prefetch(r + 64 * line);
   }
 }
 
