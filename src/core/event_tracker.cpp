@@ -175,8 +175,17 @@ void EventTracker::sortEvents() {
     }
   }
   sorted_.clear();
-  for (const SortKey& k : sort_keys_) {
-    const PairEvent& e = events_[k.event];
+  // The gather reads the events in their new order, from all over events_ (15 000 events of
+  // ~150 bytes at 10 000 dense walkers): each is asked for a few keys ahead.
+  const std::size_t count = sort_keys_.size();
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i + 8 < count) {
+      const char* ahead = reinterpret_cast<const char*>(&events_[sort_keys_[i + 8].event]);
+      __builtin_prefetch(ahead);
+      __builtin_prefetch(ahead + 64);
+      __builtin_prefetch(ahead + 128);
+    }
+    const PairEvent& e = events_[sort_keys_[i].event];
     if (e.state != ContactState::kEnd) rank_[e.pair] = static_cast<std::int32_t>(sorted_.size());
     sorted_.push_back(e);
   }
