@@ -71,12 +71,14 @@ class EventTracker {
   std::vector<SortKey> sort_keys_;
   std::vector<PairEvent> sorted_;
   // Temporal coherence (the devlog's idea, applied to the events): a pair's events keep nearly
-  // the same place from one cycle to the next, so the keys start in the last cycle's order,
-  // whose sorted part is kept; only the keys out of place are sorted and merged back in.
+  // the same place from one cycle to the next, so the keys start in the last cycle's order and
+  // are insertion-sorted, but for the few far out of place: sorted apart and merged back in.
   std::vector<std::int32_t> rank_;     // per record: its event's place last cycle, or -1
   std::vector<std::int32_t> placed_;   // per last cycle's place: this cycle's event, or -1
   std::vector<SortKey> ranked_;        // keys of pairs that had a place, as they arrived
-  std::vector<SortKey> unranked_;      // keys of the others (new pairs, ENDs, out of place)
+  std::vector<SortKey> unranked_;      // keys of the others (new pairs, ENDs, far out of place)
+  // Places a key of the last order may move by insertion; one further off is sorted apart.
+  static constexpr std::size_t kMaxInsertion = 32;
   std::size_t last_count_ = 0;         // events last cycle
 };
 
