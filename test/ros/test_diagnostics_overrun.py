@@ -11,8 +11,9 @@ beyond the period on any machine of this class. Checks, over every status receiv
 - while the scene is published, ERROR is reported (at least 3 statuses);
 - contacts keep coming while the node overruns (it degrades its rate, never stops): at least
   5 arrays stamped in the loaded seconds;
-- after the scene stops, the tracks time out, the cycle is short again and the level is no
-  longer ERROR (WARN: the source is silent).
+- after the scene stops, the tracks time out, the cycle is short again and the level comes
+  back below ERROR (WARN: the source is silent); a quiet status whose cycle a preempted
+  moment still made longer than the period is ERROR by the first rule.
 The assertion is the logic (ERROR iff the reported cycle time exceeds the period), not a
 wall-clock time: the scene is heavy enough that overruns happen on any plausible machine.
 """
@@ -89,9 +90,12 @@ class DiagnosticsOverrunTest(unittest.TestCase):
         self.assertIsNotNone(st, "tracks never timed out")
         time.sleep(1.0)
         # The statuses from here on; on a loaded machine (ctest runs two tests at a time) the
-        # next one may take longer than the 0.2 s period, so wait for it rather than a fixed time.
+        # next one may take longer than the 0.2 s period, so wait for it rather than a fixed
+        # time. An empty cycle preempted by the other test can still take over 1 ms (seen once
+        # in CI: 1.03 ms, rightly ERROR by the rule checked below), so the level must come
+        # back below ERROR, not stay there in every quiet status.
         quiet_from = time.monotonic()
-        diags.wait_for(lambda st, v: True, 10.0, since=quiet_from)
+        back = diags.wait_for(lambda st, v: st.level != ERROR, 10.0, since=quiet_from)
         quiet = diags.since(quiet_from)
 
         errors = 0
@@ -119,9 +123,8 @@ class DiagnosticsOverrunTest(unittest.TestCase):
                                if m.header.stamp <= loaded_to])
         self.assertGreaterEqual(contacts_during, 5, "contacts stopped while overrunning")
         self.assertTrue(quiet, "no status after the scene stopped")
-        for _, st in quiet:
-            self.assertNotEqual(st.level, ERROR, "still ERROR after the scene stopped: %r (%s)"
-                                % (st.message, diag_values(st).get("cycle time (ms)")))
+        self.assertIsNotNone(back, "still ERROR 10 s after the scene stopped: %s" % [
+            (st.message, diag_values(st).get("cycle time (ms)")) for _, st in quiet])
         rospy.loginfo("overrun: %d ERROR statuses while loaded (of %d), %d in all", loaded_errors,
                       len(loaded), errors)
 
