@@ -36,6 +36,9 @@ class EventTracker {
   int poolCapacity() const { return static_cast<int>(records_.size()); }
   /// Forgets every pair without emitting END (e.g. after a reset of the caller's world).
   void clear();
+  /// How the last endCycle() ordered the events: false from the last cycle's order (insertion
+  /// and a merge), true by a radix sort of every key (most pairs far from their last place).
+  bool radixSorted() const { return radix_sorted_; }
 
  private:
   // A pair's record holds no event: its latest one is in last_events_ (at rank_[record]),
@@ -80,6 +83,21 @@ class EventTracker {
   // Places a key of the last order may move by insertion; one further off is sorted apart.
   static constexpr std::size_t kMaxInsertion = 32;
   std::size_t last_count_ = 0;         // events last cycle
+  // When more than an eighth of the last order would move far (a crowd whose tracks' ages
+  // differ from cycle to cycle: times to contact shift by tens of milliseconds, keys by
+  // hundreds of places), every key is radix-sorted by its time's bits instead, in
+  // kRadixPasses passes of kRadixBits, and keys with equal times by their bodies.
+  void radixSortKeys(std::size_t fresh);
+  struct RadixKey {
+    std::uint64_t time;    // the time's bits, ordered as the times are
+    std::uint64_t bodies;
+    std::uint32_t event;
+  };
+  static constexpr int kRadixBits = 11;
+  static constexpr int kRadixPasses = 6;  // 6 x 11 bits cover the 64
+  std::vector<RadixKey> radix_keys_, radix_spare_;
+  std::vector<std::uint32_t> radix_counts_;  // kRadixPasses x 2^kRadixBits
+  bool radix_sorted_ = false;
 };
 
 }  // namespace workspace_proximity

@@ -1,6 +1,7 @@
 #include "workspace_proximity/event_tracker.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -11,6 +12,7 @@ EventTracker::EventTracker(int initial_capacity)
   // The pool is built up front (the lecture's "array stack" of collision records); records
   // are recycled through the free list and the pool only grows when it runs out.
   growPool(static_cast<std::size_t>(std::max(initial_capacity, 8)));
+  radix_counts_.assign(static_cast<std::size_t>(kRadixPasses) << kRadixBits, 0);
 }
 
 void EventTracker::growPool(std::size_t size) {
@@ -31,6 +33,8 @@ void EventTracker::growPool(std::size_t size) {
   placed_.reserve(2 * size);
   ranked_.reserve(2 * size);
   unranked_.reserve(2 * size);
+  radix_keys_.reserve(2 * size);
+  radix_spare_.reserve(2 * size);
 }
 
 void EventTracker::growIndex() {
@@ -153,14 +157,22 @@ void EventTracker::sortEvents() {
     }
   }
   // The last cycle's order, insertion-sorted into sort_keys_ but for the keys that would move
-  // far, which join unranked_ (sort_keys_ stays sorted, so one comparison tells).
+  // far, which join unranked_ (sort_keys_ stays sorted, so one comparison tells). Past an
+  // eighth of the keys moving far, the order is no guide: everything is radix-sorted.
   sort_keys_.clear();
+  const std::size_t fresh = unranked_.size();
+  const std::size_t most_far = n / 8 + kMaxInsertion;
+  bool coherent = true;
   for (const std::int32_t slot : placed_) {
     if (slot < 0) continue;
     const SortKey k = ranked_[static_cast<std::size_t>(slot)];
     std::size_t j = sort_keys_.size();
     if (j >= kMaxInsertion && earlier(k, sort_keys_[j - kMaxInsertion])) {
       unranked_.push_back(k);
+      if (unranked_.size() - fresh > most_far) {
+        coherent = false;
+        break;
+      }
       continue;
     }
     sort_keys_.push_back(k);
@@ -170,16 +182,22 @@ void EventTracker::sortEvents() {
     }
     sort_keys_[j] = k;
   }
-  std::sort(unranked_.begin(), unranked_.end(), earlier);
-  // Merge from the back: the kept keys move up in place, no third buffer (the keys are unique).
-  std::size_t kept = sort_keys_.size(), rest = unranked_.size();
-  sort_keys_.resize(kept + rest);
-  for (std::size_t out = kept + rest; rest > 0;) {
-    if (kept > 0 && earlier(unranked_[rest - 1], sort_keys_[kept - 1])) {
-      sort_keys_[--out] = sort_keys_[--kept];
-    } else {
-      sort_keys_[--out] = unranked_[--rest];
+  radix_sorted_ = !coherent;
+  if (coherent) {
+    std::sort(unranked_.begin(), unranked_.end(), earlier);
+    // Merge from the back: the kept keys move up in place, no third buffer (the keys are
+    // unique).
+    std::size_t kept = sort_keys_.size(), rest = unranked_.size();
+    sort_keys_.resize(kept + rest);
+    for (std::size_t out = kept + rest; rest > 0;) {
+      if (kept > 0 && earlier(unranked_[rest - 1], sort_keys_[kept - 1])) {
+        sort_keys_[--out] = sort_keys_[--kept];
+      } else {
+        sort_keys_[--out] = unranked_[--rest];
+      }
     }
+  } else {
+    radixSortKeys(fresh);
   }
   sorted_.clear();
   // The gather reads the events in their new order, from all over events_ (15 000 events of
@@ -198,6 +216,69 @@ void EventTracker::sortEvents() {
   }
   last_count_ = sorted_.size();
   events_.swap(sorted_);
+}
+
+void EventTracker::radixSortKeys(std::size_t fresh) {
+  // Every key once: all of ranked_ (the last order's) and the first `fresh` of unranked_ (new
+  // pairs and ENDs; the rest are ranked_'s keys set aside).
+  radix_keys_.clear();
+  const auto add = [this](const SortKey& k) {
+    // A time's bits as an unsigned number in the times' order: non-negative times (and
+    // +infinity) with the sign bit set, negative ones inverted. -0 + 0 is +0, which the
+    // comparison takes for equal to -0 and so must the bits.
+    const double t = k.time + 0.0;
+    std::uint64_t bits;
+    std::memcpy(&bits, &t, sizeof bits);
+    bits = (bits >> 63) != 0 ? ~bits : bits | (std::uint64_t{1} << 63);
+    radix_keys_.push_back(RadixKey{bits, k.bodies, k.event});
+  };
+  for (const SortKey& k : ranked_) add(k);
+  for (std::size_t i = 0; i < fresh; ++i) add(unranked_[i]);
+  const std::size_t n = radix_keys_.size();
+  sort_keys_.resize(n);
+  if (n == 0) return;
+  radix_spare_.resize(n);
+  // Least significant digit first, every digit's counts in one pass; a digit that every key
+  // shares (the times' top bits, often) takes no pass.
+  constexpr std::size_t kDigits = std::size_t{1} << kRadixBits;
+  constexpr std::uint64_t kMask = kDigits - 1;
+  std::fill(radix_counts_.begin(), radix_counts_.end(), 0u);
+  for (const RadixKey& k : radix_keys_) {
+    for (int pass = 0; pass < kRadixPasses; ++pass) {
+      ++radix_counts_[(static_cast<std::size_t>(pass) << kRadixBits) + ((k.time >> (kRadixBits * pass)) & kMask)];
+    }
+  }
+  for (int pass = 0; pass < kRadixPasses; ++pass) {
+    std::uint32_t* count = radix_counts_.data() + (static_cast<std::size_t>(pass) << kRadixBits);
+    const int shift = kRadixBits * pass;
+    if (count[(radix_keys_.front().time >> shift) & kMask] == n) continue;
+    std::uint32_t sum = 0;
+    for (std::size_t d = 0; d < kDigits; ++d) {
+      const std::uint32_t c = count[d];
+      count[d] = sum;
+      sum += c;
+    }
+    for (const RadixKey& k : radix_keys_) radix_spare_[count[(k.time >> shift) & kMask]++] = k;
+    radix_keys_.swap(radix_spare_);
+  }
+  // Equal times (several pairs touching now) by their bodies.
+  for (std::size_t first = 0; first < n;) {
+    std::size_t last = first + 1;
+    while (last < n && radix_keys_[last].time == radix_keys_[first].time) ++last;
+    if (last - first > 1) {
+      std::sort(radix_keys_.begin() + static_cast<std::ptrdiff_t>(first),
+                radix_keys_.begin() + static_cast<std::ptrdiff_t>(last),
+                [](const RadixKey& x, const RadixKey& y) { return x.bodies < y.bodies; });
+    }
+    first = last;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const RadixKey& k = radix_keys_[i];
+    const std::uint64_t bits = (k.time >> 63) != 0 ? k.time & ~(std::uint64_t{1} << 63) : ~k.time;
+    double t;
+    std::memcpy(&t, &bits, sizeof t);
+    sort_keys_[i] = SortKey{t, k.bodies, k.event};
+  }
 }
 
 void EventTracker::clear() {

@@ -222,27 +222,37 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
 TEST(Allocations, EventTrackerSteadyStateAllocatesNothing) {
   wp::EventTracker tracker(64);
   wp_test::Rng rng(9);
-  auto cycle = [&] {
+  // Pairs come and go (most keys new), or stay while their times are drawn afresh every cycle
+  // (the radix sort's path: most keys far from their last places).
+  auto cycle = [&](bool stay) {
     tracker.beginCycle();
-    const int n = static_cast<int>(rng() % 200);
-    std::uint64_t seen[256];
+    const int n = stay ? 300 : static_cast<int>(rng() % 200);
+    std::uint64_t seen[300];
     int count = 0;
     for (int i = 0; i < n; ++i) {
-      const std::uint64_t key = rng() % 400;
+      const std::uint64_t key = stay ? static_cast<std::uint64_t>(i) : rng() % 400;
+      if (stay && rng() % 10 == 0) continue;
       bool dup = false;
       for (int k = 0; k < count; ++k) dup |= seen[k] == key;
       if (dup) continue;
       seen[count++] = key;
       wp::PairEvent e;
-      e.time_to_contact = (rng() % 100) / 100.0;
+      e.body_a.index = static_cast<int>(key);
+      e.time_to_contact = (rng() % 1000) / 1000.0;
       tracker.report(key, e);
     }
     tracker.endCycle();
   };
-  for (int i = 0; i < 500; ++i) cycle();
+  for (int i = 0; i < 500; ++i) cycle(i % 2 == 0);
   const long before = wp_test::allocationCount();
-  for (int i = 0; i < 2000; ++i) cycle();
+  int radix = 0;
+  for (int i = 0; i < 2000; ++i) {
+    cycle(i % 4 != 0);
+    radix += tracker.radixSorted();
+  }
   EXPECT_EQ(wp_test::allocationCount() - before, 0);
+  EXPECT_GT(radix, 100);
+  EXPECT_LT(radix, 2000);
 }
 
 // The whole pipeline, FCL narrow phase included, while bodies are predicted to meet but do

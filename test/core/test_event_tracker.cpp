@@ -333,3 +333,60 @@ TEST(EventTracker, OrderEqualsAFullSortInCoherentAndShuffledCycles) {
   EXPECT_GT(shuffled_cycles, 100);
   EXPECT_GT(coherent_cycles, 2000);
 }
+
+// A crowd whose tracks' ages differ from cycle to cycle: every time to contact shifts by up to
+// a tenth of a second each cycle, so most keys move hundreds of places and the tracker sorts
+// by radix. Its order must still be a full sort's, with ties at zero (and negative zero, and
+// a few negative times) broken by the bodies, ENDs last.
+TEST(EventTracker, RadixOrderEqualsAFullSortWhenTimesJitter) {
+  wp::EventTracker tracker(64);
+  wp_test::Rng rng(23);
+  std::map<std::uint64_t, double> live;
+  int radix_cycles = 0, coherent_cycles = 0;
+  for (int cycle = 0; cycle < 400; ++cycle) {
+    // Jitter in some stretches only, so that the tracker goes from one way to the other.
+    const bool jitter = (cycle / 25) % 2 == 0;
+    std::map<std::uint64_t, double> reported;
+    for (const auto& kv : live) {
+      if (rng() % 50 == 0) continue;  // this pair ends
+      double t = kv.second - 1.0 / 30.0 + (jitter ? rng.uniform(-0.1, 0.1) : 0.0);
+      if (t < 0.0 || rng() % 30 == 0) t = rng() % 2 == 0 ? 0.0 : -0.0;  // touching now: ties
+      if (rng() % 200 == 0) t = -rng.uniform(0.0, 1e-3);  // (times are not checked here)
+      if (t == 0.0 && rng() % 10 == 0) t = rng.uniform(0.5, 2.0);  // apart again
+      reported[kv.first] = t;
+    }
+    const int fresh = static_cast<int>(rng() % 60);
+    for (int i = 0; i < fresh; ++i) {
+      const int a = static_cast<int>(rng() % 400), b = 400 + static_cast<int>(rng() % 400);
+      if (!live.count(key(a, b))) reported[key(a, b)] = rng.uniform(0.0, 2.0);
+    }
+    std::vector<std::tuple<double, int, int>> expected, got;
+    for (const auto& kv : reported) {
+      // Negative zero sorts as zero, by the bodies.
+      expected.emplace_back(kv.second + 0.0, static_cast<int>(kv.first >> 32),
+                            static_cast<int>(kv.first & 0xffffffff));
+    }
+    for (const auto& kv : live) {
+      if (!reported.count(kv.first)) {
+        expected.emplace_back(std::numeric_limits<double>::infinity(),
+                              static_cast<int>(kv.first >> 32), static_cast<int>(kv.first & 0xffffffff));
+      }
+    }
+    std::sort(expected.begin(), expected.end());
+    tracker.beginCycle();
+    for (const auto& kv : reported) {
+      tracker.report(kv.first, prediction(static_cast<int>(kv.first >> 32),
+                                          static_cast<int>(kv.first & 0xffffffff), kv.second));
+    }
+    tracker.endCycle();
+    tracker.radixSorted() ? ++radix_cycles : ++coherent_cycles;
+    for (const auto& e : tracker.events()) {
+      got.emplace_back(e.time_to_contact + 0.0, e.body_a.index, e.body_b.index);
+    }
+    ASSERT_EQ(got, expected) << "cycle " << cycle << (tracker.radixSorted() ? " (radix)" : "");
+    live = reported;
+  }
+  // Both ways were taken, many times each.
+  EXPECT_GT(radix_cycles, 100);
+  EXPECT_GT(coherent_cycles, 40);
+}
