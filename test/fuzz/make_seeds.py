@@ -393,9 +393,30 @@ def skeleton_seeds():
     p.write("fuzz_skeletons", "hri_ids")
 
 
+def event_seeds():
+    """fuzz_events: 100 pairs; a coherent stretch (times shrinking by a cycle), then times drawn
+    afresh every cycle (the radix sort's path), then special values and a clear()."""
+    import random
+    rng = random.Random(5)
+    p = Program().byte(92).byte(8)  # 8 + 92 = 100 pairs, initial capacity 9
+    for cycle in range(6):
+        p.byte(0)
+        for i in range(100):
+            p.byte(1 | (32 << 2) if i % 9 else 0)  # reported, last time less a cycle
+    for cycle in range(4):
+        p.byte(0)
+        for i in range(100):
+            p.byte(2).u16(rng.randrange(65536))  # a fresh time
+    p.byte(0xFF)  # clear()
+    for i in range(100):
+        p.byte(3 | ((i % 8) << 2) | ((i % 4) << 5))  # +0, -0, inf, denormal, last, jump, < 0
+    p.write("fuzz_events", "coherent_scrambled_special")
+
+
 if __name__ == "__main__":
     world_seeds()
     sap_seeds()
     message_seeds()
     foreign_seeds()
     skeleton_seeds()
+    event_seeds()
