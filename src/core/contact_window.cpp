@@ -76,6 +76,8 @@ PairPieces::PairPieces(const PairBody& a, const PairBody& b, double horizon)
     : a_(&a), b_(&b), horizon_(std::max(horizon, 0.0)) {
   segments_a_ = ownSegment(a, horizon_, &own_a_);
   segments_b_ = ownSegment(b, horizon_, &own_b_);
+  first_pose_a_ = firstPose(a, segments_a_);
+  first_pose_b_ = firstPose(b, segments_b_);
   const int na = a.segments != nullptr ? usedSegments(a.segments, a.segment_count, horizon_) : 1;
   const int nb = b.segments != nullptr ? usedSegments(b.segments, b.segment_count, horizon_) : 1;
   // The instants the growth caps take over, when inside the horizon.
@@ -112,11 +114,23 @@ PairPieces::PairPieces(const PairBody& a, const PairBody& b, double horizon)
   }
 }
 
-PieceBody PairPieces::body(const PairBody& body, const PathSegment* segments, int segment, double u0,
-                           double u1) const {
+const Eigen::Isometry3d* PairPieces::firstPose(const PairBody& body, const PathSegment* segments) {
+  // The first segment's motion is the body's (PairBody::segments), starting at 0: its pose
+  // there is the body's pose now, if the caller has it (the orientation checked, so that a
+  // segment that says otherwise builds its own).
+  if (body.pose == nullptr || body.motion == nullptr || segments[0].start != 0.0 ||
+      segments[0].motion.orientation.coeffs() != body.motion->orientation.coeffs()) {
+    return nullptr;
+  }
+  return body.pose;
+}
+
+PieceBody PairPieces::body(const PairBody& body, const PathSegment* segments, int segment,
+                           const Eigen::Isometry3d* first_pose, double u0, double u1) const {
   PieceBody p;
   p.segment = &segments[segment];
   p.centre = p.segment->centreAt(u0);
+  if (segment == 0) p.start_pose = first_pose;
   if (body.growth != nullptr) {
     p.growth = growthPiece(*body.growth, u0, u1);
     p.growth_rate = body.growth->maxRate(u0, u1);
@@ -128,8 +142,8 @@ Piece PairPieces::piece(int i) const {
   Piece p;
   p.u0 = breaks_[i];
   p.u1 = breaks_[i + 1];
-  p.a = body(*a_, segments_a_, segment_a_[i], p.u0, p.u1);
-  p.b = body(*b_, segments_b_, segment_b_[i], p.u0, p.u1);
+  p.a = body(*a_, segments_a_, segment_a_[i], first_pose_a_, p.u0, p.u1);
+  p.b = body(*b_, segments_b_, segment_b_[i], first_pose_b_, p.u0, p.u1);
   return p;
 }
 

@@ -300,3 +300,54 @@ int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }
+
+// A piece of a body's first segment takes its rotation from the body's pose now (PairBody::pose)
+// when the body does not turn: the poses must be bit for bit those the segment's motion builds,
+// and a turning body, a later segment or a segment whose orientation differs from the body's
+// must build their own.
+TEST(ContactWindow, PiecePosesFromThePoseNowEqualTheMotionsOwn) {
+  wp_test::Rng rng(131);
+  for (int trial = 0; trial < 500; ++trial) {
+    Body a = randomBox(rng, trial % 3 == 0 ? 1.0 : 0.0, 0.1);
+    Body b = randomBox(rng, 0.0, 0.1);
+    wp::MarginGrowth growth;
+    growth.velocity_error = 0.3;
+    growth.max_accel = 4.0;
+    growth.age = rng.uniform(0.0, 0.03);
+    const Eigen::Isometry3d pose_a = a.motion.poseAt(0.0), pose_b = b.motion.poseAt(0.0);
+    wp::PairBody pa = a.pair(), pb = b.pair();
+    pa.pose = &pose_a;
+    pb.pose = &pose_b;
+    pa.growth = &growth;
+    const wp::PairPieces pieces(pa, pb, kHorizon);
+    ASSERT_GE(pieces.size(), 1);
+    for (int i = 0; i < pieces.size(); ++i) {
+      const wp::Piece piece = pieces.piece(i);
+      for (const wp::PieceBody* body : {&piece.a, &piece.b}) {
+        for (int k = 0; k <= 10; ++k) {
+          const double t = piece.u0 + (piece.u1 - piece.u0) * k / 10.0;
+          const Eigen::Isometry3d own = body->segment->motion.poseAt(t - body->segment->start);
+          const Eigen::Isometry3d got = body->poseAt(t);
+          ASSERT_EQ(got.matrix(), own.matrix()) << "trial " << trial << " piece " << i << " t " << t;
+        }
+      }
+    }
+  }
+  // A path whose first segment's orientation is not the body's (a caller breaking
+  // PairBody::segments' rule): the pieces build that segment's own poses, not the pose now's.
+  Body c = randomBox(rng, 0.0, 0.1), d = randomBox(rng, 0.0, 0.1);
+  const Eigen::Isometry3d pose_c = c.motion.poseAt(0.0);
+  wp::PathSegment segment;
+  segment.motion = c.motion;
+  segment.motion.orientation = wp_test::randomMotion(rng, 1.0, 1.5, 0.0, false).orientation;
+  wp::preparePath(c.shape, c.margin, wp::MarginGrowth(), kHorizon, &segment, 1);
+  wp::PairBody pc = c.pair(), pd = d.pair();
+  pc.pose = &pose_c;
+  pc.segments = &segment;
+  pc.segment_count = 1;
+  const wp::PairPieces pieces(pc, pd, kHorizon);
+  ASSERT_EQ(pieces.size(), 1);
+  const wp::Piece piece = pieces.piece(0);
+  EXPECT_EQ(piece.a.poseAt(0.5).matrix(), segment.motion.poseAt(0.5).matrix());
+  EXPECT_NE(piece.a.poseAt(0.5).linear(), pose_c.linear());
+}
