@@ -83,6 +83,11 @@ class PairPieces {
   Piece piece(int i) const;
   /// The last piece whose start is at or before t (0 for t <= 0).
   int pieceAt(double t) const;
+  /// pieceAxisWindow(piece(i)) with growth, `p` being piece(i): remembered for the first
+  /// kRemembered pieces, since piecewiseWindow and the narrow phase's forward advancement both
+  /// ask (growingAxisInterval is ~14 % of a crowd with growing margins).
+  TimeInterval axisWindowOf(int i, const Piece& p) const;
+  static constexpr int kRemembered = 4;
   const PairBody& a() const { return *a_; }
   const PairBody& b() const { return *b_; }
 
@@ -102,6 +107,11 @@ class PairPieces {
   // start_pose), else null.
   const Eigen::Isometry3d* first_pose_a_ = nullptr;
   const Eigen::Isometry3d* first_pose_b_ = nullptr;
+  // Not initialised (a pair's pieces are built for every pair and cycle): read only where
+  // windows_known_ says so.
+  mutable double window_first_[kRemembered];
+  mutable double window_last_[kRemembered];
+  mutable std::uint32_t windows_known_ = 0;  // bit i: piece i's window is remembered
   int count_ = 0;
   double breaks_[kMaxPieces + 1];
   std::int16_t segment_a_[kMaxPieces];

@@ -173,13 +173,29 @@ TimeInterval pieceAxisWindow(const Piece& piece, bool with_growth) {
   return result;
 }
 
+TimeInterval PairPieces::axisWindowOf(int i, const Piece& p) const {
+  if (i >= kRemembered) return pieceAxisWindow(p);
+  const std::uint32_t bit = std::uint32_t{1} << i;
+  if ((windows_known_ & bit) == 0) {
+    const TimeInterval w = pieceAxisWindow(p);
+    window_first_[i] = w.first;
+    window_last_[i] = w.last;
+    windows_known_ |= bit;
+    return w;
+  }
+  TimeInterval w;
+  w.first = window_first_[i];
+  w.last = window_last_[i];
+  return w;
+}
+
 ContactWindow piecewiseWindow(const PairPieces& pieces) {
   ContactWindow w;
   w.pieces = &pieces;
   TimeInterval hull;  // empty
   bool any = false;
   for (int i = 0; i < pieces.size(); ++i) {
-    const TimeInterval piece = pieceAxisWindow(pieces.piece(i));
+    const TimeInterval piece = pieces.axisWindowOf(i, pieces.piece(i));
     if (piece.empty()) continue;
     if (!any) hull.first = piece.first;
     hull.last = piece.last;

@@ -446,7 +446,7 @@ bool firstContactOnPieces(const Solid& a, const Solid& b, const PairPieces& piec
   for (int i = pieces.pieceAt(t); i < pieces.size(); ++i) {
     const Piece p = pieces.piece(i);
     if (p.u0 > window.last) break;
-    const TimeInterval w = pieceAxisWindow(p);
+    const TimeInterval w = pieces.axisWindowOf(i, p);
     const double lo = std::max(t, w.first), hi = std::min(w.last, window.last);
     if (!w.empty() && lo <= hi) {
       t = lo;

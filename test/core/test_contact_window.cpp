@@ -302,10 +302,11 @@ int main(int argc, char** argv) {
 }
 
 // A piece of a body's first segment takes its rotation from the body's pose now (PairBody::pose)
-// when the body does not turn: the poses must be bit for bit those the segment's motion builds,
+// when the body does not turn, and PairPieces remembers its pieces' axis windows: the poses and
+// windows must be bit for bit those the segment's motion and pieceAxisWindow build,
 // and a turning body, a later segment or a segment whose orientation differs from the body's
 // must build their own.
-TEST(ContactWindow, PiecePosesFromThePoseNowEqualTheMotionsOwn) {
+TEST(ContactWindow, PiecePosesAndWindowsFromWhatThePairKnowsEqualThePiecesOwn) {
   wp_test::Rng rng(131);
   for (int trial = 0; trial < 500; ++trial) {
     Body a = randomBox(rng, trial % 3 == 0 ? 1.0 : 0.0, 0.1);
@@ -323,6 +324,13 @@ TEST(ContactWindow, PiecePosesFromThePoseNowEqualTheMotionsOwn) {
     ASSERT_GE(pieces.size(), 1);
     for (int i = 0; i < pieces.size(); ++i) {
       const wp::Piece piece = pieces.piece(i);
+      // The remembered axis window is the piece's, the first time and later.
+      const wp::TimeInterval w = wp::pieceAxisWindow(piece);
+      for (int ask = 0; ask < 2; ++ask) {
+        const wp::TimeInterval got = pieces.axisWindowOf(i, piece);
+        ASSERT_TRUE((got.first == w.first || (std::isnan(got.first) && std::isnan(w.first))) &&
+                    (got.last == w.last || (std::isnan(got.last) && std::isnan(w.last))));
+      }
       for (const wp::PieceBody* body : {&piece.a, &piece.b}) {
         for (int k = 0; k <= 10; ++k) {
           const double t = piece.u0 + (piece.u1 - piece.u0) * k / 10.0;
