@@ -195,6 +195,11 @@ void resort(State& s, bool jump, bool allow_streak) {
   const auto start = timed ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
   const Resorted kind = resortOnce(s, jump, allow_streak);
   s.streak_length = kind == Resorted::kStreak ? s.streak_length + 1 : 0;
+  // Coasting off: the motion's swaps, for the next retry (a failed insertion sort's are
+  // unknown; a rebuild's were estimated in this update).
+  if (allow_streak && kind != Resorted::kFailedInsertion) {
+    s.coast.sortedOff(static_cast<double>(kind == Resorted::kInsertion ? s.stats.swaps : s.last_estimate));
+  }
   if (!timed) return;
   const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count();
   auto average = [](double* mean, double sample) { *mean = *mean < 0.0 ? sample : 0.75 * *mean + 0.25 * sample; };
@@ -231,9 +236,14 @@ Sorted handleEscapers(State& s) {
   }
   s.escapers.resize(w);
   s.stats.escaped = static_cast<int>(w);
-  // A retry of coasting that would fail at once is postponed without enlarging anybody.
-  if (s.moved && s.coast.retryDue(s.updates) && runsTooShort(s, s.config.coast_updates)) {
-    s.coast.postponeRetry(s.updates);
+  // A retry of coasting that would fail at once, or in the scene it last failed in, is
+  // postponed without enlarging anybody.
+  if (s.moved && s.coast.retryDue(s.updates)) {
+    if (runsTooShort(s, s.config.coast_updates)) {
+      s.coast.postponeRetry(s.updates);
+    } else {
+      s.coast.repeatsFailure(s.updates, s.live_count);
+    }
   }
   const CoastPolicy::Step step = s.coast.step(s.updates, w, s.live_count, s.anyStale(), s.moved);
   // The next arrays, built over the last updates, take over when due, or when the run ends

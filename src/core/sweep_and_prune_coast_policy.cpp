@@ -1,6 +1,7 @@
 #include "sweep_and_prune_coast_policy.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 
 namespace workspace_proximity {
 namespace sap {
@@ -48,15 +49,36 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
                            std::min(kPassWork * 3.0 * endpoints + kSwapWork * swaps / run,
                                     rebuildWork(1.0, r.live, r.sweep_tests, pairs));
     if (run_work_ / run > without) {
+      failures_ = std::min(failures_ + 1, 2);
+      passed_ = 0;
+      failed_live_ = std::max(1, r.live);
+      failed_at_ = update;
+      ref_swaps_ = -1.0;
+      ref_open_ = true;
+      off_swaps_ = -1.0;
       lead_ = 0.0;
       retry_at_ = update + backoff_;
       backoff_ = std::min<std::uint32_t>(2 * backoff_, kMaxBackoff);
     } else {
       backoff_ = kFirstBackoff;
+      if (++passed_ >= kForgiven) failures_ = 0;
     }
   }
   run_work_ = work;
   last_global_ = update;
+}
+
+bool CoastPolicy::repeatsFailure(std::uint32_t update, int live) {
+  // A first failure is retried as before: it may have been the scene's start (drifts measured
+  // from a few updates, boxes at rest that then jump), after which coasting pays.
+  if (failures_ < 2 || update - failed_at_ >= kRetryAnyway) return false;
+  const bool first = ref_open_;
+  closeReference();
+  // (No reference measured, or none now: the motion is taken for the same.)
+  if (!first && off_swaps_ >= 0.0 && off_swaps_ < kCalmer * ref_swaps_) return false;
+  if (4 * std::abs(live - failed_live_) > failed_live_) return false;
+  retry_at_ = update + kFirstBackoff;
+  return true;
 }
 
 }  // namespace sap

@@ -109,7 +109,36 @@ class CoastPolicy {
   /// fails costs several updates that enlarge everybody and rebuild with candidates several
   /// times the pairs: they set the tail of the large-motion rows (uniform 20 %, N = 1 000:
   /// p99 3.6x the median, one retry every 64-4 096 updates).
-  void postponeRetry(std::uint32_t update) { retry_at_ = update + kFirstBackoff; }
+  void postponeRetry(std::uint32_t update) {
+    closeReference();
+    retry_at_ = update + kFirstBackoff;
+  }
+  /// Coasting off: the swaps of this update's motion (insertion sort's, or those estimated
+  /// before a rebuild), averaged over the last few updates: what a retry is weighed on.
+  void sortedOff(double swaps) {
+    if (!(swaps >= 0.0)) return;
+    off_swaps_ = off_swaps_ < 0.0 ? swaps : 0.875 * off_swaps_ + 0.125 * swaps;
+  }
+  /// The retry due at `update` would repeat the runs that failed: coasting failed twice
+  /// without kForgiven judged runs that paid in a row between (a first failure is retried
+  /// as before), the scene is the one it last failed in (the motion no calmer than in the stretch off that followed the failure, up to
+  /// the first retry due; the live count within a quarter of the failure's), and the last
+  /// failure was less than kRetryAnyway updates ago. Then the retry is postponed by
+  /// kFirstBackoff updates, enlarging nobody (the check is cheap: the scene is looked at
+  /// again soon). A retry costs several updates that enlarge everybody (its runs on
+  /// probation and the judged one), each 5-10 times an update off: in the robot cells, where
+  /// coasting costs about what it saves, retries every 64-128 updates were the rows' p99
+  /// (6-10x the median). A motion calmer by half (kCalmer) or a crowd that grew or shrank by
+  /// a quarter tries again at once. (With every failure retried, a resting scene whose first
+  /// judged run failed as a few boxes jumped coasted afterwards; the retry found it.)
+  bool repeatsFailure(std::uint32_t update, int live);
+  /// Judged runs that paid in a row after which earlier failures are forgotten. (The robot
+  /// cells alternate: a retry's judged run pays by a little, the next fails.)
+  static constexpr int kForgiven = 8;
+  /// A retry is tried when the swaps per update fell below this fraction of the reference.
+  static constexpr double kCalmer = 0.5;
+  /// A retry is tried whatever the scene this many updates after the last failure.
+  static constexpr std::uint32_t kRetryAnyway = kMaxBackoff;
   /// Updates of its last displacement that a proxy's enlarged bounds should hold at least, for
   /// a retry to be worth it (half the lead's 8: an enlargement of everybody every other update
   /// or so never pays).
@@ -211,6 +240,18 @@ class CoastPolicy {
   double swaps_per_update_ = 0.0;             // its motion's estimated swaps per update
   bool settled_ = false;                      // a judged run ended since coasting started
   double run_work_ = 0.0;                    // work of the coasting run under way
+  int failures_ = 0;                          // failures (up to 2) since kForgiven runs paid
+  int passed_ = 0;                            // judged runs that paid since the last failure
+  int failed_live_ = 0;                       // live proxies when coasting last failed
+  std::uint32_t failed_at_ = 0;               // the update it failed at
+  double ref_swaps_ = -1.0;                   // swaps per update off after that failure (-1: none)
+  bool ref_open_ = false;                     // that reference is still being measured
+  double off_swaps_ = -1.0;                   // swaps per update off, recent average (-1: none)
+  // The first retry due after a failure ends the stretch off that measures the reference.
+  void closeReference() {
+    if (ref_open_) ref_swaps_ = off_swaps_;
+    ref_open_ = false;
+  }
   // Enlargements of everybody before runs are judged: the first starts coasting's first run,
   // the next kProbationRuns end runs on probation, unjudged.
   int unjudged_ = 1 + kProbationRuns;

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "sweep_and_prune_coast_policy.hpp"
 
 namespace {
@@ -252,6 +254,152 @@ TEST(CoastPolicy, ARetryThatWouldFailIsPostponedWithoutEnlargingAnybody) {
   // Never due while coasting, nor with coasting turned off for good.
   CoastPolicy never(0.0);
   EXPECT_FALSE(never.retryDue(100000));
+}
+
+// Issue 26 (the tail): after two failures in a row, a retry in the scene coasting failed in
+// is postponed by 64 updates, enlarging nobody, until the motion is calmer by half than in the stretch off after the
+// failure, the crowd has grown or shrunk by a quarter, or the failure is 4 096 updates old.
+// Expected values from those rules.
+TEST(CoastPolicy, ARetryInTheSceneThatFailedIsPostponedUntilTheSceneChanges) {
+  // Coasting fails at 33 (off for 64), is retried at 97 and fails again at 129 (off for 128,
+  // 256 next time): its next retry is due at 257.
+  auto failedTwice = [](CoastPolicy* p) {
+    std::uint32_t at = 1;
+    for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p->enlargedAll(at, resort(100, 0, 640, 50));
+    for (int failure = 0; failure < 2; ++failure) {
+      p->scanned(1000000);
+      at += 32;
+      p->enlargedAll(at, resort(100, 0, 640, 50));
+      ASSERT_DOUBLE_EQ(p->lead(), 0.0);
+      at = p->retryAt();
+      if (failure == 0) {
+        // The first failure is retried as before, whatever the scene.
+        p->sortedOff(400.0);
+        EXPECT_FALSE(p->repeatsFailure(at, 100));
+        ASSERT_EQ(p->step(at, 0, 100, false, true), Step::kEnlargeAll);
+        for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p->enlargedAll(at, resort(100, 0, 640, 50));
+      }
+    }
+    ASSERT_EQ(at, 257u);
+    ASSERT_EQ(p->backoff(), 256u);
+  };
+  CoastPolicy p(8.0);
+  failedTwice(&p);
+  // Never failed (or coasting never tried): nothing to repeat.
+  CoastPolicy fresh(8.0);
+  EXPECT_FALSE(fresh.repeatsFailure(257, 100));
+  // Off, the insertion sorts make 400 swaps an update.
+  for (int u = 130; u < 257; ++u) p.sortedOff(400.0);
+  ASSERT_TRUE(p.retryDue(257));
+  // The first retry after the second failure ends the reference's stretch, the scene the
+  // same: postponed by 64; the back-off unchanged; coasting stays off.
+  EXPECT_TRUE(p.repeatsFailure(257, 100));
+  EXPECT_EQ(p.retryAt(), 257u + 64u);
+  EXPECT_EQ(p.backoff(), 256u);
+  EXPECT_DOUBLE_EQ(p.lead(), 0.0);
+  EXPECT_EQ(p.step(320, 0, 100, false, true), Step::kResort);
+  // The same motion (a little calmer, 250 of 400: not by half) and a crowd within a quarter
+  // (75 and 125 of 100): postponed again.
+  for (int u = 0; u < 64; ++u) p.sortedOff(250.0);
+  EXPECT_TRUE(p.repeatsFailure(321, 75));
+  EXPECT_EQ(p.retryAt(), 321u + 64u);
+  EXPECT_TRUE(p.repeatsFailure(385, 125));
+  EXPECT_EQ(p.retryAt(), 385u + 64u);
+  // A crowd grown by more than a quarter (126 of 100): tried. So is a shrunk one (74).
+  EXPECT_FALSE(p.repeatsFailure(449, 126));
+  EXPECT_FALSE(p.repeatsFailure(449, 74));
+  EXPECT_EQ(p.retryAt(), 449u);  // (not postponed)
+  // A motion calmer by half (the average falls below 200 of 400): tried.
+  for (int u = 0; u < 64; ++u) p.sortedOff(150.0);
+  EXPECT_FALSE(p.repeatsFailure(449, 100));
+  EXPECT_EQ(p.step(449, 0, 100, false, true), Step::kEnlargeAll);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  // Not a number of swaps, or a negative one, is no measurement.
+  CoastPolicy q(8.0);
+  failedTwice(&q);
+  q.sortedOff(400.0);
+  q.sortedOff(std::nan(""));
+  EXPECT_TRUE(q.repeatsFailure(257, 100));  // the reference: 400
+  q.sortedOff(-1.0);
+  EXPECT_TRUE(q.repeatsFailure(321, 100));
+  // A retry postponed because its runs would be too short also ends the reference's stretch:
+  // a calmer motion after it is measured against the stretch before.
+  CoastPolicy r(8.0);
+  failedTwice(&r);
+  for (int u = 130; u < 257; ++u) r.sortedOff(4000.0);
+  r.postponeRetry(257);
+  for (int u = 0; u < 64; ++u) r.sortedOff(100.0);
+  EXPECT_FALSE(r.repeatsFailure(321, 100));
+}
+
+TEST(CoastPolicy, FailuresAreForgottenAfterEightRunsThatPaidInARow) {
+  // Fails at 33 (off for 64), is retried at 97; after its probation `paid` judged runs of 32
+  // updates pay (2900 each: cheaper than 1300 per update), then one fails.
+  auto scene = [](CoastPolicy* p, int paid) {
+    std::uint32_t at = 1;
+    for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p->enlargedAll(at, resort(100, 0, 640, 50));
+    p->scanned(1000000);
+    p->enlargedAll(at + 32, resort(100, 0, 640, 50));
+    at = p->retryAt();
+    EXPECT_FALSE(p->repeatsFailure(at, 100));  // a first failure: retried
+    EXPECT_EQ(p->step(at, 0, 100, false, true), Step::kEnlargeAll);
+    for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p->enlargedAll(at, resort(100, 0, 640, 50));
+    for (int run = 0; run < paid; ++run) {
+      at += 32;
+      p->enlargedAll(at, resort(100, 0, 640, 50));
+      EXPECT_DOUBLE_EQ(p->lead(), 8.0);
+    }
+    p->scanned(1000000);
+    at += 32;
+    p->enlargedAll(at, resort(100, 0, 640, 50));
+    EXPECT_DOUBLE_EQ(p->lead(), 0.0);
+    p->sortedOff(400.0);
+    return p->retryAt();
+  };
+  // One run paid between the failures (the robot cells' alternation): the second failure's
+  // retry in the same scene is postponed.
+  CoastPolicy one(8.0);
+  const std::uint32_t due_one = scene(&one, 1);
+  EXPECT_TRUE(one.repeatsFailure(due_one, 100));
+  // Seven: still. Eight in a row: the first failure is forgotten, the retry is tried.
+  CoastPolicy seven(8.0), eight(8.0);
+  EXPECT_TRUE(seven.repeatsFailure(scene(&seven, 7), 100));
+  EXPECT_FALSE(eight.repeatsFailure(scene(&eight, 8), 100));
+}
+
+TEST(CoastPolicy, ARetryIsTriedWhateverTheScene4096UpdatesAfterTheFailure) {
+  CoastPolicy p(8.0);
+  for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p.enlargedAll(1, resort(100, 0, 640, 50));
+  // Fails at 33 (off for 64), is retried at 97 and fails again at 129 (off for 128).
+  p.scanned(1000000);
+  p.enlargedAll(1 + 32, resort(100, 0, 640, 50));
+  ASSERT_EQ(p.step(97, 0, 100, false, true), Step::kEnlargeAll);
+  for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p.enlargedAll(97, resort(100, 0, 640, 50));
+  p.scanned(1000000);
+  p.enlargedAll(97 + 32, resort(100, 0, 640, 50));
+  ASSERT_DOUBLE_EQ(p.lead(), 0.0);
+  ASSERT_EQ(p.retryAt(), 129u + 128u);
+  p.sortedOff(400.0);
+  std::uint32_t update = p.retryAt();
+  int postponed = 0;
+  while (update < 129 + 4096) {
+    ASSERT_TRUE(p.retryDue(update));
+    ASSERT_TRUE(p.repeatsFailure(update, 100));
+    ++postponed;
+    update = p.retryAt();
+  }
+  EXPECT_EQ(postponed, 62);  // 257, 321, ..., 4161: every 64 updates
+  EXPECT_EQ(update, 129u + 64u * 64u);
+  EXPECT_FALSE(p.repeatsFailure(update, 100));
+  EXPECT_EQ(p.step(update, 0, 100, false, true), Step::kEnlargeAll);
+  // It fails again: a new failure, a new reference, the back-off doubled (256 -> 512).
+  for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p.enlargedAll(update, resort(100, 0, 640, 50));
+  p.scanned(1000000);
+  p.enlargedAll(update + 32, resort(100, 0, 640, 50));
+  EXPECT_DOUBLE_EQ(p.lead(), 0.0);
+  EXPECT_EQ(p.retryAt(), update + 32 + 256);
+  EXPECT_EQ(p.backoff(), 512u);
+  EXPECT_TRUE(p.repeatsFailure(p.retryAt(), 100));
 }
 
 // Issue 26 (the tail): when a run's end is spread over the updates before it (the next

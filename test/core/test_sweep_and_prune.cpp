@@ -1267,6 +1267,45 @@ TEST(SweepAndPrune, LargeMotionPostponesRetriesUntilTheMotionCalms) {
   EXPECT_GE(calm.coasted + calm.moved_alone, 150);
 }
 
+// Issue 26 (the tail): boxes that reverse every few updates leave their bounds by the dozen
+// each update, so coasting fails, though its runs are not too short by the displacements; its
+// retries in that same motion are then postponed, enlarging nobody (before: one every
+// 64-512 updates, each several enlargements of everybody); once most boxes stop (the swaps
+// per update fall by more than half) coasting is tried again and pays. Brute force in every
+// update throughout.
+TEST(SweepAndPrune, RetriesInTheMotionThatFailedArePostponedUntilItCalms) {
+  Rng rng(261127);
+  Harness h(SweepAndPruneConfig(), true);
+  DriftScene scene(300, rng, h);
+  std::uniform_int_distribution<int> period(3, 6);
+  std::vector<int> reverse_every(scene.center.size()), age(scene.center.size(), 0);
+  for (int& r : reverse_every) r = period(rng);
+  h.updateAndCheck();
+  CoastCounts early, same, calm;
+  for (int cycle = 0; cycle < 900; ++cycle) {
+    const bool calmed = cycle >= 600;
+    for (std::size_t i = 0; i < scene.center.size(); ++i) {
+      if (calmed && i % 4 != 0) scene.velocity[i].setZero();  // three in four stop
+      if (++age[i] >= reverse_every[i]) {
+        age[i] = 0;
+        if (!calmed) scene.velocity[i] = -scene.velocity[i];
+      }
+    }
+    scene.step(h);
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    (cycle < 150 ? early : calmed ? calm : same).add(h.sap());
+  }
+  std::printf("reversing motion then calm: enlarged all %d (first 150 updates), %d (next 450), "
+              "%d (calm 300: %d coasted, %d moved a few alone)\n", early.enlarged_all,
+              same.enlarged_all, calm.enlarged_all, calm.coasted, calm.moved_alone);
+  EXPECT_GE(early.enlarged_all, 1);  // coasting was tried and switched itself off
+  EXPECT_EQ(same.enlarged_all, 0);   // the retries in the same motion were postponed
+  EXPECT_EQ(same.tight_candidates, same.updates);
+  EXPECT_GE(calm.enlarged_all, 1);   // and it started again once the motion calmed
+  EXPECT_GE(calm.coasted + calm.moved_alone, 100);
+}
+
 TEST(SweepAndPrune, InvalidCoastSettingsAreRejected) {
   for (double bad : {-1.0, std::nan(""), 1e300}) {
     SweepAndPruneConfig cfg;
