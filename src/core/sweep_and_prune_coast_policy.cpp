@@ -48,9 +48,14 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
     const double without = kScanWork * pairs +
                            std::min(kPassWork * 3.0 * endpoints + kSwapWork * swaps / run,
                                     rebuildWork(1.0, r.live, r.sweep_tests, pairs));
+    // The episode (coasting's judged runs since it last started): what it cost against what
+    // it saved, for the retry after a failure.
+    episode_work_ += run_work_;
+    episode_without_ += without * run;
     if (run_work_ / run > without) {
-      failures_ = std::min(failures_ + 1, 2);
-      passed_ = 0;
+      ++failures_;
+      episode_ratio_ = episode_work_ / episode_without_;
+      episode_work_ = episode_without_ = 0.0;
       failed_live_ = std::max(1, r.live);
       failed_at_ = update;
       ref_swaps_ = -1.0;
@@ -61,7 +66,6 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
       backoff_ = std::min<std::uint32_t>(2 * backoff_, kMaxBackoff);
     } else {
       backoff_ = kFirstBackoff;
-      if (++passed_ >= kForgiven) failures_ = 0;
     }
   }
   run_work_ = work;
@@ -70,8 +74,9 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
 
 bool CoastPolicy::repeatsFailure(std::uint32_t update, int live) {
   // A first failure is retried as before: it may have been the scene's start (drifts measured
-  // from a few updates, boxes at rest that then jump), after which coasting pays.
-  if (failures_ < 2 || update - failed_at_ >= kRetryAnyway) return false;
+  // from a few updates, boxes at rest that then jump), after which coasting pays. So is one
+  // that ended an episode in which coasting paid (a rare dear run among cheap ones).
+  if (failures_ < 2 || !(episode_ratio_ > kWorthIt) || update - failed_at_ >= kRetryAnyway) return false;
   const bool first = ref_open_;
   closeReference();
   // (No reference measured, or none now: the motion is taken for the same.)

@@ -119,22 +119,26 @@ class CoastPolicy {
     if (!(swaps >= 0.0)) return;
     off_swaps_ = off_swaps_ < 0.0 ? swaps : 0.875 * off_swaps_ + 0.125 * swaps;
   }
-  /// The retry due at `update` would repeat the runs that failed: coasting failed twice
-  /// without kForgiven judged runs that paid in a row between (a first failure is retried
-  /// as before), the scene is the one it last failed in (the motion no calmer than in the stretch off that followed the failure, up to
-  /// the first retry due; the live count within a quarter of the failure's), and the last
-  /// failure was less than kRetryAnyway updates ago. Then the retry is postponed by
-  /// kFirstBackoff updates, enlarging nobody (the check is cheap: the scene is looked at
-  /// again soon). A retry costs several updates that enlarge everybody (its runs on
-  /// probation and the judged one), each 5-10 times an update off: in the robot cells, where
-  /// coasting costs about what it saves, retries every 64-128 updates were the rows' p99
-  /// (6-10x the median). A motion calmer by half (kCalmer) or a crowd that grew or shrank by
-  /// a quarter tries again at once. (With every failure retried, a resting scene whose first
-  /// judged run failed as a few boxes jumped coasted afterwards; the retry found it.)
+  /// The retry due at `update` would repeat the runs that failed: coasting failed before (a
+  /// first failure is retried as before), the episode that failed (its judged runs since
+  /// coasting last started) saved less than a tenth over not coasting (kWorthIt), the scene is
+  /// the one it failed in (the motion no calmer than in the stretch off that followed the
+  /// failure, up to the first retry due; the live count within a quarter of the failure's),
+  /// and the failure was less than kRetryAnyway updates ago. Then the retry is postponed by
+  /// kFirstBackoff updates, enlarging nobody (the check is cheap: the scene is looked at again
+  /// soon). A retry costs several updates that enlarge everybody (its runs on probation and
+  /// the judged ones), each 5-10 times an update off: in the robot cells, where coasting costs
+  /// about what it saves (episodes at 0.93-1.2 of not coasting), retries every 64-128 updates
+  /// were the rows' p99 (6-10x the median). A motion calmer by half (kCalmer) or a crowd that
+  /// grew or shrank by a quarter tries again at once. (With a first failure not retried, a
+  /// resting scene whose first judged run failed as a few boxes jumped would not coast; with
+  /// an episode that paid not retried, a motion whose reversals end a rare run after an
+  /// update or two would stop coasting where it saves a third.)
   bool repeatsFailure(std::uint32_t update, int live);
-  /// Judged runs that paid in a row after which earlier failures are forgotten. (The robot
-  /// cells alternate: a retry's judged run pays by a little, the next fails.)
-  static constexpr int kForgiven = 8;
+  /// An episode of coasting is worth retrying in the same scene when it cost at most this
+  /// fraction of not coasting: below a tenth saved, its runs' ends (5-10 times an update off)
+  /// are not worth the saving.
+  static constexpr double kWorthIt = 0.9;
   /// A retry is tried when the swaps per update fell below this fraction of the reference.
   static constexpr double kCalmer = 0.5;
   /// A retry is tried whatever the scene this many updates after the last failure.
@@ -240,8 +244,10 @@ class CoastPolicy {
   double swaps_per_update_ = 0.0;             // its motion's estimated swaps per update
   bool settled_ = false;                      // a judged run ended since coasting started
   double run_work_ = 0.0;                    // work of the coasting run under way
-  int failures_ = 0;                          // failures (up to 2) since kForgiven runs paid
-  int passed_ = 0;                            // judged runs that paid since the last failure
+  int failures_ = 0;                          // judged runs that failed since the start
+  double episode_work_ = 0.0;                 // work of the judged runs since coasting started
+  double episode_without_ = 0.0;              // the same updates without coasting
+  double episode_ratio_ = 0.0;                // their ratio in the episode that last failed
   int failed_live_ = 0;                       // live proxies when coasting last failed
   std::uint32_t failed_at_ = 0;               // the update it failed at
   double ref_swaps_ = -1.0;                   // swaps per update off after that failure (-1: none)

@@ -161,6 +161,54 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
   EXPECT_FALSE(large_enlarged);  // every retry in these 300 updates was postponed
   EXPECT_EQ(wp_test::allocationCount() - before_large, 0);
 
+  // 300 boxes, a few overlaps each, moving 0-2 steps of 1/64 m per update and axis, each
+  // reversing every 3-6 updates (issue 26, the tail; the scene of test_sweep_and_prune's
+  // RetriesInTheMotionThatFailedArePostponedUntilItCalms): coasting fails twice, and its
+  // retries in that same motion are postponed without enlarging anybody (the swaps of each
+  // update averaged, the scene compared): nothing allocated either.
+  wp::SweepAndPrune reversing(config);
+  std::vector<wp::SweepAndPrune::ProxyId> reversing_ids;
+  std::vector<wp::Aabb> reversing_box;
+  std::vector<Eigen::Vector3d> velocity;
+  std::vector<int> reverse_every;
+  const double side = std::cbrt(3000.0);
+  for (int k = 0; k < 300; ++k) {
+    Eigen::Vector3d half, centre, v;
+    for (int a = 0; a < 3; ++a) {
+      half[a] = std::round(64.0 * rng.uniform(0.25, 0.75)) / 64.0;
+      centre[a] = std::round(64.0 * rng.uniform(half[a], side - half[a])) / 64.0;
+      v[a] = rng.integer(-2, 2) / 64.0;
+    }
+    reversing_box.push_back(wp::Aabb{centre - half, centre + half});
+    reversing_ids.push_back(reversing.createProxy(reversing_box.back()));
+    velocity.push_back(v);
+    reverse_every.push_back(rng.integer(3, 6));
+  }
+  auto reverse_cycle = [&](int r) {
+    for (std::size_t k = 0; k < reversing_box.size(); ++k) {
+      if (r % reverse_every[k] == 0) velocity[k] = -velocity[k];
+      reversing_box[k].lower += velocity[k];
+      reversing_box[k].upper += velocity[k];
+      reversing.moveProxy(reversing_ids[k], reversing_box[k]);
+    }
+    reversing.update();
+  };
+  int reversing_enlarged = 0;
+  for (int r = 1; r <= 300; ++r) {
+    reverse_cycle(r);
+    reversing_enlarged += reversing.stats().enlarged_all;
+  }
+  ASSERT_GE(reversing_enlarged, 2);  // coasting was tried, and again after its first failure
+  const long before_reversing = wp_test::allocationCount();
+  bool reversing_retried = false;
+  for (int r = 301; r <= 700; ++r) {
+    reverse_cycle(r);
+    reversing_retried |= reversing.stats().enlarged_all;
+  }
+  const long reversing_allocations = wp_test::allocationCount() - before_reversing;
+  EXPECT_FALSE(reversing_retried);  // every retry in these 400 updates was postponed
+  EXPECT_EQ(reversing_allocations, 0);
+
   // Tracker jitter around rest and a slow drift, without churn (issue 26, the tail): coasting's
   // runs are long, and their ends are spread over the updates before them (the next arrays
   // built in slices, then swapped in): nothing allocated either, once warmed up.

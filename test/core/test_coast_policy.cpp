@@ -332,10 +332,11 @@ TEST(CoastPolicy, ARetryInTheSceneThatFailedIsPostponedUntilTheSceneChanges) {
   EXPECT_FALSE(r.repeatsFailure(321, 100));
 }
 
-TEST(CoastPolicy, FailuresAreForgottenAfterEightRunsThatPaidInARow) {
+TEST(CoastPolicy, ARetryAfterAnEpisodeThatPaidIsTried) {
   // Fails at 33 (off for 64), is retried at 97; after its probation `paid` judged runs of 32
-  // updates pay (2900 each: cheaper than 1300 per update), then one fails.
-  auto scene = [](CoastPolicy* p, int paid) {
+  // updates pay (2900 each, against 1300 an update without coasting: 41600 a run), then one
+  // fails with `scans` candidates scanned (2900 + 4 scans over its 32 updates).
+  auto episode = [](CoastPolicy* p, int paid, double scans) {
     std::uint32_t at = 1;
     for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p->enlargedAll(at, resort(100, 0, 640, 50));
     p->scanned(1000000);
@@ -349,22 +350,27 @@ TEST(CoastPolicy, FailuresAreForgottenAfterEightRunsThatPaidInARow) {
       p->enlargedAll(at, resort(100, 0, 640, 50));
       EXPECT_DOUBLE_EQ(p->lead(), 8.0);
     }
-    p->scanned(1000000);
+    p->scanned(static_cast<std::size_t>(scans));
     at += 32;
     p->enlargedAll(at, resort(100, 0, 640, 50));
     EXPECT_DOUBLE_EQ(p->lead(), 0.0);
     p->sortedOff(400.0);
     return p->retryAt();
   };
-  // One run paid between the failures (the robot cells' alternation): the second failure's
-  // retry in the same scene is postponed.
+  // The retry's first judged run fails: the episode cost more than not coasting: postponed.
+  CoastPolicy none(8.0);
+  EXPECT_TRUE(none.repeatsFailure(episode(&none, 0, 1000000), 100));
+  // One run paid, then one far dearer (the robot cells' alternation): (2900 + 4002900) /
+  // (2 x 41600) > 0.9: postponed.
   CoastPolicy one(8.0);
-  const std::uint32_t due_one = scene(&one, 1);
-  EXPECT_TRUE(one.repeatsFailure(due_one, 100));
-  // Seven: still. Eight in a row: the first failure is forgotten, the retry is tried.
-  CoastPolicy seven(8.0), eight(8.0);
-  EXPECT_TRUE(seven.repeatsFailure(scene(&seven, 7), 100));
-  EXPECT_FALSE(eight.repeatsFailure(scene(&eight, 8), 100));
+  EXPECT_TRUE(one.repeatsFailure(episode(&one, 1, 1000000), 100));
+  // One run paid, then one a little dearer than not coasting (1400 an update: 11200 scans):
+  // (2900 + 47700) / 83200 = 0.61: the episode saved, the retry is tried.
+  CoastPolicy saved(8.0);
+  EXPECT_FALSE(saved.repeatsFailure(episode(&saved, 1, 11200), 100));
+  // No run paid and the failing one at 1400 an update: 47700 / 41600 > 0.9: postponed.
+  CoastPolicy marginal(8.0);
+  EXPECT_TRUE(marginal.repeatsFailure(episode(&marginal, 0, 11200), 100));
 }
 
 TEST(CoastPolicy, ARetryIsTriedWhateverTheScene4096UpdatesAfterTheFailure) {
