@@ -1236,6 +1236,23 @@ TEST(SweepAndPrune, LargeMotionSwitchesCoastingOffAndStaysExact) {
   EXPECT_LE(counts.enlarged_all, 20);
 }
 
+// Coasting was tried early and switched itself off (`early`); every retry while the motion
+// stayed as it was was put off, enlarging nobody, the candidates being the pairs (`off`); once
+// the motion calmed coasting started again and coasted or moved a few alone in at least
+// `min_coasting` updates (`calm`).
+static void expectRetriesPutOffUntilCalm(const char* what, const CoastCounts& early, const CoastCounts& off,
+                                         const CoastCounts& calm, int min_coasting) {
+  std::printf("%s then calm: enlarged all %d (first %d updates), %d (next %d), %d (calm %d: %d "
+              "coasted, %d moved a few alone)\n", what, early.enlarged_all, early.updates,
+              off.enlarged_all, off.updates, calm.enlarged_all, calm.updates, calm.coasted,
+              calm.moved_alone);
+  EXPECT_GE(early.enlarged_all, 1);
+  EXPECT_EQ(off.enlarged_all, 0);
+  EXPECT_EQ(off.tight_candidates, off.updates);
+  EXPECT_GE(calm.enlarged_all, 1);
+  EXPECT_GE(calm.coasted + calm.moved_alone, min_coasting);
+}
+
 // Issue 26 (the tail): while the motion stays large, the retries of coasting are postponed
 // without enlarging anybody (before, each enlarged everybody and rebuilt several times and
 // failed again); once the motion calms, coasting starts again within 64 updates. Brute force in
@@ -1257,14 +1274,7 @@ TEST(SweepAndPrune, LargeMotionPostponesRetriesUntilTheMotionCalms) {
     if (::testing::Test::HasFatalFailure()) return;
     (cycle < 100 ? early : calmed ? calm : large).add(h.sap());
   }
-  std::printf("large motion then calm: enlarged all %d (first 100 updates), %d (next 300), "
-              "%d (calm 300: %d coasted, %d moved a few alone)\n", early.enlarged_all,
-              large.enlarged_all, calm.enlarged_all, calm.coasted, calm.moved_alone);
-  EXPECT_GE(early.enlarged_all, 1);  // coasting was tried and switched itself off
-  EXPECT_EQ(large.enlarged_all, 0);  // its retries were postponed (before: one every 64-512)
-  EXPECT_EQ(large.tight_candidates, large.updates);
-  EXPECT_GE(calm.enlarged_all, 1);   // and it started again once the motion calmed
-  EXPECT_GE(calm.coasted + calm.moved_alone, 150);
+  expectRetriesPutOffUntilCalm("large motion", early, large, calm, 150);
 }
 
 // Issue 26 (the tail): boxes that reverse every few updates leave their bounds by the dozen
@@ -1296,14 +1306,7 @@ TEST(SweepAndPrune, RetriesInTheMotionThatFailedArePostponedUntilItCalms) {
     if (::testing::Test::HasFatalFailure()) return;
     (cycle < 150 ? early : calmed ? calm : same).add(h.sap());
   }
-  std::printf("reversing motion then calm: enlarged all %d (first 150 updates), %d (next 450), "
-              "%d (calm 300: %d coasted, %d moved a few alone)\n", early.enlarged_all,
-              same.enlarged_all, calm.enlarged_all, calm.coasted, calm.moved_alone);
-  EXPECT_GE(early.enlarged_all, 1);  // coasting was tried and switched itself off
-  EXPECT_EQ(same.enlarged_all, 0);   // the retries in the same motion were postponed
-  EXPECT_EQ(same.tight_candidates, same.updates);
-  EXPECT_GE(calm.enlarged_all, 1);   // and it started again once the motion calmed
-  EXPECT_GE(calm.coasted + calm.moved_alone, 100);
+  expectRetriesPutOffUntilCalm("reversing motion", early, same, calm, 100);
 }
 
 TEST(SweepAndPrune, InvalidCoastSettingsAreRejected) {
