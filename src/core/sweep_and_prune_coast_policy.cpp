@@ -53,7 +53,7 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
     episode_work_ += run_work_;
     episode_without_ += without * run;
     if (run_work_ / run > without) {
-      ++failures_;
+      failures_ = std::min(failures_ + 1, 2);
       episode_ratio_ = episode_work_ / episode_without_;
       episode_work_ = episode_without_ = 0.0;
       failed_live_ = std::max(1, r.live);

@@ -13,7 +13,8 @@
 /// with a cost model in work units against what the same updates would have cost without
 /// coasting; a run that cost more switches coasting off for 64 updates, twice as long after
 /// each failure in a row (up to 4 096), then it is tried again (postponeRetry(): not when the
-/// last displacements show at once that it would fail). The first three runs after
+/// last displacements show at once that it would fail, nor, after a second failure, in the
+/// scene of an episode that did not save: repeatsFailure()). The first three runs after
 /// coasting starts are on probation (not judged): their leads were measured from an update or
 /// two. They are short (coast_updates updates each), so that each proxy's drift under tracker
 /// jitter is measured again soon, before the long runs: with the leads of the first update or
@@ -244,7 +245,7 @@ class CoastPolicy {
   double swaps_per_update_ = 0.0;             // its motion's estimated swaps per update
   bool settled_ = false;                      // a judged run ended since coasting started
   double run_work_ = 0.0;                    // work of the coasting run under way
-  int failures_ = 0;                          // judged runs that failed since the start
+  int failures_ = 0;                          // judged runs that failed since the start (up to 2)
   double episode_work_ = 0.0;                 // work of the judged runs since coasting started
   double episode_without_ = 0.0;              // the same updates without coasting
   double episode_ratio_ = 0.0;                // their ratio in the episode that last failed
