@@ -1471,10 +1471,10 @@ class Runner {
           // WP_BENCH_TRACE set: one line per timed cycle of ours on stderr (its time, µs, and
           // what it did), to see which cycles set the tail.
           const wp::SweepAndPruneStats& st = ours->broadPhase().stats();
-          std::fprintf(stderr, "trace %s|%d|%s %d %.2f rebuilt=%d all=%d esc=%d swaps=%lld cand=%d build=%d swap=%d\n",
+          std::fprintf(stderr, "trace %s|%d|%s %d %.2f rebuilt=%d all=%d esc=%d swaps=%lld cand=%d build=%d swap=%d lead=%g\n",
                        config.family.c_str(), config.bodies, r.peer.c_str(), c, dt * 1e6, st.rebuilt ? 1 : 0,
                        st.enlarged_all ? 1 : 0, st.escaped, static_cast<long long>(st.swaps),
-                       st.candidates, st.building_next ? 1 : 0, st.swapped_next ? 1 : 0);
+                       st.candidates, st.building_next ? 1 : 0, st.swapped_next ? 1 : 0, st.lead);
         }
 #ifdef WP_BENCH_BASELINE_SAP
         if (baseline && baseline->rebuilt()) ++slot->rebuilds;
@@ -1988,13 +1988,14 @@ int main(int argc, char** argv) {
           "- ours: moveProxy per moved box (destroyProxy / createProxy for churn), update(), walk "
           "pairs(), mapping proxy ids to the caller's ids. Default configuration: coasting on "
           "(the arrays hold bounds enlarged ahead of each box's motion, 8 updates of its own "
-          "displacement; pairs() filters their candidates to the exact overlaps every cycle), so "
+          "displacement, 16 while its runs last their longest; pairs() filters their candidates "
+          "to the exact overlaps every cycle), so "
           "its cycles column says how often a cycle rebuilt and how often it re-sorted anything "
           "at all (\"sorted\": a few boxes moved alone, or everybody enlarged again). Two more "
           "rows of ours, same driver: \"run's end at once\" (spread_updates 0: every coasting "
           "run's end in one cycle, as before issue 26's next arrays) and \"lead 16\" "
           "(coast_updates 16, the proximity monitor's ~broad_phase_lead: runs twice as long, "
-          "spread when they last 16 updates or more).\n"
+          "spread when they last 16 updates or more; 32 while they last their longest).\n"
           "- sort-and-sweep (scratch): copy the moved boxes, std::sort of all boxes by lower x, sweep "
           "with an active list testing y and z (double). Brute force: all pairs. CGAL: rebuild a "
           "Box_with_info_d vector, box_self_intersection_d (CLOSED, cutoff 10) with a callback that "

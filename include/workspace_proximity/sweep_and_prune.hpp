@@ -48,9 +48,15 @@
 /// of its lead, and
 /// the lead is sized from the displacement beyond it (or from the averaged drift), so a box
 /// reported a little off around where it was stays inside its bounds and costs no sort work.
+/// The long lead: while judged runs last their longest (nobody leaves: jitter around rest, a
+/// slow drift), a lead of at most 8 doubles and runs last up to 6 coast_updates, their ends
+/// spread over up to twice spread_updates; the first judged run shorter than 4 coast_updates
+/// brings the configured lead back (SweepAndPruneStats::lead says which is in use). Each run's
+/// end costs about a re-sort of everybody: under jitter they came every 28-29 updates, at
+/// their longest.
 ///
 /// Long runs (at least 16 updates: tracker jitter around rest or a slow drift, where runs last
-/// their longest, 4 coast_updates) end without a dear update: the next arrays are built over
+/// their longest) end without a dear update: the next arrays are built over
 /// the updates before the run's expected end, a slice per update (each proxy's next enlarged
 /// bounds, with its lead grown by the updates left until the swap and a side moving inward
 /// starting where it will be then; the three endpoint arrays, sorted from the current order by
@@ -97,8 +103,8 @@ struct SweepAndPruneConfig {
   /// A coasting run's end spread over up to this many updates (the next arrays: each proxy's
   /// next enlarged bounds, the sorted endpoint arrays and their candidates, built a slice per
   /// update beside the current ones before the run is expected to end, then swapped in; fewer
-  /// updates when runs are short); 0 enlarges everybody and re-sorts in one update, as the run
-  /// ends.
+  /// updates when runs are short: under half of a run's; twice as many at the long lead); 0
+  /// enlarges everybody and re-sorts in one update, as the run ends.
   int spread_updates = 16;
   /// Coasting off, a rebuild streak whose estimate says it beats insertion sort by less than
   /// the rebuild of all three axes it would take to leave it is checked against the measured
@@ -137,6 +143,10 @@ struct SweepAndPruneStats {
   /// measured cheaper (SweepAndPruneConfig::measure_streaks).
   bool left_streak = false;
   bool finished_next = false;   ///< the run ended first: the rest of the build was done at once
+  /// The lead of enlargements after this update, in updates of each proxy's own displacement:
+  /// coast_updates, twice that (a lead of at most 8) while coasting's runs last their longest
+  /// (the long lead, see the class comment), 0 while coasting is off.
+  double lead = 0.0;
 };
 
 class SweepAndPrune {

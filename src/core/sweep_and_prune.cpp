@@ -472,6 +472,7 @@ void SweepAndPrune::update() {
   if (sorted) s.last_rebuilt = s.stats.rebuilt;
   sap::advanceNext(s);
   s.stats.next_ready = sap::nextReady(s);
+  s.stats.lead = s.coast.lead();
   if (s.next.swapped) {
     sap::reportSwapped(s);
   } else {

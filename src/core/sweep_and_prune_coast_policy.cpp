@@ -66,6 +66,20 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
       backoff_ = std::min<std::uint32_t>(2 * backoff_, kMaxBackoff);
     } else {
       backoff_ = kFirstBackoff;
+      // The lead (kLongLead): doubled after a run at the configured lead that lasted its
+      // longest (or was swapped out just before), back when a run ends in fewer updates than
+      // that. (A run ended early by a swap counts: its build was due by the expected run, so a
+      // steady motion whose runs at the long lead are spread, 16-20 updates, comes back.)
+      const double longest = 4.0 * coast_updates_;
+      if (longLead()) {
+        if (run < longest) {
+          lead_ = coast_updates_;
+          expected_run_ = std::min(expected_run_, longestRun());
+        }
+      } else if (kLongLead * coast_updates_ <= kLongLeadAtMost && run + kSwapMargin + 1 >= longest) {
+        lead_ = kLongLead * coast_updates_;
+        expected_run_ = longestRun();
+      }
     }
   }
   run_work_ = work;

@@ -9,7 +9,8 @@
 /// displacement per update, capped at a fraction of the box's largest extent; a side that moved
 /// inward gets one update's, a resting side none (room()). An update with no escaper does
 /// nothing; up to 1 + n / 32 escapers move alone; more, or a run of 4 coast_updates updates
-/// (coast_updates while on probation), enlarge everybody again (step()). Each enlargement of everybody ends a run, which is judged
+/// (coast_updates while on probation; 6 at the long lead: kLongLead), enlarge everybody again
+/// (step()). Each enlargement of everybody ends a run, which is judged
 /// with a cost model in work units against what the same updates would have cost without
 /// coasting; a run that cost more switches coasting off for 64 updates, twice as long after
 /// each failure in a row (up to 4 096), then it is tried again (postponeRetry(): not when the
@@ -86,10 +87,10 @@ class CoastPolicy {
       expected_run_ = longestRun();
       return Step::kEnlargeAll;
     }
-    // A run lasts at most 4 coast_updates updates (coast_updates on probation): then everybody
-    // is enlarged again, with leads measured anew (stale ones only cost tests), and the run is
-    // judged.
-    const double run_length = (unjudged_ > 0 ? 1.0 : 4.0) * coast_updates_;
+    // A run lasts at most 4 coast_updates updates (6 at the long lead, coast_updates on
+    // probation): then everybody is enlarged again, with leads measured anew (stale ones only
+    // cost tests), and the run is judged.
+    const double run_length = unjudged_ > 0 ? coast_updates_ : longestRunOf(lead_);
     const bool run_over = update - last_global_ >= run_length;
     if (escapers == 0 && !run_over) return Step::kNothing;
     // A few: move their endpoints alone (a pass over the arrays costs more).
@@ -170,10 +171,29 @@ class CoastPolicy {
   enum class End : std::uint8_t { kAtOnce, kSpreadAtEnd, kSpreadEarly };
   void enlargedAll(std::uint32_t update, const Resort& r, End end = End::kAtOnce);
 
-  /// Judged runs last at most this many updates (4 coast_updates).
+  /// Judged runs last at most this many updates: 4 coast_updates, 6 at the long lead.
   std::uint32_t longestRun() const {
-    return static_cast<std::uint32_t>(std::max(2.0, std::min(1e6, 4.0 * coast_updates_)));
+    return static_cast<std::uint32_t>(std::max(2.0, std::min(1e6, longestRunOf(lead_))));
   }
+  /// The long lead, in leads: while judged runs last their longest at the configured lead
+  /// (nobody leaves their bounds: tracker jitter around rest, a slow drift), the lead doubles
+  /// (when that makes at most kLongLeadAtMost) and runs last up to kLongRuns of it; a judged
+  /// run shorter than the configured lead's longest (4 coast_updates) brings it back
+  /// (enlargedAll()). Each run's end costs about a
+  /// re-sort of everybody (or its build spread over the updates before): at +-0.5-5 % jitter
+  /// runs ended every 28-29 updates, at their longest, and half the updates carried a slice of
+  /// the next build (bench/results/NOTES.md section 27).
+  static constexpr double kLongLead = 2.0;
+  /// The long lead is taken only when it is at most this many updates: the monitor's 16
+  /// doubled to 32 (runs of up to 96 updates) made the jitter rows slower (medians 1.2-1.7
+  /// times, means up to 1.4 times).
+  static constexpr double kLongLeadAtMost = 16.0;
+  /// Runs at the long lead last at most this many of it (6 coast_updates, not 8: at N = 10 000
+  /// the drifting boxes left bounds enlarged with it by the hundred per update past 48 updates,
+  /// each moved alone while the next build's slices ran).
+  static constexpr double kLongRuns = 3.0;
+  /// True while the lead is the long one.
+  bool longLead() const { return lead_ > coast_updates_; }
   /// The next arrays (sweep_and_prune_next.hpp): true when a build spread over `slices`
   /// updates is due to start at `update`, so that it is swapped in kSwapMargin updates before
   /// the run under way is expected to end (as long as the last judged run that ended at once,
@@ -195,13 +215,16 @@ class CoastPolicy {
   /// that takes longer than estimated still has the updates between to be done and swapped
   /// before the run ends (at its longest, or when its proxies leave their bounds).
   static constexpr std::uint32_t kSwapMargin = 3;
-  /// Updates a build may take, at most `spread`: under half of a run's updates (at least 6),
-  /// so that most updates carry no slice: spread over the whole run (29 of 32 updates) the p99
-  /// was as high in microseconds, and the medians 1.5-1.7 times and the means 5-15 % higher
-  /// (bench/results/NOTES.md section 21). 0: runs too short to spread their end.
+  /// Updates a build may take, at most `spread` (twice that at the long lead): under half of a
+  /// run's updates (at least 6), so that most updates carry no slice: spread over the whole run
+  /// (29 of 32 updates) the p99 was as high in microseconds, and the medians 1.5-1.7 times and
+  /// the means 5-15 % higher (bench/results/NOTES.md section 21). (The long lead's runs of 48
+  /// updates in 16 slices made slices 3.4 times the median update at N = 10 000; in 22,
+  /// 2.3-2.8 times.) 0: runs too short to spread their end.
   std::uint32_t nextSlices(std::uint32_t spread) const {
     if (expected_run_ < kMinSpreadRun) return 0;
-    return std::min({spread, expected_run_ - kSwapMargin - 2, std::max<std::uint32_t>(6, expected_run_ / 2 - 2)});
+    const std::uint32_t most = longLead() ? static_cast<std::uint32_t>(kLongLead) * spread : spread;
+    return std::min({most, expected_run_ - kSwapMargin - 2, std::max<std::uint32_t>(6, expected_run_ / 2 - 2)});
   }
   /// The update that swaps in a build started at `update` over `slices` updates.
   std::uint32_t nextSwapAt(std::uint32_t update, std::uint32_t slices) const {
@@ -237,7 +260,7 @@ class CoastPolicy {
 
  private:
   double coast_updates_;
-  double lead_;                              // coast_updates_ while coasting, else 0
+  double lead_;                              // coast_updates_ (or kLongLead times it) while coasting, else 0
   std::uint32_t last_global_ = 0;            // update of the last enlargement of everybody
   std::uint32_t retry_at_ = 0;               // coasting off: the update that tries it again
   std::uint32_t backoff_ = kFirstBackoff;    // updates it stays off after failing
@@ -254,6 +277,10 @@ class CoastPolicy {
   double ref_swaps_ = -1.0;                   // swaps per update off after that failure (-1: none)
   bool ref_open_ = false;                     // that reference is still being measured
   double off_swaps_ = -1.0;                   // swaps per update off, recent average (-1: none)
+  // The longest judged run at `lead` (the configured one while coasting is off).
+  double longestRunOf(double lead) const {
+    return lead > coast_updates_ ? kLongRuns * lead : 4.0 * coast_updates_;
+  }
   // The first retry due after a failure ends the stretch off that measures the reference.
   void closeReference() {
     if (ref_open_) ref_swaps_ = off_swaps_;

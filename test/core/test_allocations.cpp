@@ -210,8 +210,9 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
   EXPECT_EQ(reversing_allocations, 0);
 
   // Tracker jitter around rest and a slow drift, without churn (issue 26, the tail): coasting's
-  // runs are long, and their ends are spread over the updates before them (the next arrays
-  // built in slices, then swapped in): nothing allocated either, once warmed up.
+  // runs are long (at the long lead, twice the configured one), and their ends are spread over
+  // the updates before them (the next arrays built in slices, then swapped in): nothing
+  // allocated either, once warmed up.
   wp::SweepAndPrune jitter(config);
   std::vector<wp::SweepAndPrune::ProxyId> jitter_ids;
   for (std::size_t i = 0; i < s.centre.size(); ++i) jitter_ids.push_back(jitter.createProxy(s.box(i)));
@@ -229,14 +230,16 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
   int i = 0;
   for (; i < 150; ++i) jitter_cycle(i);
   const long before_jitter = wp_test::allocationCount();
-  int building = 0, swapped = 0;
+  int building = 0, swapped = 0, long_lead = 0;
   for (; i < 450; ++i) {
     jitter_cycle(i);
     building += jitter.stats().building_next;
     swapped += jitter.stats().swapped_next;
+    long_lead += jitter.stats().lead > config.coast_updates;
   }
   EXPECT_GE(building, 100);
   EXPECT_GE(swapped, 5);
+  EXPECT_GE(long_lead, 200);  // runs last their longest: the long lead (issue 26)
   EXPECT_EQ(wp_test::allocationCount() - before_jitter, 0);
 
   // Steady motion with a lead of 16 updates: runs long enough to spread their ends; the speed

@@ -140,7 +140,7 @@ TEST(CoastPolicy, ARunCheaperThanNotCoastingKeepsCoasting) {
   // coasting, 4 per pair (50) plus the cheaper of a pass over 3 axes of 200 endpoints with
   // 640 / 32 swaps per update (900 + 200) and a rebuild of one axis (5150): 1300.
   p.enlargedAll(33, resort(100, 0, 640, 50));
-  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  EXPECT_DOUBLE_EQ(p.lead(), 16.0);  // kept, and doubled: the run lasted its longest
   EXPECT_EQ(p.backoff(), 64u);
   EXPECT_DOUBLE_EQ(p.runWork(), 2900.0);  // the next run: 2000 + 0 + 900
 }
@@ -185,7 +185,7 @@ TEST(CoastPolicy, ACostlyRunSwitchesCoastingOffThenRetries) {
   EXPECT_DOUBLE_EQ(p.lead(), 8.0);
   EXPECT_EQ(p.backoff(), 128u);
   p.enlargedAll(193, resort(100, 0, 640, 50));  // 2900 / 32 < 1300
-  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  EXPECT_DOUBLE_EQ(p.lead(), 16.0);  // (doubled: a run of 32, its longest)
   EXPECT_EQ(p.backoff(), 64u);
 }
 
@@ -227,7 +227,7 @@ TEST(CoastPolicy, WithoutAnEstimateTheSwapsOfTheReSortStandIn) {
   off.scanned((67200 + 32 - 2900) / 4);
   kept.enlargedAll(33, resort(100, 3200, -1, 50));
   off.enlargedAll(33, resort(100, 3200, -1, 50));
-  EXPECT_DOUBLE_EQ(kept.lead(), 8.0);
+  EXPECT_DOUBLE_EQ(kept.lead(), 16.0);  // kept (the long lead: a run of 32)
   EXPECT_DOUBLE_EQ(off.lead(), 0.0);
 }
 
@@ -348,7 +348,7 @@ TEST(CoastPolicy, ARetryAfterAnEpisodeThatPaidIsTried) {
     for (int run = 0; run < paid; ++run) {
       at += 32;
       p->enlargedAll(at, resort(100, 0, 640, 50));
-      EXPECT_DOUBLE_EQ(p->lead(), 8.0);
+      EXPECT_DOUBLE_EQ(p->lead(), 16.0);  // runs of 32: the long lead
     }
     p->scanned(static_cast<std::size_t>(scans));
     at += 32;
@@ -427,39 +427,108 @@ TEST(CoastPolicy, RunEndsAreSpreadOnlyOverLongRuns) {
   EXPECT_EQ(p.expectedRun(), 9u);
   EXPECT_EQ(p.nextSlices(32), 0u);
   EXPECT_FALSE(p.nextDue(45, p.nextSlices(32)));
-  // Jitter around rest: the run lasted its longest, 32 updates (43 -> 75).
-  p.enlargedAll(75, cheap);
-  EXPECT_EQ(p.expectedRun(), 32u);
-  EXPECT_EQ(p.nextSlices(32), 14u);  // 32 / 2 - 2
+  // A run of 27 updates (43 -> 70, long enough to spread).
+  p.enlargedAll(70, cheap);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);  // 27 + 3 + 1 < 32: the lead stays
+  EXPECT_EQ(p.expectedRun(), 27u);
+  EXPECT_EQ(p.nextSlices(32), 11u);  // 27 / 2 - 2
   EXPECT_EQ(p.nextSlices(8), 8u);
-  EXPECT_FALSE(p.nextDue(75, 14));  // not in the update of the enlargement
-  EXPECT_FALSE(p.nextDue(89, 14));  // 89 + 14 + 3 < 75 + 32
-  EXPECT_TRUE(p.nextDue(90, 14));
-  EXPECT_EQ(p.nextSwapAt(90, 14), 104u);  // 3 updates before the run's expected end (107)
-  EXPECT_FALSE(p.nextDue(95, 8));
-  EXPECT_TRUE(p.nextDue(96, 8));
-  EXPECT_EQ(p.nextSwapAt(96, 8), 104u);
-  EXPECT_EQ(p.nextSwapAt(100, 8), 108u);  // a late start: its slices first
+  EXPECT_FALSE(p.nextDue(70, 11));  // not in the update of the enlargement
+  EXPECT_FALSE(p.nextDue(82, 11));  // 82 + 11 + 3 < 70 + 27
+  EXPECT_TRUE(p.nextDue(83, 11));
+  EXPECT_EQ(p.nextSwapAt(83, 11), 94u);  // 3 updates before the run's expected end (97)
+  EXPECT_FALSE(p.nextDue(85, 8));
+  EXPECT_TRUE(p.nextDue(86, 8));
+  EXPECT_EQ(p.nextSwapAt(86, 8), 94u);
+  EXPECT_EQ(p.nextSwapAt(90, 8), 98u);  // a late start: its slices first
   // A swap before the run ended: the next run is expected an update longer, up to the longest.
-  p.enlargedAll(104, cheap, CoastPolicy::End::kSpreadEarly);
-  EXPECT_EQ(p.expectedRun(), 32u);
-  // A run of 20 updates ended at once (124), then swaps before and at the runs' ends.
-  p.enlargedAll(124, cheap);
+  p.enlargedAll(94, cheap, CoastPolicy::End::kSpreadEarly);
+  EXPECT_EQ(p.expectedRun(), 28u);
+  // A run of 20 updates ended at once (114), then swaps before and at the runs' ends.
+  p.enlargedAll(114, cheap);
   EXPECT_EQ(p.expectedRun(), 20u);
   EXPECT_EQ(p.nextSlices(32), 8u);  // 20 / 2 - 2
   EXPECT_EQ(p.nextSlices(4), 4u);
-  p.enlargedAll(141, cheap, CoastPolicy::End::kSpreadEarly);
+  p.enlargedAll(131, cheap, CoastPolicy::End::kSpreadEarly);
   EXPECT_EQ(p.expectedRun(), 21u);
   // A swap when the run ended (its proxies left their bounds) after 19 updates: the next
   // runs are expected to last as long (not 22: then the build would be overtaken).
-  p.enlargedAll(160, cheap, CoastPolicy::End::kSpreadAtEnd);
+  p.enlargedAll(150, cheap, CoastPolicy::End::kSpreadAtEnd);
   EXPECT_EQ(p.expectedRun(), 19u);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
   // Never while coasting is off: a costly run (a million candidates scanned, nothing to
   // re-sort without coasting) switches it off.
   p.scanned(1000000);
-  p.enlargedAll(172, resort(100, 0, 0, 0));
+  p.enlargedAll(162, resort(100, 0, 0, 0));
   EXPECT_DOUBLE_EQ(p.lead(), 0.0);
   EXPECT_FALSE(p.nextDue(200, 8));
+}
+
+// Issue 26 (jitter): the long lead. Expected values from the documented rules: a judged run
+// at the configured lead that lasted its longest (4 coast_updates), or was swapped out at
+// most kSwapMargin + 1 updates before, doubles the lead (kLongLead); runs then last up to 6
+// coast_updates (kLongRuns long leads), expected that long at once; a judged run shorter than
+// 4 coast_updates (however it ended) brings the configured lead back. Probation and failures
+// start again from the configured lead.
+TEST(CoastPolicy, TheLeadDoublesWhileRunsLastTheirLongestAndComesBackWhenOneIsShorter) {
+  EXPECT_DOUBLE_EQ(CoastPolicy::kLongLead, 2.0);
+  EXPECT_DOUBLE_EQ(CoastPolicy::kLongRuns, 3.0);
+  CoastPolicy p(8.0);
+  const CoastPolicy::Resort cheap = resort(100, 0, 1000000, 0);
+  EXPECT_EQ(p.step(1, 0, 100, false, true), Step::kNothing);  // coasting from the start
+  // Probation (the first enlargement and three runs) never doubles it, however long a run.
+  for (std::uint32_t u : {8u, 16u, 24u, 64u}) p.enlargedAll(u, cheap);
+  EXPECT_FALSE(p.longLead());
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  // A judged run of 27 ended at once: 27 + 3 + 1 < 32.
+  p.enlargedAll(91, cheap);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  EXPECT_EQ(p.longestRun(), 32u);
+  // A run swapped out early at 28 updates: 28 + 4 >= 32, the lead doubles.
+  p.enlargedAll(119, cheap, CoastPolicy::End::kSpreadEarly);
+  EXPECT_TRUE(p.longLead());
+  EXPECT_DOUBLE_EQ(p.lead(), 16.0);
+  EXPECT_EQ(p.longestRun(), 48u);
+  EXPECT_EQ(p.expectedRun(), 48u);
+  EXPECT_EQ(p.nextSlices(16), 22u);  // 48 / 2 - 2: up to twice spread_updates at the long lead
+  EXPECT_EQ(p.nextSlices(8), 16u);
+  // Its runs end at 48 updates, nothing leaving.
+  EXPECT_EQ(p.step(119 + 47, 0, 100, false, true), Step::kNothing);
+  EXPECT_EQ(p.step(119 + 48, 0, 100, false, true), Step::kEnlargeAll);
+  p.enlargedAll(167, cheap);
+  EXPECT_DOUBLE_EQ(p.lead(), 16.0);
+  EXPECT_EQ(p.expectedRun(), 48u);
+  // A run of 32 (swapped out early) keeps it.
+  p.enlargedAll(199, cheap, CoastPolicy::End::kSpreadEarly);
+  EXPECT_DOUBLE_EQ(p.lead(), 16.0);
+  // A run of 31, swapped out when it ended: back to 8, expected 31, longest 32.
+  p.enlargedAll(230, cheap, CoastPolicy::End::kSpreadAtEnd);
+  EXPECT_FALSE(p.longLead());
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  EXPECT_EQ(p.longestRun(), 32u);
+  EXPECT_EQ(p.expectedRun(), 31u);
+  EXPECT_EQ(p.step(230 + 31, 0, 100, false, true), Step::kNothing);
+  EXPECT_EQ(p.step(230 + 32, 0, 100, false, true), Step::kEnlargeAll);
+  // Up again at the longest; then a failure: coasting resumes at the configured lead.
+  p.enlargedAll(262, cheap);
+  EXPECT_DOUBLE_EQ(p.lead(), 16.0);
+  p.scanned(1000000);
+  p.enlargedAll(302, resort(100, 0, 0, 0));
+  EXPECT_DOUBLE_EQ(p.lead(), 0.0);
+  EXPECT_EQ(p.longestRun(), 32u);
+  EXPECT_EQ(p.step(302 + 64, 0, 100, false, true), Step::kEnlargeAll);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  // At most 16: the monitor's lead of 16 stays, runs of up to 64; a lead of 4 doubles to 8.
+  EXPECT_DOUBLE_EQ(CoastPolicy::kLongLeadAtMost, 16.0);
+  CoastPolicy q(16.0), r(4.0);
+  for (std::uint32_t u : {16u, 32u, 48u, 64u}) q.enlargedAll(u, cheap);
+  q.enlargedAll(128, cheap);
+  EXPECT_DOUBLE_EQ(q.lead(), 16.0);
+  EXPECT_EQ(q.longestRun(), 64u);
+  for (std::uint32_t u : {4u, 8u, 12u, 16u}) r.enlargedAll(u, cheap);
+  r.enlargedAll(32, cheap);
+  EXPECT_DOUBLE_EQ(r.lead(), 8.0);
+  EXPECT_EQ(r.longestRun(), 24u);
 }
 
 TEST(CoastPolicy, NoCoastUpdatesNeverCoasts) {

@@ -914,6 +914,8 @@ struct CoastCounts {
   int swapped = 0, building = 0;  // the next arrays swapped in; updates that built a slice
   int finished = 0;  // builds finished at once when their run ended first
   int tight_candidates = 0;  // updates with no candidate beyond pairs()
+  int long_lead = 0;  // updates after which the lead was the long one (above `configured`)
+  double configured = 8.0;  // the configuration's coast_updates
 
   void add(const SweepAndPrune& sap) {
     const auto& s = sap.stats();
@@ -926,6 +928,7 @@ struct CoastCounts {
     building += s.building_next;
     finished += s.finished_next;
     tight_candidates += s.candidates == static_cast<int>(sap.pairs().size());
+    long_lead += s.lead > configured;
     EXPECT_GE(s.candidates, static_cast<int>(sap.pairs().size()));
   }
 };
@@ -1061,6 +1064,73 @@ TEST(SweepAndPrune, TrackerJitterCoastsAndEqualsBruteForce) {
     EXPECT_LE(counts.enlarged_all + counts.swapped, 12);
     EXPECT_GE(counts.swapped, 2);
   }
+}
+
+// Issue 26 (jitter): the long lead. Tracker jitter around rest and a slow drift (as above):
+// runs last their longest, so the lead doubles and runs last up to 6 coast_updates; then every
+// box moves steadily (1-2 grid steps per update and axis): runs end after a few updates and
+// the configured lead comes back. Brute force after every update (pairs, began, ended, the
+// candidates, the enlarged bounds holding the given ones), through both switches.
+TEST(SweepAndPrune, TheLongLeadComesWithJitterAndGoesWithSteadyMotionAndEqualsBruteForce) {
+  Rng rng(260027);
+  std::uniform_int_distribution<int> offset(-4, 4);  // jitter, in 1/512 m
+  std::uniform_int_distribution<int> step(1, 2);
+  Harness h(SweepAndPruneConfig(), true);
+  DriftScene scene(300, rng, h);
+  for (std::size_t i = 0; i < scene.velocity.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      scene.velocity[i][k] = i % 2 == 0 ? 0.0 : (scene.velocity[i][k] > 0 ? 1 : -1) / 512.0;
+    }
+  }
+  h.updateAndCheck();
+  CoastCounts jitter, steady;
+  int long_swaps = 0;  // next arrays swapped in at the long lead
+  for (int cycle = 0; cycle < 560; ++cycle) {
+    if (cycle == 400) {
+      for (Eigen::Vector3d& v : scene.velocity) {
+        for (int k = 0; k < 3; ++k) v[k] = (v[k] < 0 ? -1 : 1) * step(rng) / 64.0;
+      }
+    }
+    for (std::size_t i = 0; i < scene.center.size(); ++i) {
+      Eigen::Vector3d& c = scene.center[i];
+      for (int k = 0; k < 3; ++k) {
+        c[k] += scene.velocity[i][k];
+        if (c[k] - scene.half[i][k] < 0.5 || c[k] + scene.half[i][k] > scene.side - 0.5) {
+          scene.velocity[i][k] = -scene.velocity[i][k];
+          c[k] = std::clamp(c[k], scene.half[i][k] + 0.5, scene.side - scene.half[i][k] - 0.5);
+          c[k] = std::round(512.0 * c[k]) / 512.0;
+        }
+      }
+      Aabb b;
+      for (int k = 0; k < 3; ++k) {
+        const double n = cycle < 400 ? offset(rng) / 512.0 : 0.0;
+        b.lower[k] = c[k] - scene.half[i][k] + n;
+        b.upper[k] = c[k] + scene.half[i][k] + n;
+      }
+      h.move(scene.obj_of[i], b);
+    }
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    const auto& st = h.sap().stats();
+    if (cycle < 400) {
+      jitter.add(h.sap());
+      long_swaps += st.swapped_next && st.lead > 8.0;
+    } else if (cycle >= 460) {
+      steady.add(h.sap());
+    }
+  }
+  std::printf("jitter: %d of %d updates at the long lead, %d swaps there; steady motion: %d of "
+              "%d at the long lead, %d enlarged all, %d swapped in, %d moved a few alone, %d "
+              "coasted, lead %g at the end\n", jitter.long_lead, jitter.updates, long_swaps,
+              steady.long_lead, steady.updates, steady.enlarged_all, steady.swapped,
+              steady.moved_alone, steady.coasted, h.sap().stats().lead);
+  // About 100 updates of probation and a first judged run at the configured lead, then the
+  // long lead: runs of up to 48 updates.
+  EXPECT_GE(jitter.long_lead, 200);
+  EXPECT_GE(long_swaps + jitter.enlarged_all, 3);
+  // Steady motion: back to the configured lead within the first 60 updates.
+  EXPECT_EQ(steady.long_lead, 0);
+  EXPECT_LE(h.sap().stats().lead, 8.0);
 }
 
 // A resting scene in which a few boxes at a time start, stop, turn back or jump: they leave
