@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Builds the "Latest run, the tail" table of bench/results/README.md from broadphase_bench
 reports (bench/results/broadphase*.md): per configuration, ours and the best peer from the
-report's headline, ours' p99 / median (wall clock and thread CPU time), and the two other rows
-of ours measured in the same run: every run's end at once (spread_updates 0) and lead 16
+report's headline, ours' p99 / median (wall clock and thread CPU time; in CPU time also without
+the first cycle of each round-robin block, which runs after the other peers with cold caches),
+and the two other rows of ours measured in the same run: every run's end at once (spread_updates 0) and lead 16
 (coast_updates 16). Usage: python3 bench/tail_table.py REPORT.md [REPORT.md ...] > table.md"""
 import re
 import sys
@@ -27,10 +28,12 @@ def parse(path):
         if line.startswith('| ours') and cur:
             cells = [c.strip() for c in line.strip('|').split('|')]
             cpu = re.search(r'CPU time: median ([\d.]+), p99 ([\d.]+), ([\d.]+)×', cells[-1])
+            warm = re.search(r"without each block's first cycle: p99 ([\d.]+), ([\d.]+)×", cells[-1])
             key = 'once' if 'at once' in cells[0] else 'lead16' if 'lead 16' in cells[0] else 'ours'
             rows.setdefault(cur, {})[key] = dict(median=float(cells[1]), p99=float(cells[2]),
                                                  mean=float(cells[3]),
-                                                 cpu=cpu.groups() if cpu else None)
+                                                 cpu=cpu.groups() if cpu else None,
+                                                 warm=warm.groups() if warm else None)
     return head, rows
 
 
@@ -77,12 +80,15 @@ for path in sys.argv[1:]:
         best = f'{h[2]} | {h[3]} | {h[4]} | {h[5]}' if h else '– | – | – | –'
         cpu = o['cpu']
         cpu_s = f'{fmt(float(cpu[0]))}, {fmt(float(cpu[1]))}, **{cpu[2]}×**' if cpu else '–'
+        warm = o.get('warm')
+        warm_s = f'{fmt(float(warm[0]))}, {warm[1]}×' if warm else '–'
         out.append(f"| {s} | {fmt(o['median'])} | {best} | {fmt(o['p99'])} | "
-                   f"{o['p99'] / o['median']:.1f}× | {cpu_s} | {other(r.get('once'))} | "
+                   f"{o['p99'] / o['median']:.1f}× | {cpu_s} | {warm_s} | {other(r.get('once'))} | "
                    f"{other(r.get('lead16'))} |")
 print('| scene | ours median | best peer | its median | ratio | means: ours, best peer, ratio | '
       'ours p99 | p99 / median | ours in CPU time: median, p99, p99 / median | '
+      "the same without each round-robin block's first cycle: p99, p99 / median | "
       "run's end at once (same run): median, mean, p99, p99 / median in CPU time | "
       'lead 16 (same run): median, mean, p99, p99 / median in CPU time |')
-print('|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|')
+print('|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|')
 print('\n'.join(out))

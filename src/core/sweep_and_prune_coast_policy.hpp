@@ -219,7 +219,7 @@ class CoastPolicy {
   /// run's updates (at least 6), so that most updates carry no slice: spread over the whole run
   /// (29 of 32 updates) the p99 was as high in microseconds, and the medians 1.5-1.7 times and
   /// the means 5-15 % higher (bench/results/NOTES.md section 21). (The long lead's runs of 48
-  /// updates in 16 slices made slices 3.4 times the median update at N = 10 000; in 22,
+  /// updates in 16 slices made the p99, a slice, 3.4 times the median at N = 10 000; in 22,
   /// 2.3-2.8 times.) 0: runs too short to spread their end.
   std::uint32_t nextSlices(std::uint32_t spread) const {
     if (expected_run_ < kMinSpreadRun) return 0;

@@ -895,6 +895,22 @@ struct DriftScene {
     }
   }
 
+  // Box i one update along its velocity, turning back half a metre from the walls (`clamp`:
+  // and kept there, on the 1/512 m grid).
+  void advanceTurning(std::size_t i, bool clamp) {
+    Eigen::Vector3d& c = center[i];
+    for (int k = 0; k < 3; ++k) {
+      c[k] += velocity[i][k];
+      if (c[k] - half[i][k] < 0.5 || c[k] + half[i][k] > side - 0.5) {
+        velocity[i][k] = -velocity[i][k];
+        if (clamp) {
+          c[k] = std::clamp(c[k], half[i][k] + 0.5, side - half[i][k] - 0.5);
+          c[k] = std::round(512.0 * c[k]) / 512.0;
+        }
+      }
+    }
+  }
+
   // Every box up to two box sizes in a random direction (large motion), kept in the cell.
   void jump(Harness& h, Rng& rng) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -1038,13 +1054,8 @@ TEST(SweepAndPrune, TrackerJitterCoastsAndEqualsBruteForce) {
     CoastCounts counts;
     for (int cycle = 0; cycle < 160; ++cycle) {
       for (std::size_t i = 0; i < scene.center.size(); ++i) {
-        Eigen::Vector3d& c = scene.center[i];
-        for (int k = 0; k < 3; ++k) {
-          c[k] += scene.velocity[i][k];
-          if (c[k] - scene.half[i][k] < 0.5 || c[k] + scene.half[i][k] > scene.side - 0.5) {
-            scene.velocity[i][k] = -scene.velocity[i][k];
-          }
-        }
+        scene.advanceTurning(i, false);
+        const Eigen::Vector3d& c = scene.center[i];
         Aabb b;
         for (int k = 0; k < 3; ++k) {
           const double n = offset(rng) / 512.0;
@@ -1092,15 +1103,8 @@ TEST(SweepAndPrune, TheLongLeadComesWithJitterAndGoesWithSteadyMotionAndEqualsBr
       }
     }
     for (std::size_t i = 0; i < scene.center.size(); ++i) {
-      Eigen::Vector3d& c = scene.center[i];
-      for (int k = 0; k < 3; ++k) {
-        c[k] += scene.velocity[i][k];
-        if (c[k] - scene.half[i][k] < 0.5 || c[k] + scene.half[i][k] > scene.side - 0.5) {
-          scene.velocity[i][k] = -scene.velocity[i][k];
-          c[k] = std::clamp(c[k], scene.half[i][k] + 0.5, scene.side - scene.half[i][k] - 0.5);
-          c[k] = std::round(512.0 * c[k]) / 512.0;
-        }
-      }
+      scene.advanceTurning(i, true);
+      const Eigen::Vector3d& c = scene.center[i];
       Aabb b;
       for (int k = 0; k < 3; ++k) {
         const double n = cycle < 400 ? offset(rng) / 512.0 : 0.0;
