@@ -1808,24 +1808,20 @@ std::string targets(const std::vector<std::pair<ConfigDef, std::vector<Result>>>
       }
     }
     {
-      const double tail = ours->p99_us / ours->median_us;
-      o << "| " << c.label << " | ours' p99 ≤ 3× ours' median | " << timeUs(ours->median_us) << " | "
-        << timeUs(ours->p99_us) << " (p99) | " << fmt("%.2f", tail) << " | " << (tail <= 3.0 ? "yes" : "NO")
-        << " |\n";
+      auto tailRow = [&](const char* target, double median_us, double p99_us) {
+        const double ratio = p99_us / median_us;
+        o << "| " << c.label << " | " << target << " | " << timeUs(median_us) << " | " << timeUs(p99_us)
+          << " (p99) | " << fmt("%.2f", ratio) << " | " << (ratio <= 3.0 ? "yes" : "NO") << " |\n";
+      };
+      tailRow("ours' p99 ≤ 3× ours' median", ours->median_us, ours->p99_us);
       if (ours->cpu_median_us > 0.0) {
         // The same in thread CPU time: a cycle preempted by another process on a shared machine
         // (a scheduler slice is milliseconds) does not count its wait.
-        const double cpu_tail = ours->cpu_p99_us / ours->cpu_median_us;
-        o << "| " << c.label << " | ours' p99 ≤ 3× ours' median, thread CPU time | "
-          << timeUs(ours->cpu_median_us) << " | " << timeUs(ours->cpu_p99_us) << " (p99) | "
-          << fmt("%.2f", cpu_tail) << " | " << (cpu_tail <= 3.0 ? "yes" : "NO") << " |\n";
+        tailRow("ours' p99 ≤ 3× ours' median, thread CPU time", ours->cpu_median_us, ours->cpu_p99_us);
+        // And without the first cycle of each round-robin block (it runs after the other
+        // peers' blocks, with their data in the caches: 2.5 % of the cycles).
         if (ours->cpu_warm_p99_us > 0.0) {
-          // And without the first cycle of each round-robin block (it runs after the other
-          // peers' blocks, with their data in the caches: 2.5 % of the cycles).
-          const double warm_tail = ours->cpu_warm_p99_us / ours->cpu_median_us;
-          o << "| " << c.label << " | the same, without each block's first cycle | "
-            << timeUs(ours->cpu_median_us) << " | " << timeUs(ours->cpu_warm_p99_us) << " (p99) | "
-            << fmt("%.2f", warm_tail) << " | " << (warm_tail <= 3.0 ? "yes" : "NO") << " |\n";
+          tailRow("the same, without each block's first cycle", ours->cpu_median_us, ours->cpu_warm_p99_us);
         }
       }
     }

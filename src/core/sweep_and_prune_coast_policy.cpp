@@ -70,7 +70,7 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
       // longest (or was swapped out just before), back when a run ends in fewer updates than
       // that. (A run ended early by a swap counts: its build was due by the expected run, so a
       // steady motion whose runs at the long lead are spread, 16-20 updates, comes back.)
-      const double longest = 4.0 * coast_updates_;
+      const double longest = longestRunOf(coast_updates_);
       if (longLead()) {
         if (run < longest) {
           lead_ = coast_updates_;
