@@ -43,6 +43,7 @@ void keepHeadroom(State& s) {
   for (std::vector<BroadPair>* v : {&s.next.found, &s.next.ordered}) {
     if (v->capacity() < cap) v->reserve(cap);
   }
+  if (s.next.order_of.capacity() < cap) s.next.order_of.reserve(cap);
   for (std::vector<BroadPair>* v : {&s.cand_began, &s.cand_ended, &s.exact, &s.began, &s.ended}) {
     if (v->capacity() < cap) v->reserve(cap);
   }

@@ -54,8 +54,31 @@ struct SortScratch {
   std::vector<std::uint64_t> items, items2;  // radix sort items (also the insertion's merge)
   std::vector<std::uint64_t> tmp_keys;
   std::vector<std::uint32_t> tmp_owners;
+  std::vector<std::uint32_t> counts;  // radix sort: each pass' digit counts
   void reserve(std::size_t slots);
 };
+
+/// A radix sort of one endpoint array by the 32 most significant bits that vary over the axis
+/// (sortEndpoints' first part) cut into steps, so that the next arrays' build can spread it
+/// over updates: each endpoint's prefix, the digits of every pass counted, one scatter per
+/// pass, the gather of keys and owners in that order. insertionSortFrom() from position 1
+/// then finishes it (endpoints that share a prefix). Between steps nothing else may touch the
+/// array or the scratch.
+struct RadixSteps {
+  enum class Step : std::uint8_t { kPrefixes, kCounts, kScatter, kGather, kDone };
+  Step next = Step::kDone;
+  int pass = 0;             ///< kScatter: the pass
+  int passes = 0;           ///< digits of the prefix (2 or 3)
+  bool wide = false;        ///< 11-bit digits (else 8)
+  bool in_second = false;   ///< the order so far is in SortScratch::items2 (else items)
+  std::size_t endpoints = 0;  ///< without the sentinels
+};
+/// Starts a radix sort of `keys` (sentinels in place); an array of at most 48 endpoints is
+/// left to the insertion pass (the job is done at once).
+void beginRadixSort(const std::vector<std::uint64_t>& keys, RadixSteps* job);
+/// Does the job's next step; returns true once the radix part is done.
+bool radixSortStep(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
+                   SortScratch* scratch, RadixSteps* job);
 
 /// Insertion sort without pair events of one endpoint array (sentinels in place) from position
 /// `from` on, the positions before it in order already: stops at the high sentinel or once

@@ -17,19 +17,36 @@ using Stage = NextArrays::Stage;
 // Work units of a build's parts (about a nanosecond each on the benchmark machine, as
 // CoastPolicy's): one proxy enlarged; one endpoint copied with its next key (and sampled for
 // the swap estimate); one position of the insertion sort and one of its swaps; one endpoint
-// swept (its pairs found and inserted are counted apart). Timed per stage at +-0.5 % jitter,
-// N = 1 000 (bench/results/NOTES.md section 22): a build's sort took 55 us by insertion
-// (1.2-1.4 swaps per endpoint: a swap ~5 ns, most of it the branch that guesses wrong) and
-// 37 us by radix sort, for 6 000 endpoints.
+// swept, and one pair it finds; a proxy ranked and a pair ordered for the table. Each stage is
+// priced against enlarging (the anchor, 60 a proxy): a slice's budget buys the same time in
+// every stage, so that no update carries a dearer slice than the others. Timed per stage at
+// +-0.5 %, +-1 % and +-5 % jitter, N = 1 000 and 10 000, on an Intel Xeon (bench/results/
+// NOTES.md section 28): per unit of the anchor, a radix sort of one axis 1.7-2.4 times the 4
+// units an endpoint it was given before, the table's order 1.8-2.6 times, a pair found by the
+// sweep ~30 units where 3 were counted (the +-5 % rows' sweeps took twice the +-1 % rows' per
+// endpoint); earlier, on an AMD EPYC, a build's sort took 55 us by insertion (1.2-1.4 swaps
+// per endpoint: a swap ~5 ns, most of it the branch that guesses wrong) and 37 us by radix
+// sort, for 6 000 endpoints (section 22).
 constexpr double kEnlargeUnits = 60.0;
 constexpr double kCopyUnits = 2.0;
 constexpr double kSortUnits = 1.0;
 constexpr double kSwapUnits = 5.0;
-constexpr double kSweepUnits = 16.0;
-constexpr double kRadixUnits = 4.0;  // per endpoint: a radix sort of one axis from scratch
+constexpr double kSweepUnits = 14.0;
+constexpr double kRadixUnits = 8.0;  // per endpoint: a radix sort of one axis from scratch
+// Its steps (RadixSteps), per endpoint: the prefixes (the axis' range, then a conversion and a
+// product each), the digits counted, one scatter per pass, the keys and owners gathered.
+constexpr double kPrefixUnits = 2.5;
+constexpr double kCountUnits = 1.0;
+constexpr double kScatterUnits = 1.25;
+constexpr double kGatherUnits = 1.5;
 constexpr double kBeginSweepUnits = 20.0;  // per proxy: the widths and the slab lists
-constexpr double kListUnits = 3.0;   // per pair found: listed
-constexpr double kOrderUnits = 8.0;  // per pair found: counted and placed in proxy order
+constexpr double kPlanSweepUnits = 6.0;    // of which the widths (the plan)
+constexpr double kBinSweepUnits = kBeginSweepUnits - kPlanSweepUnits;  // and the slab lists
+constexpr double kListUnits = 30.0;  // per pair found by the sweep: its overlap tests, listed
+constexpr double kOrderUnits = 16.0;  // per pair found: counted and placed in proxy order
+constexpr double kCountPlacesUnits = 10.0;  // of which counted (its bounds read: random reads)
+constexpr double kPlaceUnits = kOrderUnits - kCountPlacesUnits;  // and placed
+constexpr double kRankUnits = 4.0;    // per slot: its rank along the sweep axis, its count
 
 // The arrays of the build and the current ones trade places (vectors and tables swap their
 // buffers: no copy, no allocation), so that the sweep kernel runs on the next arrays as on the
@@ -44,7 +61,8 @@ void exchange(State& s) {
   std::swap(s.cands, n.cands);
 }
 
-// A step that cannot be cut (a radix sort, the sweep's start, the table's order) and costs
+// A step that cannot be cut (a step of a radix sort, the sweep's plan or its slab lists, the
+// table's count or its placing) and costs
 // `cost` waits for the next slice when less than that is left of this one and less than its
 // share, unless the build is late (the swap two updates off or less). (Waiting whenever under
 // three quarters of a slice were left gave each axis' radix sort a slice of its own: a build
@@ -65,13 +83,16 @@ void start(State& s) {
   n.sort_swaps = 0;
   n.jump_swaps = 0;
   n.radix = false;
+  n.radix_steps = RadixSteps();
+  n.sweep_step = 0;
+  n.counted = false;
   for (int axis = 0; axis < 3; ++axis) n.ends[axis].resize(s.ends[axis].size());
   // Its work, spread over the updates before the one that swaps it in, 1.05 times the even
   // share per slice (a build that takes longer than estimated still has the updates up to
   // the run's expected end: CoastPolicy::kSwapMargin).
   const double live = static_cast<double>(s.live_count);
   const double work = kEnlargeUnits * live + 3.0 * (kCopyUnits + kRadixUnits) * 2.0 * live +
-                      kSweepUnits * 2.0 * live + kBeginSweepUnits * live + kCopyUnits * live +
+                      kSweepUnits * 2.0 * live + kBeginSweepUnits * live + 2.0 * kRankUnits * live +
                       (kListUnits + kOrderUnits + CoastPolicy::kFoundWork) *
                           static_cast<double>(s.cands.size());
   const double updates = std::max(1.0, static_cast<double>(n.swap_at - s.updates) - 1.0);
@@ -101,11 +122,24 @@ double enlargeSome(State& s, double budget) {
   return budget;
 }
 
+// Work units of a radix sort's next step, for an axis of `size` endpoints.
+double radixStepUnits(const RadixSteps& r, std::size_t size) {
+  using Step = RadixSteps::Step;
+  const double per = r.next == Step::kPrefixes ? kPrefixUnits
+                     : r.next == Step::kCounts ? kCountUnits
+                     : r.next == Step::kScatter ? kScatterUnits
+                     : r.next == Step::kGather ? kGatherUnits
+                                               : 0.0;
+  return per * static_cast<double>(size);
+}
+
 // The endpoint arrays of the next bounds, axis after axis: the current order with the next
 // keys (nearly in order), then insertion sort without pair events, a slice at a time; or, when
 // the swaps estimated from those keys would cost more than sorting from scratch (more than
-// about 0.6 per endpoint: +-0.5 % jitter at N = 1 000 makes 1.2-1.4, +-5 % at N = 10 000 made
-// 450 000 per axis), a radix sort in a slice of its own.
+// about 1.4 per endpoint: +-5 % jitter at N = 10 000 made 450 000 per axis), a radix sort, a
+// step at a time (the prefixes, the counts, each pass, the gather: each about a quarter of it;
+// whole, one axis' sort was the dearest slice of a build: 29 us at N = 1 000 on the Xeon,
+// against ~20 us slices), then the insertion pass for the endpoints that share a prefix.
 double sortSome(State& s, double budget, double full) {
   NextArrays& n = s.next;
   while (n.stage == Stage::kSort && budget > 0.0) {
@@ -114,7 +148,6 @@ double sortSome(State& s, double budget, double full) {
     std::vector<std::uint32_t>& owners = n.owners[axis];
     const std::size_t size = s.owners[axis].size();
     const std::size_t last = size - 1;  // high sentinel
-    bool done = false;
     if (n.cursor == 0) {
       owners.resize(size);
       keys.resize(size);
@@ -129,31 +162,31 @@ double sortSome(State& s, double budget, double full) {
       n.jump_swaps += estimate;
       n.radix = kSortUnits * static_cast<double>(size) + kSwapUnits * static_cast<double>(estimate) >
                 kRadixUnits * static_cast<double>(size);
+      if (n.radix) beginRadixSort(keys, &n.radix_steps);
       n.cursor = 1;
       budget -= kCopyUnits * static_cast<double>(size);
       continue;
     }
-    if (n.radix) {
-      if (waitForSlice(s, budget, full, kRadixUnits * static_cast<double>(size))) return 0.0;
-      sortEndpoints(&keys, &owners, &s.sort);
-      budget -= kRadixUnits * static_cast<double>(size);
-      done = true;
-    } else {
-      // Within the slice's budget.
-      static_assert(kSwapUnits >= kSortUnits, "swap work in whole positions");
-      const std::int64_t before = n.sort_swaps;
-      const std::size_t from = n.cursor;
-      n.cursor = insertionSortFrom(&keys, &owners, from, static_cast<std::int64_t>(budget / kSortUnits) + 1,
-                                   &n.sort_swaps, static_cast<std::int64_t>(kSwapUnits / kSortUnits));
-      budget -= kSortUnits * static_cast<double>(n.cursor - from) +
-                kSwapUnits * static_cast<double>(n.sort_swaps - before);
-      done = n.cursor >= last;
+    if (n.radix && n.radix_steps.next != RadixSteps::Step::kDone) {
+      const double cost = radixStepUnits(n.radix_steps, size);
+      if (waitForSlice(s, budget, full, cost)) return 0.0;
+      radixSortStep(&keys, &owners, &s.sort, &n.radix_steps);
+      budget -= cost;
+      continue;
     }
-    if (done) {
+    // Within the slice's budget (after a radix sort: the endpoints that share a prefix).
+    static_assert(kSwapUnits >= kSortUnits, "swap work in whole positions");
+    const std::int64_t before = n.sort_swaps;
+    const std::size_t from = n.cursor;
+    n.cursor = insertionSortFrom(&keys, &owners, from, static_cast<std::int64_t>(budget / kSortUnits) + 1,
+                                 &n.sort_swaps, static_cast<std::int64_t>(kSwapUnits / kSortUnits));
+    budget -= kSortUnits * static_cast<double>(n.cursor - from) +
+              kSwapUnits * static_cast<double>(n.sort_swaps - before);
+    if (n.cursor >= last) {
       n.cursor = 0;
       if (++n.axis == 3) {
         n.stage = Stage::kSweep;
-        n.sweep_begun = false;
+        n.sweep_step = 0;
       }
     }
   }
@@ -162,16 +195,26 @@ double sortSome(State& s, double budget, double full) {
 
 double sweepSome(State& s, double budget, double full) {
   NextArrays& n = s.next;
-  if (!n.sweep_begun) {
-    // Its start (the widths, and the slab lists when it sweeps in slabs: passes over every
-    // proxy) is not cut.
-    if (waitForSlice(s, budget, full, kBeginSweepUnits * static_cast<double>(s.live_count))) return 0.0;
+  // Its start, in two steps that are not cut: the plan (the widths: a pass over every proxy)
+  // and, when it sweeps in slabs, the slab lists (two passes more). Together they were a
+  // build's dearest slice after the sort's (33 us at N = 1 000 on the Xeon).
+  if (n.sweep_step == 0) {
+    if (waitForSlice(s, budget, full, kPlanSweepUnits * static_cast<double>(s.live_count))) return 0.0;
     n.found.clear();
     exchange(s);
-    beginSweep(s, s.sweep_axis, s.plain_tests, &n.sweep);
+    const bool bins = planSweep(s, s.sweep_axis, s.plain_tests, &n.sweep);
     exchange(s);
-    n.sweep_begun = true;
-    budget -= kBeginSweepUnits * static_cast<double>(s.live_count);
+    n.sweep_step = bins ? 1 : 2;
+    budget -= kPlanSweepUnits * static_cast<double>(s.live_count);
+    if (budget <= 0.0) return 0.0;
+  }
+  if (n.sweep_step == 1) {
+    if (waitForSlice(s, budget, full, kBinSweepUnits * static_cast<double>(s.live_count))) return 0.0;
+    exchange(s);
+    binSweep(s, &n.sweep);
+    exchange(s);
+    n.sweep_step = 2;
+    budget -= kBinSweepUnits * static_cast<double>(s.live_count);
     if (budget <= 0.0) return 0.0;
   }
   const double per_endpoint =
@@ -186,6 +229,7 @@ double sweepSome(State& s, double budget, double full) {
   if (done) {
     n.stage = Stage::kTable;
     n.cursor = 0;
+    n.counted = false;
   }
   return 0.0;
 }
@@ -195,13 +239,16 @@ double sweepSome(State& s, double budget, double full) {
 // every update (reportTouching) keeps a candidate when it touches: in the sweep's order that
 // branch goes either way at random (a third touch at +-5 % jitter) and the scan took 1.9 times
 // as long (97 against 51 us, N = 10 000), in this order it is predicted (bench/results/NOTES.md
-// section 21). A counting sort, then the insertions, a slice at a time.
+// section 21). A counting sort (the places counted, then the pairs placed: each a step that is
+// not cut; together 27 us at N = 1 000 on the Xeon, a build's dearest slice but the sort's),
+// then the insertions, a slice at a time.
 double tableSome(State& s, double budget, double full) {
   NextArrays& n = s.next;
-  if (n.cursor == 0) {
-    const std::size_t slots = s.info.size();
+  const std::size_t slots = s.info.size();
+  std::vector<std::uint32_t>& start = n.first_of;
+  if (n.cursor == 0 && !n.counted) {
     if (waitForSlice(s, budget, full,
-                     kOrderUnits * static_cast<double>(n.found.size()) + kCopyUnits * static_cast<double>(slots))) {
+                     kCountPlacesUnits * static_cast<double>(n.found.size()) + kRankUnits * static_cast<double>(slots))) {
       return 0.0;
     }
     // Each proxy's rank along the sweep axis (its lower endpoint's place).
@@ -214,23 +261,36 @@ double tableSome(State& s, double budget, double full) {
         if ((owners[i] & 1u) == 0u) rank[owners[i] >> 1] = r++;
       }
     }
+    // Each pair's place key, kept for the placing (the given bounds may move before it).
     const std::uint32_t others = static_cast<std::uint32_t>(slots);
-    auto key = [&rank, &s, others](const BroadPair& c) {
+    n.order_of.resize(n.found.size());
+    start.assign(2 * slots + 1, 0);
+    for (std::size_t i = 0, found = n.found.size(); i < found; ++i) {
+      const BroadPair& c = n.found[i];
       const std::uint32_t r = std::min(rank[static_cast<std::size_t>(c.proxy_a)],
                                        rank[static_cast<std::size_t>(c.proxy_b)]);
-      return s.touching(c.proxy_a, c.proxy_b) ? r : others + r;
-    };
-    std::vector<std::uint32_t>& start = n.first_of;
-    start.assign(2 * slots + 1, 0);
-    for (const BroadPair& c : n.found) ++start[key(c) + 1];
+      const std::uint32_t key = s.touching(c.proxy_a, c.proxy_b) ? r : others + r;
+      n.order_of[i] = key;
+      ++start[key + 1];
+    }
+    n.counted = true;
+    budget -= kCountPlacesUnits * static_cast<double>(n.found.size()) + kRankUnits * static_cast<double>(slots);
+    if (budget <= 0.0) return 0.0;
+  }
+  if (n.cursor == 0) {
+    if (waitForSlice(s, budget, full,
+                     kPlaceUnits * static_cast<double>(n.found.size()) + kRankUnits * static_cast<double>(slots))) {
+      return 0.0;
+    }
     for (std::size_t p = 0; p < 2 * slots; ++p) start[p + 1] += start[p];
     n.ordered.resize(n.found.size());
-    for (const BroadPair& c : n.found) n.ordered[start[key(c)]++] = c;
+    for (std::size_t i = 0, found = n.found.size(); i < found; ++i) n.ordered[start[n.order_of[i]]++] = n.found[i];
     n.cands.clear();
     if (n.cands.capacity() < n.ordered.size()) n.cands.reserve(2 * n.ordered.size());
     n.flags_tracked = true;
+    n.counted = false;
     n.cursor = 1;
-    budget -= kOrderUnits * static_cast<double>(n.found.size()) + kCopyUnits * static_cast<double>(slots);
+    budget -= kPlaceUnits * static_cast<double>(n.found.size()) + kRankUnits * static_cast<double>(slots);
   }
   const std::size_t total = n.ordered.size();
   std::size_t i = n.cursor - 1;

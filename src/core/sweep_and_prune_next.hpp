@@ -11,11 +11,15 @@
 /// bounds by then move alone in the new arrays, and pairs(), beganPairs() and endedPairs()
 /// come from the given bounds against the last update's pairs. Any insertion, removal or
 /// re-sort of everybody in between abandons the build (the run then ends at once, as before).
+/// Between slices the build keeps a radix sort's partial order in State::sort and a sweep's
+/// slab lists in State::sweep: their other users (insertions, re-sorts of everybody) run only
+/// after the build was abandoned, finished or swapped in.
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "sweep_and_prune_keys.hpp"
 #include "sweep_and_prune_rebuild.hpp"
 #include "workspace_proximity/pair_table.hpp"
 #include "workspace_proximity/sweep_and_prune.hpp"
@@ -44,6 +48,7 @@ struct NextArrays {
   std::vector<BroadPair> found;         ///< kSweep: the candidates, in the sweep's order
   std::vector<BroadPair> ordered;       ///< kTable: the same, touching first, by first proxy
   std::vector<std::uint32_t> first_of;  ///< kTable: counting sort's starts
+  std::vector<std::uint32_t> order_of;  ///< kTable: each found pair's place key, as counted
   std::vector<std::uint32_t> rank;      ///< kTable: each proxy's place along the sweep axis
   std::uint32_t started = 0;   ///< update that started the build
   std::uint32_t swap_at = 0;   ///< update that swaps it in (next bounds hold the lead past it)
@@ -52,8 +57,11 @@ struct NextArrays {
   std::int64_t sort_swaps = 0; ///< kSort: swaps on every axis
   std::int64_t jump_swaps = 0; ///< kSort: those estimated from the keys, as for a jump
   bool radix = false;          ///< kSort: this axis is radix sorted (too many swaps estimated)
+  RadixSteps radix_steps;      ///< kSort: where that radix sort is
   SweepCursor sweep;           ///< kSweep
-  bool sweep_begun = false;    ///< kSweep: beginSweep() done
+  /// kSweep: 0 before its plan (planSweep), 1 before its slab lists (binSweep), 2 sweeping.
+  int sweep_step = 0;
+  bool counted = false;        ///< kTable: the found pairs' places counted, not yet placed
   double budget = 0.0;         ///< work per update (units of CoastPolicy, ~ns)
   bool swapped = false;        ///< swapped in by this update: its report diffs the pairs
   /// The run (CoastPolicy::lastEnlargement) in which a build was last abandoned; none is

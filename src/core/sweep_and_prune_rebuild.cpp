@@ -388,7 +388,7 @@ void findPairs(State& s, int axis, std::int64_t tests, SweepMode mode) {
   sweepForPairs(s, axis, mode != SweepMode::kRebuild);
 }
 
-void beginSweep(State& s, int axis, std::int64_t tests, SweepCursor* c) {
+bool planSweep(State& s, int axis, std::int64_t tests, SweepCursor* c) {
   // As findPairs() chooses for a rebuild: slabs when a plain sweep would test each proxy
   // against many open intervals (and the boxes fit the slab lists).
   c->axis = axis;
@@ -400,11 +400,18 @@ void beginSweep(State& s, int axis, std::int64_t tests, SweepCursor* c) {
     const double widest[3] = {s.max_width[0], s.max_width[1], s.max_width[2]};
     measureWidths(s, s.mean_width);
     for (int axis_k = 0; axis_k < 3; ++axis_k) s.max_width[axis_k] = std::max(s.max_width[axis_k], widest[axis_k]);
-    const SlabGrid grid = slabGrid(s, axis, s.mean_width);
-    if (grid.count > 0 && binIntoSlabs(s, axis, grid)) c->grid = grid;
+    c->grid = slabGrid(s, axis, s.mean_width);
+    if (c->grid.count > 0) return true;
   }
-  c->end = c->grid.count > 0 ? c->grid.count : s.owners[axis].size() - 1;
-  if (c->grid.count == 0) c->pos = 1;
+  c->end = s.owners[axis].size() - 1;
+  c->pos = 1;
+  return false;
+}
+
+void binSweep(State& s, SweepCursor* c) {
+  if (!binIntoSlabs(s, c->axis, c->grid)) c->grid = SlabGrid();
+  c->pos = c->grid.count > 0 ? 0 : 1;
+  c->end = c->grid.count > 0 ? c->grid.count : s.owners[c->axis].size() - 1;
 }
 
 bool sweepOn(State& s, SweepCursor* c, std::size_t endpoints) {

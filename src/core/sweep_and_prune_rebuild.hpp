@@ -112,8 +112,13 @@ struct SweepCursor {
 };
 
 /// Starts a sliced sweep along `axis` for every pair (`tests`: a plain sweep's overlap tests,
-/// which choose a slab sweep as findPairs does).
-void beginSweep(State& s, int axis, std::int64_t tests, SweepCursor* c);
+/// which choose a slab sweep as findPairs does), in two steps that may go in different
+/// slices: the plan (the widths and the slab grid); then, when it returns true, the slab
+/// lists (binSweep).
+bool planSweep(State& s, int axis, std::int64_t tests, SweepCursor* c);
+/// The slab lists of a sweep planned in slabs (or a plain sweep when they would outgrow
+/// their space).
+void binSweep(State& s, SweepCursor* c);
 /// Sweeps on by about `endpoints` endpoints (whole slabs, at least one); true when done.
 bool sweepOn(State& s, SweepCursor* c, std::size_t endpoints);
 

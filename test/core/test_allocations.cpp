@@ -216,11 +216,11 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
   wp::SweepAndPrune jitter(config);
   std::vector<wp::SweepAndPrune::ProxyId> jitter_ids;
   for (std::size_t i = 0; i < s.centre.size(); ++i) jitter_ids.push_back(jitter.createProxy(s.box(i)));
-  auto jitter_cycle = [&](int i) {
+  auto jitter_cycle = [&](int i, double noise = 0.01) {
     for (std::size_t k = 0; k < s.centre.size(); ++k) {
       wp::Aabb b = s.box(k);
       const Eigen::Vector3d drift = Eigen::Vector3d::Constant(k % 2 == 0 ? 0.0 : 0.002 * i);
-      const Eigen::Vector3d n = rng.vector(-0.01, 0.01);
+      const Eigen::Vector3d n = rng.vector(-noise, noise);
       b.lower += drift + n;
       b.upper += drift + n;
       jitter.moveProxy(jitter_ids[k], b);
@@ -241,6 +241,19 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
   EXPECT_GE(swapped, 5);
   EXPECT_GE(long_lead, 200);  // runs last their longest: the long lead (issue 26)
   EXPECT_EQ(wp_test::allocationCount() - before_jitter, 0);
+  // Five times the jitter: the builds' sorts estimate more swaps than a radix sort costs, and
+  // radix-sort each axis a step at a time over several slices, and their sweeps go in slabs
+  // (counted with a temporary counter when this was written: 126 radix steps, 42 of them
+  // waiting for the next slice; the slab lists in 7 builds, each in a slice after the plan's).
+  for (; i < 600; ++i) jitter_cycle(i, 0.05);
+  const long before_big_jitter = wp_test::allocationCount();
+  int big_swapped = 0;
+  for (; i < 900; ++i) {
+    jitter_cycle(i, 0.05);
+    big_swapped += jitter.stats().swapped_next;
+  }
+  EXPECT_GE(big_swapped, 3);
+  EXPECT_EQ(wp_test::allocationCount() - before_big_jitter, 0);
 
   // Steady motion with a lead of 16 updates: runs long enough to spread their ends; the speed
   // grows by a quarter now and then, so that a run ends before its build is done (finished at
