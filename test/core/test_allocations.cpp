@@ -237,7 +237,7 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
     swapped += jitter.stats().swapped_next;
     long_lead += jitter.stats().lead > config.coast_updates;
   }
-  EXPECT_GE(building, 100);
+  EXPECT_GE(building, 80);  // about a third of the updates carry a slice
   EXPECT_GE(swapped, 5);
   EXPECT_GE(long_lead, 200);  // runs last their longest: the long lead (issue 26)
   EXPECT_EQ(wp_test::allocationCount() - before_jitter, 0);

@@ -1007,13 +1007,18 @@ TEST(SweepAndPrune, SteadyMotionWithLongerLeadSpreadsRunEndsAndEqualsBruteForce)
   scene.side *= 4.0;
   h.updateAndCheck();
   CoastCounts counts;
-  bool sped_up = false;
+  // Later, every third box changes speed (twice as fast, then back) while a build is under
+  // way, at its 2nd to 6th slice in turn: some runs then end before their build is done.
+  // (Which slice that takes depends on the build's pace; trying several keeps the path.)
+  int builds = 0, slices = 0;
+  bool fast = false;
   for (int cycle = 0; cycle < 300; ++cycle) {
-    // Later, every third box speeds up to twice its speed while a build is under way: their
-    // run ends before the build is done.
-    if (cycle >= 200 && !sped_up && h.sap().stats().building_next) {
-      sped_up = true;
-      for (std::size_t i = 0; i < scene.velocity.size(); i += 3) scene.velocity[i] *= 2.0;
+    const bool building = h.sap().stats().building_next;
+    slices = building ? slices + 1 : 0;
+    if (cycle >= 150 && building && slices == 2 + builds % 5) {
+      ++builds;
+      fast = !fast;
+      for (std::size_t i = 0; i < scene.velocity.size(); i += 3) scene.velocity[i] *= fast ? 2.0 : 0.5;
     }
     scene.step(h);
     h.updateAndCheck();
