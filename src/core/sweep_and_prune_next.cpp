@@ -201,28 +201,28 @@ double sweepSome(State& s, double budget, double full) {
   // Its start, in two steps that are not cut: the plan (the widths: a pass over every proxy)
   // and, when it sweeps in slabs, the slab lists (two passes more). Together they were a
   // build's dearest slice after the sort's (33 us at N = 1 000 on the Xeon).
+  const double live = static_cast<double>(s.live_count);
   if (n.sweep_step == 0) {
-    if (waitForSlice(s, budget, full, kPlanSweepUnits * static_cast<double>(s.live_count))) return 0.0;
+    if (waitForSlice(s, budget, full, kPlanSweepUnits * live)) return 0.0;
     n.found.clear();
     exchange(s);
     const bool bins = planSweep(s, s.sweep_axis, s.plain_tests, &n.sweep);
     exchange(s);
     n.sweep_step = bins ? 1 : 2;
-    budget -= kPlanSweepUnits * static_cast<double>(s.live_count);
+    budget -= kPlanSweepUnits * live;
     if (budget <= 0.0) return 0.0;
   }
   if (n.sweep_step == 1) {
-    if (waitForSlice(s, budget, full, kBinSweepUnits * static_cast<double>(s.live_count))) return 0.0;
+    if (waitForSlice(s, budget, full, kBinSweepUnits * live)) return 0.0;
     exchange(s);
     binSweep(s, &n.sweep);
     exchange(s);
     n.sweep_step = 2;
-    budget -= kBinSweepUnits * static_cast<double>(s.live_count);
+    budget -= kBinSweepUnits * live;
     if (budget <= 0.0) return 0.0;
   }
   const double per_endpoint =
-      kSweepUnits + kListUnits * static_cast<double>(s.cands.size()) /
-                        std::max(1.0, 2.0 * static_cast<double>(s.live_count));
+      kSweepUnits + kListUnits * static_cast<double>(s.cands.size()) / std::max(1.0, 2.0 * live);
   const std::size_t endpoints = static_cast<std::size_t>(budget / per_endpoint) + 1;
   exchange(s);
   s.filling_next = true;
@@ -249,11 +249,13 @@ double tableSome(State& s, double budget, double full) {
   NextArrays& n = s.next;
   const std::size_t slots = s.info.size();
   std::vector<std::uint32_t>& start = n.first_of;
+  // Either step's price: a pair counted or placed, and a pass over the slots.
+  auto stepCost = [&n, slots](double per_pair) {
+    return per_pair * static_cast<double>(n.found.size()) + kRankUnits * static_cast<double>(slots);
+  };
   if (n.cursor == 0 && !n.counted) {
-    if (waitForSlice(s, budget, full,
-                     kCountPlacesUnits * static_cast<double>(n.found.size()) + kRankUnits * static_cast<double>(slots))) {
-      return 0.0;
-    }
+    const double cost = stepCost(kCountPlacesUnits);
+    if (waitForSlice(s, budget, full, cost)) return 0.0;
     // Each proxy's rank along the sweep axis (its lower endpoint's place).
     std::vector<std::uint32_t>& rank = n.rank;
     rank.resize(slots);
@@ -277,14 +279,12 @@ double tableSome(State& s, double budget, double full) {
       ++start[key + 1];
     }
     n.counted = true;
-    budget -= kCountPlacesUnits * static_cast<double>(n.found.size()) + kRankUnits * static_cast<double>(slots);
+    budget -= cost;
     if (budget <= 0.0) return 0.0;
   }
   if (n.cursor == 0) {
-    if (waitForSlice(s, budget, full,
-                     kPlaceUnits * static_cast<double>(n.found.size()) + kRankUnits * static_cast<double>(slots))) {
-      return 0.0;
-    }
+    const double cost = stepCost(kPlaceUnits);
+    if (waitForSlice(s, budget, full, cost)) return 0.0;
     for (std::size_t p = 0; p < 2 * slots; ++p) start[p + 1] += start[p];
     n.ordered.resize(n.found.size());
     for (std::size_t i = 0, found = n.found.size(); i < found; ++i) n.ordered[start[n.order_of[i]]++] = n.found[i];
@@ -293,7 +293,7 @@ double tableSome(State& s, double budget, double full) {
     n.flags_tracked = true;
     n.counted = false;
     n.cursor = 1;
-    budget -= kPlaceUnits * static_cast<double>(n.found.size()) + kRankUnits * static_cast<double>(slots);
+    budget -= cost;
   }
   const std::size_t total = n.ordered.size();
   std::size_t i = n.cursor - 1;
