@@ -234,6 +234,20 @@ def sap_seeds():
     p.byte(UPDATE)
     p.write("fuzz_sweep_and_prune", "wide_ulps")
 
+    # A crowd (64 proxies from a few bytes) under a tracker's noise: rebuilds that radix-sort
+    # and sweep in slabs; coasting's long runs, whose ends are the next arrays built in
+    # slices (radix sorts in steps, a sweep planned in slabs and its slab lists in a slice of
+    # their own) and swapped in.
+    CROWD, NOISY = 0xE7, 0xF7
+    p = Program()
+    p.byte(0).byte(0x0F)  # exact mode; capacities 256; coasting's lead of 8
+    for _ in range(8):
+        p.grid(0)
+    p.byte(CROWD).byte(48).byte(0x3B).u16(0x1234)  # 64 boxes, width 1/2, far cluster 15 widths
+    p.byte(UPDATE)
+    p.byte(NOISY).byte(35).byte(0x05).u16(0x51C3)  # 36 updates, +-1/64, every third drifting
+    p.write("fuzz_sweep_and_prune", "crowd_slabs")
+
 
 # ---- fuzz_messages -------------------------------------------------------------------------
 def box_msg(p, position, dims, linear=None, angular=None, label_index=0, tf=None):

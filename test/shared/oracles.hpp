@@ -22,7 +22,10 @@ namespace oracle {
 
 /// Closed boxes overlap (touching counts) iff their intervals overlap on every axis; the
 /// comparisons are written so that NaN never overlaps.
-inline bool aabbOverlap(const workspace_proximity::Aabb& a, const workspace_proximity::Aabb& b) {
+/// (Box: Aabb, or anything with lower[k] and upper[k]: the fuzz harness passes plain arrays,
+/// whose loops its sanitizer build does not trace through Eigen's checked accessors.)
+template <class Box>
+inline bool aabbOverlap(const Box& a, const Box& b) {
   for (int k = 0; k < 3; ++k) {
     if (!(a.lower[k] <= b.upper[k]) || !(b.lower[k] <= a.upper[k])) return false;
   }
@@ -32,7 +35,8 @@ inline bool aabbOverlap(const workspace_proximity::Aabb& a, const workspace_prox
 /// The same for bounds read back from a SweepAndPrune (storedBounds(), enlargedBounds()): an
 /// upper bound read back as -0.0 stands for a key just below zero (the upper-tagged key of the
 /// smallest negative number), so it does not reach a lower bound at +0.0.
-inline bool readBackOverlap(const workspace_proximity::Aabb& a, const workspace_proximity::Aabb& b) {
+template <class Box>
+inline bool readBackOverlap(const Box& a, const Box& b) {
   auto reaches = [](double lower, double upper) {
     if (lower == 0.0 && upper == 0.0) return !std::signbit(upper) || std::signbit(lower);
     return lower <= upper;
