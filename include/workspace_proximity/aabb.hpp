@@ -2,6 +2,7 @@
 /// Axis-aligned bounding boxes in double precision (metres).
 
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Core>
 
@@ -26,11 +27,14 @@ struct Aabb {
   }
 
   /// True when every component is finite and lower <= upper on every axis. (Written out
-  /// without Eigen's reductions: the broad phase checks every moved box with it.)
+  /// without Eigen's reductions or branches: the broad phase checks every moved box with it.
+  /// -inf < lower <= upper < +inf says the same: a NaN fails every comparison, and an
+  /// infinite bound fails the strict ones.)
   bool valid() const {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
     bool ok = true;
     for (int k = 0; k < 3; ++k) {
-      ok = ok && std::isfinite(lower[k]) && std::isfinite(upper[k]) && lower[k] <= upper[k];
+      ok &= (-kInf < lower[k]) & (lower[k] <= upper[k]) & (upper[k] < kInf);
     }
     return ok;
   }

@@ -23,6 +23,24 @@ inline void writeTight(State& s, ProxyId id, const Aabb& bounds) {
   }
 }
 
+/// writeTight(), then insideEnlarged() on the keys just written, in one pass (moveProxy's
+/// coasting path: the keys stay in registers).
+inline bool writeTightInside(State& s, ProxyId id, const Aabb& bounds, bool* equal) {
+  const std::size_t o = 2 * static_cast<std::size_t>(id);
+  std::uint64_t* t = s.tight.data() + 6 * static_cast<std::size_t>(id);
+  bool inside = true, same = true;
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::uint64_t lo = lower64(bounds.lower[axis]), hi = upper64(bounds.upper[axis]);
+    t[2 * axis] = lo;
+    t[2 * axis + 1] = hi;
+    const std::uint64_t* e = s.ends[axis].data() + o;
+    inside &= (e[0] <= lo) & (hi <= e[1]);
+    same &= (e[0] == lo) & (hi == e[1]);
+  }
+  *equal = same;
+  return inside;
+}
+
 /// True when the proxy's given bounds are within its enlarged ones; `equal`: the same.
 inline bool insideEnlarged(const State& s, ProxyId id, bool* equal) {
   const std::size_t o = 2 * static_cast<std::size_t>(id);
