@@ -56,8 +56,8 @@ std::string str(const wp::Aabb& b) {
 
 std::string str(const Pair& p) { return "(" + std::to_string(p.first) + "," + std::to_string(p.second) + ")"; }
 
-// Closed intervals, in double: touching boxes overlap (the brute-force oracle).
-// A box as six plain doubles, for check()'s loops over every pair (the oracles take either).
+// A box as six plain doubles, for check()'s loops over every pair (the oracles take either:
+// oracle::aabbOverlap, closed intervals in double, is the brute force).
 struct Flat {
   double lower[3];
   double upper[3];
