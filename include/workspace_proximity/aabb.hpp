@@ -34,7 +34,8 @@ struct Aabb {
     constexpr double kInf = std::numeric_limits<double>::infinity();
     bool ok = true;
     for (int k = 0; k < 3; ++k) {
-      ok &= (-kInf < lower[k]) & (lower[k] <= upper[k]) & (upper[k] < kInf);
+      const double lo = lower[k], hi = upper[k];  // (plain values: no call in the & chain)
+      ok &= (-kInf < lo) & (lo <= hi) & (hi < kInf);
     }
     return ok;
   }
