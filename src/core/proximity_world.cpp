@@ -316,6 +316,7 @@ BodyHandle ProximityWorld::Impl::addBody(const BodyDesc& desc, const BodyMotion&
   b.has_path = false;
   b.growth = MarginGrowth();
   b.grows = false;
+  b.reach = 0.0;  // the slot's last body may have had one; the broad phase got `swept` alone
   b.serial = next_serial_++;
   b.state = BodyRecord::State::kLive;
   b.dirty = true;

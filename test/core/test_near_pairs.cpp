@@ -287,6 +287,34 @@ TEST(NearPairs, AnInvalidReachIsRefused) {
   EXPECT_THROW(world.setReach(h, 1.0), std::invalid_argument);
 }
 
+// A body added into a freed slot starts without a reach, whatever the slot's last body had:
+// fuzz_world found a new body inheriting it (a near pair 1.19 m apart with no reach on either
+// side). Its bounds in the broad phase are its own swept bounds, and no pair is near.
+TEST(NearPairs, ABodyInAReusedSlotStartsWithoutAReach) {
+  wp::ProximityWorld world;
+  const wp::BodyHandle robot = world.addBody(
+      {"link", "arm", wp::BodyGroup::kRobot, wp::Shape::box({0.25, 0.25, 0.25}), 0.0}, wp::BodyMotion());
+  world.setReach(robot, 2.0);
+  wp::BodyMotion far;
+  far.position = Eigen::Vector3d(1.5, 0.0, 0.0);  // 1.25 m apart: within 2 m, beyond 0
+  const wp::BodyHandle old = world.addBody(
+      {"old", "thing", wp::BodyGroup::kObject, wp::Shape::box({0.25, 0.25, 0.25}), 0.0}, far);
+  world.setReach(old, 1.0);
+  world.predict(1.0);
+  ASSERT_EQ(world.nearPairs().size(), 1u);
+  world.setReach(robot, 0.0);
+  world.removeBody(old);
+  world.predict(1.0);  // "old" is nameable through this one (its END events)
+  world.predict(1.0);  // and its slot is free after it
+  const wp::BodyHandle reused = world.addBody(
+      {"new", "thing", wp::BodyGroup::kObject, wp::Shape::box({0.25, 0.25, 0.25}), 0.0}, far);
+  ASSERT_EQ(reused.index, old.index) << "the test needs the freed slot";
+  EXPECT_EQ(world.reach(reused), 0.0);
+  world.predict(1.0);
+  EXPECT_TRUE(world.nearPairs().empty());
+  EXPECT_EQ(world.stats().near_pairs, 0);
+}
+
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
