@@ -326,6 +326,9 @@ class Harness {
     }
     if (!world_.contains(h)) fail("addBody: handle not contained", str(h));
     if (world_.desc(h).id != desc.id) fail("addBody: desc() names another body", str(h));
+    // A new body has no reach, whatever its slot's last body had (a freed slot's reach was
+    // once kept: its bounds grown by it, near pairs listed beyond the pair's reaches).
+    if (world_.reach(h) != 0.0) fail("addBody: a new body has a reach", str(h) + " " + str(world_.reach(h)));
     bodies_.push_back(ModelBody{h, desc, true, -1, 0.0});
     if (desc.group == wp::BodyGroup::kRobot) {
       // A reach as speed and separation gives the robot's bodies (no input bytes spent).
