@@ -296,7 +296,7 @@ TEST(NearPairs, ABodyInAReusedSlotStartsWithoutAReach) {
       {"link", "arm", wp::BodyGroup::kRobot, wp::Shape::box({0.25, 0.25, 0.25}), 0.0}, wp::BodyMotion());
   world.setReach(robot, 2.0);
   wp::BodyMotion far;
-  far.position = Eigen::Vector3d(1.5, 0.0, 0.0);  // 1.25 m apart: within 2 m, beyond 0
+  far.position = Eigen::Vector3d(1.5, 0.0, 0.0);  // 1 m apart: within the old body's reach alone
   const wp::BodyHandle old = world.addBody(
       {"old", "thing", wp::BodyGroup::kObject, wp::Shape::box({0.25, 0.25, 0.25}), 0.0}, far);
   world.setReach(old, 1.0);
