@@ -5,6 +5,7 @@
 // messages written by hand from the upstream definitions (foreign_msgs/, the driver's source).
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <string>
@@ -90,9 +91,13 @@ TEST(CapsuleBox, HoldsEveryCapsulePointAndTouchesEveryFace) {
 
 // fuzz_skeletons' first finding: a shin hanging almost straight down (along -z) got a
 // quaternion 8e-9 off unit length (Quaterniond::FromTwoVectors: 1 + cos cancels). Oracle: the
-// box's z axis is the bone's direction, both joints lie on it at -+ length / 2.
+// box's z axis is the bone's direction, both joints lie on it at -+ length / 2. Its second
+// (session 20's campaign): a bone tilted by 2e-159 m off -z, whose quaternion's components
+// squared fell among the denormals (19 bits left): 1.9e-8 off unit length; the tilts down to the
+// smallest denormal are asked too.
 TEST(CapsuleBox, BonesAlmostAlongEveryAxisKeepAUnitQuaternion) {
-  for (double tilt : {0.0, 1e-12, 1e-9, 1e-7, 1.5e-5, 1e-3}) {
+  for (double tilt : {0.0, 1e-12, 1e-9, 1e-7, 1.5e-5, 1e-3, 1e-150, 2.2761049594727193e-159, 1e-162,
+                      1e-200, 1e-310, std::numeric_limits<double>::denorm_min()}) {
     for (int axis = 0; axis < 3; ++axis) {
       for (double sign : {-1.0, 1.0}) {
         Vector3d along = Vector3d::Zero();
