@@ -119,15 +119,21 @@ void capsuleBox(const Capsule& capsule, Eigen::Vector3d* centre, Eigen::Vector4d
   // turned is another set), the quaternion (z x u, 1 + u_z) normalised. For u near -z,
   // 1 + u_z cancels: Quaterniond::FromTwoVectors left it 8e-9 off unit length there (a shin
   // hanging down; fuzz_skeletons), so it is computed as (u_x^2 + u_y^2) / (1 - u_z), which is
-  // equal for a unit u and exact to rounding. Exactly along -z: a half turn about x. Normalised
-  // by Eigen's stableNormalized (scaled by the largest component first): for u within 1e-154
-  // of -z the squares fall among the denormals, whose few bits left the quaternion up to 2e-4
-  // off unit length and the box's axis 1e-3 off the bone (fuzz_skeletons, session 20).
+  // equal for a unit u and exact to rounding. Exactly along -z: a half turn about x. The
+  // components are scaled by the largest before the norm: for u within 1e-154 of -z their
+  // squares fall among the denormals, whose few bits left the quaternion up to 2e-4 off unit
+  // length and the box's axis 1e-3 off the bone (fuzz_skeletons, session 20).
   if (length > 1e-12) {
     const Eigen::Vector3d u = d / length;
     const double w = u.z() >= 0.0 ? 1.0 + u.z() : (u.x() * u.x() + u.y() * u.y()) / (1.0 - u.z());
     const Eigen::Vector4d c(-u.y(), u.x(), 0.0, w);  // x, y, z, w
-    q = c.isZero(0.0) ? Eigen::Quaterniond(0.0, 1.0, 0.0, 0.0) : Eigen::Quaterniond(c.stableNormalized());
+    const double largest = c.cwiseAbs().maxCoeff();
+    if (largest > 0.0) {
+      const Eigen::Vector4d scaled = c / largest;
+      q = Eigen::Quaterniond(scaled / scaled.norm());
+    } else {
+      q = Eigen::Quaterniond(0.0, 1.0, 0.0, 0.0);
+    }
   }
   *quaternion = Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
   const double width = 2.0 * capsule.radius;
