@@ -123,6 +123,8 @@ void capsuleBox(const Capsule& capsule, Eigen::Vector3d* centre, Eigen::Vector4d
   // components are scaled by the largest before the norm: for u within 1e-154 of -z their
   // squares fall among the denormals, whose few bits left the quaternion up to 2e-4 off unit
   // length and the box's axis 1e-3 off the bone (fuzz_skeletons, session 20).
+  // (Not Eigen's stableNormalized: it divides by the largest times the norm, a product that
+  // rounds among the denormals when the largest is one: 3.8e-8 off unit length.)
   if (length > 1e-12) {
     const Eigen::Vector3d u = d / length;
     const double w = u.z() >= 0.0 ? 1.0 + u.z() : (u.x() * u.x() + u.y() * u.y()) / (1.0 - u.z());

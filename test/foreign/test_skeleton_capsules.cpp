@@ -97,7 +97,7 @@ TEST(CapsuleBox, HoldsEveryCapsulePointAndTouchesEveryFace) {
 // smallest denormal are asked too.
 TEST(CapsuleBox, BonesAlmostAlongEveryAxisKeepAUnitQuaternion) {
   for (double tilt : {0.0, 1e-12, 1e-9, 1e-7, 1.5e-5, 1e-3, 1e-150, 2.2761049594727193e-159, 1e-162,
-                      1e-200, 1e-310, std::numeric_limits<double>::denorm_min()}) {
+                      1e-200, 1e-310, 1.0685098434731138e-317, std::numeric_limits<double>::denorm_min()}) {
     for (int axis = 0; axis < 3; ++axis) {
       for (double sign : {-1.0, 1.0}) {
         Vector3d along = Vector3d::Zero();
