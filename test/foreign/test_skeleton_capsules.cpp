@@ -9,6 +9,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -122,6 +123,46 @@ TEST(CapsuleBox, BonesAlmostAlongEveryAxisKeepAUnitQuaternion) {
   }
 }
 
+// Two joints off -z by denormals on two axes at once (CI's fuzz_skeletons, session 20): the
+// quaternion's largest component is itself denormal, so dividing by (largest x norm), as
+// Eigen's stableNormalized does, rounds that product and left it 3.8e-8 off unit length.
+TEST(CapsuleBox, BonesOffAxisByDenormalsOnTwoAxesKeepAUnitQuaternion) {
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  const std::vector<std::pair<double, double>> offsets{
+      {1.2951634466340773e-318, 1.0685098434731138e-317},  // the CI's input
+      {1e-310, 3e-311}, {tiny, tiny}, {7 * tiny, 3 * tiny}, {1e-300, 1e-320}, {2.5e-320, 9.9e-319}};
+  for (const auto& [dx, dy] : offsets) {
+    for (int axis = 0; axis < 3; ++axis) {
+      for (double sign : {-1.0, 1.0}) {
+        // Off the axis the joints sit at 0, where a denormal offset is not lost to rounding.
+        Vector3d a = Vector3d::Zero(), b = Vector3d::Zero();
+        a[axis] = 1.0;
+        b[axis] = 1.0 + sign * 0.5;
+        a[(axis + 1) % 3] = dx;
+        b[(axis + 2) % 3] = dy;
+        const wp::Capsule c{a, b, 0.06};
+        Vector3d centre, dims;
+        Eigen::Vector4d q;
+        wp::capsuleBox(c, &centre, &q, &dims);
+        EXPECT_NEAR(q.norm(), 1.0, 1e-14) << dx << " " << dy << " " << axis << " " << sign;
+        const Eigen::Quaterniond rotation(q.w(), q.x(), q.y(), q.z());
+        const Vector3d z = rotation.toRotationMatrix().col(2);
+        EXPECT_LT((z - (b - a).normalized()).norm(), 1e-14)
+            << dx << " " << dy << " " << axis << " " << sign;
+        EXPECT_LT((local(c.a, centre, q) - Vector3d(0, 0, -0.25)).norm(), 1e-14);
+        EXPECT_LT((local(c.b, centre, q) - Vector3d(0, 0, 0.25)).norm(), 1e-14);
+      }
+    }
+  }
+  // The CI's joints exactly as they came (a above b: the bone points down).
+  const wp::Capsule ci{Vector3d(1.2951634466340773e-318, 0.0, 1.5),
+                       Vector3d(0.0, 1.0685098434731138e-317, 1.0), 0.06};
+  Vector3d centre, dims;
+  Eigen::Vector4d q;
+  wp::capsuleBox(ci, &centre, &q, &dims);
+  EXPECT_NEAR(q.norm(), 1.0, 1e-14);
+}
+
 TEST(CapsuleVelocity, MovedCapsuleStaysWithinTheGrownTranslatedCapsule) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> coord(-1.0, 1.0), speed(-2.5, 2.5), unit(0.0, 1.0);
@@ -230,7 +271,9 @@ TEST(SkeletonCapsules, ABoneNamedTwiceInAMessageHasNoVelocity) {
     ASSERT_EQ(out.size(), 1u);
     // k = 2: the last sighting was ambiguous; k = 3: 0.01 m in 0.1 s since k = 2.
     EXPECT_EQ(out[0].velocity_known, k == 3) << k;
-    if (k == 3) EXPECT_TRUE(out[0].linear_velocity.isApprox(Vector3d(0.1, 0.0, 0.0), 1e-9));
+    if (k == 3) {
+      EXPECT_TRUE(out[0].linear_velocity.isApprox(Vector3d(0.1, 0.0, 0.0), 1e-9));
+    }
   }
 }
 
