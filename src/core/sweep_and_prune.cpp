@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "sweep_and_prune_coasting.hpp"
 #include "sweep_and_prune_incremental.hpp"
@@ -422,10 +424,20 @@ void SweepAndPrune::destroyProxy(ProxyId id) {
   s.pending_remove.push_back(id);
 }
 
-void SweepAndPrune::moveProxy(ProxyId id, const Aabb& bounds) {
-  if (!bounds.valid()) sap::throwInvalidBounds("moveProxy");
-  sap::State& s = *s_;
-  sap::checkLive(s, id, "moveProxy");
+// (tightKeysInside reads a box's six bounds as they lie: lower x, y, z, then upper x, y, z.)
+static_assert(std::is_standard_layout<Aabb>::value && sizeof(Aabb) == 6 * sizeof(double) &&
+                  offsetof(Aabb, upper) == 3 * sizeof(double),
+              "Aabb is six doubles in a row");
+
+namespace sap {
+namespace {
+
+// moveProxy's general path: the checks one by one, escapers, proxies not in the arrays yet,
+// coasting off. Out of line, so that the path nearly every call takes while coasting keeps no
+// registers of its own to save.
+__attribute__((noinline)) void moveProxyChecked(State& s, ProxyId id, const Aabb& bounds) {
+  if (!bounds.valid()) throwInvalidBounds("moveProxy");
+  checkLive(s, id, "moveProxy");
   // Only the proxy's keys change here; update() re-sorts what left its enlarged bounds.
   ProxyInfo& p = s.info[static_cast<std::size_t>(id)];
   if (s.coast.lead() <= 0.0 || p.state == ProxyState::kPendingInsert) {
@@ -438,8 +450,8 @@ void SweepAndPrune::moveProxy(ProxyId id, const Aabb& bounds) {
       b[2 * axis] = t[2 * axis];
       b[2 * axis + 1] = t[2 * axis + 1];
       std::uint64_t* e = s.ends[axis].data() + o;
-      e[0] = t[2 * axis] = sap::lower64(bounds.lower[axis]);
-      e[1] = t[2 * axis + 1] = sap::upper64(bounds.upper[axis]);
+      e[0] = t[2 * axis] = lower64(bounds.lower[axis]);
+      e[1] = t[2 * axis + 1] = upper64(bounds.upper[axis]);
       s.max_width[axis] = std::max(s.max_width[axis], bounds.upper[axis] - bounds.lower[axis]);
     }
     // As of the next update (a pending proxy's: the one that inserts it).
@@ -449,7 +461,7 @@ void SweepAndPrune::moveProxy(ProxyId id, const Aabb& bounds) {
     return;
   }
   bool equal = false;
-  const bool inside = sap::writeTightInside(s, id, bounds, &equal);
+  const bool inside = writeTightInside(s, id, bounds, &equal);
   if (p.escaped) return;  // enlarged anew in the update, from its latest bounds
   if (!inside) {
     p.escaped = true;
@@ -457,6 +469,30 @@ void SweepAndPrune::moveProxy(ProxyId id, const Aabb& bounds) {
   } else {
     s.setFat(p, !equal);  // a box that shrank inside its bounds is enlarged now
   }
+}
+
+}  // namespace
+}  // namespace sap
+
+void SweepAndPrune::moveProxy(ProxyId id, const Aabb& bounds) {
+  sap::State& s = *s_;
+  // Nearly every call while coasting: a live proxy whose new bounds lie within its enlarged
+  // ones. Its keys, the general path's checks and the test against its enlarged keys in one
+  // pass, two bounds at a time (tightKeysInside); the general path takes the rest and decides
+  // as before, bit for bit.
+  if (static_cast<std::size_t>(id) < s.info.size() && s.coast.lead() > 0.0) {
+    ProxyInfo& p = s.info[static_cast<std::size_t>(id)];
+    const std::size_t o = 2 * static_cast<std::size_t>(id);
+    const std::uint64_t* const enlarged[3] = {s.ends[0].data() + o, s.ends[1].data() + o, s.ends[2].data() + o};
+    bool equal = false;
+    if (p.state == ProxyState::kLive && !p.pending_remove &&
+        sap::tightKeysInside(bounds.lower.data(), enlarged, s.tight.data() + 6 * static_cast<std::size_t>(id),
+                             &equal)) {
+      if (!p.escaped) s.setFat(p, !equal);  // (escaped: enlarged anew in the update)
+      return;
+    }
+  }
+  sap::moveProxyChecked(s, id, bounds);
 }
 
 void SweepAndPrune::update() {

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <utility>
@@ -93,7 +95,9 @@ TEST(SweepAndPruneKeys, RadixSortInStepsEqualsStdSortAtEverySize) {
     // The radix steps did the sorting: with prefixes 6-8 bits finer than the endpoints' count,
     // few endpoints share one, and the insertion pass moves little (a random order would take
     // about n^2 / 4 swaps).
-    if (n > 48) EXPECT_LT(swaps, static_cast<std::int64_t>(n / 8)) << "insertion pass swaps";
+    if (n > 48) {
+      EXPECT_LT(swaps, static_cast<std::int64_t>(n / 8)) << "insertion pass swaps";
+    }
     // Prefixes, counts, a scatter per pass, the gather; none at all for a small axis.
     const int passes = n < 256 ? 2 : n < 4096 ? 3 : n < 65536 ? 2 : 3;
     EXPECT_EQ(steps, n <= 48 ? 0 : 3 + passes);
@@ -142,4 +146,160 @@ TEST(SweepAndPruneKeys, RadixSortInStepsHandlesTiesCrowdsAndInfiniteBounds) {
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
+}
+
+// moveProxy's coasting test, two bounds at a time (tightKeysInside), against the general path
+// it stands for: Aabb::valid() (written out here), lower64() / upper64() and the keys'
+// unsigned order. Bounds and enlarged keys from special values (signed zeros, denormals, the
+// largest finite, infinities, NaNs of both signs) and their neighbours one key either side,
+// each axis in turn with the other two comfortably inside.
+namespace {
+
+std::uint64_t bitsOf(double d) {
+  std::uint64_t b;
+  std::memcpy(&b, &d, sizeof b);
+  return b;
+}
+
+struct Reference {
+  bool inside = false, equal = false;
+  std::uint64_t tight[6] = {};
+};
+
+Reference referenceInside(const double* lower, const double* upper, const std::uint64_t* const enlarged[3]) {
+  Reference r;
+  bool valid = true, inside = true, equal = true;
+  for (int axis = 0; axis < 3; ++axis) {
+    valid = valid && std::isfinite(lower[axis]) && std::isfinite(upper[axis]) && lower[axis] <= upper[axis];
+    r.tight[2 * axis] = sap::lower64(lower[axis]);
+    r.tight[2 * axis + 1] = sap::upper64(upper[axis]);
+    inside = inside && enlarged[axis][0] <= r.tight[2 * axis] && r.tight[2 * axis + 1] <= enlarged[axis][1];
+    equal = equal && enlarged[axis][0] == r.tight[2 * axis] && r.tight[2 * axis + 1] == enlarged[axis][1];
+  }
+  r.inside = valid && inside;
+  r.equal = equal;
+  return r;
+}
+
+std::vector<double> specialValues() {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  const double big = std::numeric_limits<double>::max();
+  const double least = std::numeric_limits<double>::min();
+  std::vector<double> v{0.0, -0.0, tiny, -tiny, 2 * tiny, -2 * tiny, 3 * tiny, -3 * tiny, least, -least,
+                        1.0, -1.0, 0.5, -0.5, 1.5, -1.5, big, -big, kInf, -kInf,
+                        std::numeric_limits<double>::quiet_NaN(), -std::numeric_limits<double>::quiet_NaN()};
+  // Neighbours one ulp either side (both parities of the mantissa's last bit).
+  for (double x : {1.0, -1.0, 1.5, -1.5, least, -least, big, -big}) {
+    v.push_back(std::nextafter(x, kInf));
+    v.push_back(std::nextafter(x, -kInf));
+  }
+  return v;
+}
+
+void checkAgainstReference(const double* lower, const double* upper, const std::uint64_t* const enlarged[3]) {
+  const Reference want = referenceInside(lower, upper, enlarged);
+  std::uint64_t tight[6];
+  for (std::uint64_t& t : tight) t = 0x5A5A5A5A5A5A5A5Aull;  // untouched unless inside
+  bool equal = false;
+  const double six[6] = {lower[0], lower[1], lower[2], upper[0], upper[1], upper[2]};
+  const bool inside = sap::tightKeysInside(six, enlarged, tight, &equal);
+#if defined(__SSE2__)
+  ASSERT_EQ(inside, want.inside) << lower[0] << " " << upper[0] << " " << lower[1] << " " << upper[1] << " "
+                                 << lower[2] << " " << upper[2];
+  if (inside) {
+    for (int i = 0; i < 6; ++i) ASSERT_EQ(tight[i], want.tight[i]) << i;
+    ASSERT_EQ(equal, want.equal);
+  } else {
+    for (std::uint64_t t : tight) ASSERT_EQ(t, 0x5A5A5A5A5A5A5A5Aull);
+  }
+#else
+  ASSERT_FALSE(inside);  // no fast path: the general path decides
+  (void)want;
+#endif
+}
+
+}  // namespace
+
+TEST(SweepAndPruneKeys, CoastingFastPathDecidesAsTheGeneralPath) {
+  const std::vector<double> values = specialValues();
+  // Enlarged keys from pairs a <= b, infinite ones too (a room that overflowed), and the keys
+  // just beside them (an enlarged upper key of -denorm_min is one no double has: -0 maps to
+  // +0's key).
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> enlarged;
+  for (double a : values) {
+    for (double b : values) {
+      if (!(a <= b)) continue;
+      enlarged.emplace_back(sap::lower64(a), sap::upper64(b));
+    }
+  }
+  std::vector<double> probes = values;
+  for (const auto& [lo, hi] : enlarged) {
+    for (std::uint64_t key : {lo, hi}) {
+      for (std::uint64_t k : {key - 2, key - 1, key, key + 1, key + 2}) probes.push_back(sap::unsortable64(k));
+    }
+  }
+  std::sort(probes.begin(), probes.end(), [](double x, double y) { return bitsOf(x) < bitsOf(y); });
+  probes.erase(std::unique(probes.begin(), probes.end(), [](double x, double y) { return bitsOf(x) == bitsOf(y); }),
+               probes.end());
+  // The other axes' enlarged keys and bounds: inside, not equal.
+  const std::uint64_t wide[2] = {sap::lower64(-10.0), sap::upper64(10.0)};
+  std::mt19937_64 rng(11);
+  std::size_t calls = 0, inside = 0;
+  for (const auto& [elo, ehi] : enlarged) {
+    const std::uint64_t tested[2] = {elo, ehi};
+    // Every probe pair would be 2.5 M calls per enlarged pair: a random sample of them, and
+    // every probe as lower and as upper with the other at the enlarged bound's own double.
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::uint64_t* e[3] = {wide, wide, wide};
+      e[axis] = tested;
+      double lower[3] = {-1.0, -1.0, -1.0}, upper[3] = {1.0, 1.0, 1.0};
+      for (double p : probes) {
+        lower[axis] = p;
+        upper[axis] = sap::unsortable64(ehi);
+        checkAgainstReference(lower, upper, e);
+        lower[axis] = sap::unsortable64(elo);
+        upper[axis] = p;
+        checkAgainstReference(lower, upper, e);
+        calls += 2;
+      }
+      std::uniform_int_distribution<std::size_t> pick(0, probes.size() - 1);
+      for (int i = 0; i < 64; ++i) {
+        lower[axis] = probes[pick(rng)];
+        upper[axis] = probes[pick(rng)];
+        checkAgainstReference(lower, upper, e);
+        ++calls;
+      }
+      // Equal on every axis.
+      for (int k = 0; k < 3; ++k) {
+        lower[k] = sap::unsortable64(e[k][0]);
+        upper[k] = sap::unsortable64(e[k][1]);
+      }
+      checkAgainstReference(lower, upper, e);
+      inside += referenceInside(lower, upper, e).inside;
+      ++calls;
+    }
+  }
+  // Random boxes among random enlarged ones a few keys apart (every axis at once).
+  std::uniform_real_distribution<double> coord(-2.0, 2.0);
+  std::uniform_int_distribution<int> step(-3, 3);
+  for (int trial = 0; trial < 200000; ++trial) {
+    std::uint64_t keys[3][2];
+    const std::uint64_t* e[3];
+    double lower[3], upper[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      double a = coord(rng), b = coord(rng);
+      if (a > b) std::swap(a, b);
+      keys[axis][0] = sap::lower64(a);
+      keys[axis][1] = sap::upper64(b);
+      e[axis] = keys[axis];
+      lower[axis] = sap::unsortable64(keys[axis][0] + static_cast<std::uint64_t>(step(rng)));
+      upper[axis] = sap::unsortable64(keys[axis][1] + static_cast<std::uint64_t>(step(rng)));
+    }
+    checkAgainstReference(lower, upper, e);
+    inside += referenceInside(lower, upper, e).inside;
+    ++calls;
+  }
+  EXPECT_GT(calls, 500000u);
+  EXPECT_GT(inside, 5000u);  // both answers asked often
 }
