@@ -113,7 +113,18 @@ void applyRemovals(State& s) {
   }
   s.pending_remove.clear();
   if (s.live_count == 0) {
-    for (double& w : s.max_width) w = 0.0;
+    // No endpoints left: the widest bounds are those of the proxies waiting to be inserted
+    // (reset to 0, their widths were forgotten, and the next insertions' windows missed pairs
+    // with them: fuzz_sweep_and_prune, session 21).
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::uint64_t* e = s.ends[axis].data();
+      double widest = 0.0;
+      for (ProxyId id : s.pending_insert) {
+        const std::size_t o = 2 * static_cast<std::size_t>(id);
+        widest = std::max(widest, sap::unsortable64(e[o + 1]) - sap::unsortable64(e[o]));
+      }
+      s.max_width[axis] = widest;
+    }
     for (bool& stale : s.stale) stale = false;  // no endpoints left: every axis is in order
     s.sweep_tests = 0;
     s.plain_tests = 0;

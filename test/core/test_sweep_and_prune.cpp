@@ -602,6 +602,50 @@ TEST(SweepAndPrune, CreateAndDestroyBeforeUpdateIsNeverReported) {
   EXPECT_EQ(h.sap().endedPairs().size(), 1u);
 }
 
+// New proxies look for the boxes they overlap among the lower endpoints within the widest
+// width of their window's axis (insertByWindows), so that width must include every box in the
+// arrays. fuzz_sweep_and_prune (session 21): the update that removed the last live proxy reset
+// it to 0, forgetting the widths of the proxies it was about to insert; the next box created
+// inside a wide one missed that pair (and every other with a box reaching it from below).
+TEST(SweepAndPrune, WidthsOfBoxesInsertedAsTheLastOneLeavesAreKept) {
+  Harness h(SweepAndPruneConfig(), true);
+  const int first = h.create(makeBox(50, 50, 50, 51, 51, 51));
+  h.updateAndCheck();
+  h.destroy(first);
+  h.create(makeBox(0, 0, 0, 10, 10, 10));  // wide
+  for (int i = 0; i < 24; ++i) h.create(makeBox(20 + i, 20, 20, 20.5 + i, 20.5, 20.5));
+  h.updateAndCheck();
+  h.create(makeBox(9, 9, 9, 9.5, 9.5, 9.5));  // inside the wide box, 9 m above its lower bounds
+  h.updateAndCheck();
+  EXPECT_EQ(h.sap().beganPairs().size(), 1u);
+}
+
+// The same through a rebuild that re-measures the widths (its slab sweep's first, with
+// coasting off) in the update that inserts a wide box: measured over the live proxies only,
+// the widest forgot the box about to be inserted.
+TEST(SweepAndPrune, WidthsOfBoxesInsertedWithARebuildAreKept) {
+  SweepAndPruneConfig config;
+  config.coast_updates = 0.0;
+  config.rebuild_factor = 0.0;  // rebuild on any motion
+  Harness h(config, true);
+  std::vector<int> crowd;
+  for (int i = 0; i < 48; ++i) {
+    const double o = 0.01 * i;
+    crowd.push_back(h.create(makeBox(o, 0.5 * o, 0.25 * o, 1 + o, 1 + 0.5 * o, 1 + 0.25 * o)));
+  }
+  h.updateAndCheck();
+  for (int i = 0; i < 48; ++i) {
+    const double o = 0.01 * (47 - i);  // the crowd's order reversed: a rebuild
+    h.move(crowd[static_cast<std::size_t>(i)], makeBox(o, 0.5 * o, 0.25 * o, 1 + o, 1 + 0.5 * o, 1 + 0.25 * o));
+  }
+  h.create(makeBox(-100, -100, -100, 100, 100, 100));  // wide
+  h.updateAndCheck();
+  EXPECT_TRUE(h.sap().stats().rebuilt);
+  h.create(makeBox(90, 90, 90, 90.5, 90.5, 90.5));  // inside the wide box, far from the crowd
+  h.updateAndCheck();
+  EXPECT_EQ(h.sap().beganPairs().size(), 1u);
+}
+
 TEST(SweepAndPrune, MoveOfProxyCreatedSinceLastUpdate) {
   // A proxy moved before its first update joins with its latest bounds.
   Harness h(SweepAndPruneConfig(), true);
