@@ -54,6 +54,13 @@ constexpr double kRankUnits = 4.0;    // per slot: its rank along the sweep axis
 void exchange(State& s) {
   NextArrays& n = s.next;
   for (int axis = 0; axis < 3; ++axis) {
+    // The next keys are sized by the slots at the build's start. A slot created since (its
+    // proxy destroyed before an update, or the build would have been abandoned) is free, and
+    // createProxy writes its keys when it takes it, but the arrays must reach it: swapped in
+    // short, a proxy created there wrote past their end and the next new slot's zeros
+    // overwrote it (fuzz_sweep_and_prune, session 21). Within the reserved slots: no
+    // allocation.
+    n.ends[axis].resize(s.ends[axis].size());
     s.ends[axis].swap(n.ends[axis]);
     s.keys[axis].swap(n.keys[axis]);
     s.owners[axis].swap(n.owners[axis]);

@@ -1647,6 +1647,55 @@ RunStats runScenes(unsigned seed, int scenes, bool exact) {
   return stats;
 }
 
+// fuzz_sweep_and_prune (session 21): the next arrays' enlarged keys are sized by the slots at
+// the build's start. A slot created later (its proxy destroyed before an update, so that the
+// build was not abandoned) was missing from them once they were swapped in: a proxy created
+// in it wrote its keys past their end, and the next new slot's zeros overwrote them
+// (enlargedBounds() read NaN, and the candidates went wrong).
+TEST(SweepAndPrune, SlotsCreatedWhileTheNextArraysAreBuiltSurviveTheSwap) {
+  Rng rng(21);
+  SweepAndPruneConfig cfg;  // coasting, run ends spread over the updates before them
+  Harness h(cfg, true);
+  DriftScene scene(300, rng, h);
+  for (std::size_t i = 0; i < scene.velocity.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      scene.velocity[i][k] = i % 2 == 0 ? 0.0 : (scene.velocity[i][k] > 0 ? 1 : -1) / 512.0;
+    }
+  }
+  h.updateAndCheck();
+  // Far from the scene and from each other: no pairs.
+  int placed = 0;
+  auto farBox = [&]() {
+    const double x = scene.side + 10.0 + 2.0 * placed++;
+    return makeBox(x, 0, 0, x + 1, 1, 1);
+  };
+  int swaps = 0, free_slots = 0;
+  std::vector<int> temp;
+  for (int cycle = 0; cycle < 900 && swaps < 2; ++cycle) {
+    scene.step(h);
+    // Proxies created and destroyed before the update: they take every free slot and a new
+    // one (the slots grow by one a cycle, the build is not abandoned).
+    temp.clear();
+    for (int i = 0; i <= free_slots; ++i) temp.push_back(h.create(farBox()));
+    for (int t : temp) h.destroy(t);
+    ++free_slots;
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    if (!h.sap().stats().swapped_next) continue;
+    ++swaps;
+    // Every free slot taken and a few new ones, kept for an update.
+    std::vector<int> fresh;
+    for (int i = 0; i < free_slots + 3; ++i) fresh.push_back(h.create(farBox()));
+    free_slots = 0;
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    for (int f : fresh) h.destroy(f);
+    free_slots += static_cast<int>(fresh.size());
+    h.updateAndCheck();
+  }
+  EXPECT_EQ(swaps, 2);
+}
+
 TEST(SweepAndPrune, RandomExactScenesEqualBruteForce) {
   const RunStats stats = runScenes(20240601, 500, true);
   if (::testing::Test::HasFatalFailure()) return;
