@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <stdexcept>
@@ -47,6 +48,12 @@ constexpr std::uint8_t kCrowd = 0xE7;
 constexpr std::uint8_t kNoisyUpdates = 0xF7;
 
 using wp_fuzz::str;
+
+// WP_FUZZ_TRACE=1 prints every operation and each update's outcome (for replaying a finding).
+bool tracing() {
+  static const bool trace = wp_fuzz::envFlag("WP_FUZZ_TRACE");
+  return trace;
+}
 
 std::string str(const wp::Aabb& b) {
   std::string s = "[";
@@ -198,6 +205,7 @@ class Harness {
     const wp::Aabb b = bounds();
     in_.u32();  // was the proxy's user data: read on, so the seed corpus keeps its meaning
     const ProxyId id = sap_.createProxy(b);
+    if (tracing()) std::fprintf(stderr, "create %d %s\n", id, str(b).c_str());
     if (id < 0) fail("createProxy returned a negative id", std::to_string(id));
     if (proxies_.count(id) != 0) fail("createProxy reused an id still in use", std::to_string(id));
     proxies_[id] = ModelProxy{b, false, false, b};
@@ -208,6 +216,7 @@ class Harness {
     if (id < 0) return;
     const wp::Aabb b = bounds();
     sap_.moveProxy(id, b);
+    if (tracing()) std::fprintf(stderr, "move %d %s\n", id, str(b).c_str());
     proxies_[id].bounds = b;
     proxies_[id].rest = b;
   }
@@ -216,6 +225,7 @@ class Harness {
     const ProxyId id = pick();
     if (id < 0) return;
     sap_.destroyProxy(id);
+    if (tracing()) std::fprintf(stderr, "destroy %d\n", id);
     if (proxies_[id].inserted) {
       proxies_[id].pending_remove = true;
     } else {
@@ -229,6 +239,7 @@ class Harness {
   void jitter() {
     const std::uint8_t scale = in_.byte();
     const bool noise = (scale & 128) != 0;
+    if (tracing()) std::fprintf(stderr, "jitter scale %d (every live proxy moved)\n", scale);
     for (auto& kv : proxies_) {
       if (kv.second.pending_remove) continue;
       wp::Aabb b = noise ? kv.second.rest : kv.second.bounds;
@@ -285,6 +296,7 @@ class Harness {
         b.upper[k] = b.lower[k] + width + static_cast<double>((r >> 12) & 7) / 64.0;
       }
       const ProxyId id = sap_.createProxy(b);
+      if (tracing()) std::fprintf(stderr, "crowd: create %d %s\n", id, str(b).c_str());
       if (id < 0 || proxies_.count(id) != 0) fail("createProxy gave a bad or used id", std::to_string(id));
       proxies_[id] = ModelProxy{b, false, false, b};
     }
@@ -303,6 +315,7 @@ class Harness {
     const int amplitude = style & 3;
     const bool drift = (style & 4) != 0;
     seedRandom();
+    if (tracing()) std::fprintf(stderr, "noisy updates %d, amplitude %d / 64, drift %d\n", steps, amplitude, drift);
     for (int step = 0; step < steps; ++step) {
       int index = 0;
       for (auto& kv : proxies_) {
@@ -337,6 +350,14 @@ class Harness {
         it->second.inserted = true;
         ++it;
       }
+    }
+    if (tracing()) {
+      const wp::SweepAndPruneStats& st = sap_.stats();
+      std::fprintf(stderr,
+                   "update %d: %zu proxies, coasted %d, rebuilt %d, lead %g, next ready %d, swapped %d, "
+                   "%d candidates\n",
+                   updates_ + 1, proxies_.size(), static_cast<int>(st.coasted), static_cast<int>(st.rebuilt),
+                   st.lead, static_cast<int>(st.next_ready), static_cast<int>(st.swapped_next), st.candidates);
     }
     check();
     ++updates_;
