@@ -996,6 +996,14 @@ struct DriftScene {
     }
   }
 
+  // Every other box at rest, the others drifting 1/512 m per update along each axis (the
+  // direction their random velocity had).
+  void restHalfDriftHalf() {
+    for (std::size_t i = 0; i < velocity.size(); ++i) {
+      for (int k = 0; k < 3; ++k) velocity[i][k] = i % 2 == 0 ? 0.0 : (velocity[i][k] > 0 ? 1 : -1) / 512.0;
+    }
+  }
+
   void step(Harness& h) {
     for (std::size_t i = 0; i < center.size(); ++i) {
       for (int k = 0; k < 3; ++k) {
@@ -1207,11 +1215,7 @@ TEST(SweepAndPrune, TheLongLeadComesWithJitterAndGoesWithSteadyMotionAndEqualsBr
   std::uniform_int_distribution<int> step(1, 2);
   Harness h(SweepAndPruneConfig(), true);
   DriftScene scene(300, rng, h);
-  for (std::size_t i = 0; i < scene.velocity.size(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      scene.velocity[i][k] = i % 2 == 0 ? 0.0 : (scene.velocity[i][k] > 0 ? 1 : -1) / 512.0;
-    }
-  }
+  scene.restHalfDriftHalf();
   h.updateAndCheck();
   CoastCounts jitter, steady;
   int long_swaps = 0;  // next arrays swapped in at the long lead
@@ -1540,11 +1544,7 @@ TEST(SweepAndPrune, RunEndsSpreadOverUpdatesEqualBruteForce) {
     cfg.spread_updates = spread;
     Harness h(cfg, true);
     DriftScene scene(300, rng, h);
-    for (std::size_t i = 0; i < scene.velocity.size(); ++i) {
-      for (int k = 0; k < 3; ++k) {
-        scene.velocity[i][k] = i % 2 == 0 ? 0.0 : (scene.velocity[i][k] > 0 ? 1 : -1) / 512.0;
-      }
-    }
+    scene.restHalfDriftHalf();
     h.updateAndCheck();
     CoastCounts counts;
     int swaps_with_escapers = 0, swaps_enlarging_all = 0, churn_while_building = 0;
@@ -1657,11 +1657,7 @@ TEST(SweepAndPrune, SlotsCreatedWhileTheNextArraysAreBuiltSurviveTheSwap) {
   SweepAndPruneConfig cfg;  // coasting, run ends spread over the updates before them
   Harness h(cfg, true);
   DriftScene scene(300, rng, h);
-  for (std::size_t i = 0; i < scene.velocity.size(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      scene.velocity[i][k] = i % 2 == 0 ? 0.0 : (scene.velocity[i][k] > 0 ? 1 : -1) / 512.0;
-    }
-  }
+  scene.restHalfDriftHalf();
   h.updateAndCheck();
   // Far from the scene and from each other: no pairs.
   int placed = 0;
