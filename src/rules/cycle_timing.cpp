@@ -42,6 +42,7 @@ const char* CycleTiming::name(CycleStage stage) {
     case CycleStage::kTransit: return "transit";
     case CycleStage::kBroad: return "broad";
     case CycleStage::kSerialise: return "serialise";
+    case CycleStage::kToSafety: return "to_safety";
     default: return "?";
   }
 }

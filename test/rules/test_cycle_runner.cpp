@@ -47,6 +47,7 @@ class Output : public wp::CycleOutput {
                     (run.failed ? " failed" : ""));
     scales.push_back(report.ssm.speed_scale);
   }
+  void handOff() override { log_->push_back("hand-off"); }
   void contacts(const wp::CycleReport& report, const wp::ProximityWorld&) override {
     log_->push_back(std::string("contacts") + (report.degraded ? " degraded" : ""));
     if (throw_in_contacts) {
@@ -92,7 +93,8 @@ TEST(CycleRunner, ACycleIsTheFeedThenTheMonitorThenTheSafetyOutputThenTheContact
   const wp::CycleRun run = f.runner.run(kT0, &f.feed, &f.out);
   EXPECT_FALSE(run.reset);
   EXPECT_FALSE(run.failed);
-  EXPECT_EQ(f.feed.log, (std::vector<std::string>{"update", "safety", "contacts", "rest"}));
+  EXPECT_EQ(f.feed.log,
+            (std::vector<std::string>{"update", "safety", "hand-off", "contacts", "rest"}));
   EXPECT_EQ(f.out.stamps, std::vector<wp::Stamp>{kT0});
   // The safety output saw the cycle's finished verdict, not an earlier one.
   EXPECT_EQ(f.out.scales, std::vector<double>{f.monitor.report().ssm.speed_scale});
@@ -110,8 +112,8 @@ TEST(CycleRunner, TheClockGoingBackResetsTheFeedAndTheMonitorFirst) {
   EXPECT_TRUE(run.reset);
   EXPECT_FALSE(run.failed);
   EXPECT_EQ(f.feed.log, (std::vector<std::string>{"reset " + std::to_string(back), "update",
-                                                  "safety degraded", "contacts degraded",
-                                                  "rest reset"}));
+                                                  "safety degraded", "hand-off",
+                                                  "contacts degraded", "rest reset"}));
   EXPECT_EQ(f.monitor.status().resets, 1u);
   EXPECT_EQ(f.monitor.sources().source(0).last_receipt, 0);  // forgotten: no data yet
   EXPECT_EQ(f.monitor.status().last_cycle, back);
@@ -130,8 +132,8 @@ TEST(CycleRunner, AFailureStillReportsAndSaysWhy) {
   const wp::CycleRun run = f.runner.run(kT0 + kSecond / 10, &f.feed, &f.out);
   EXPECT_TRUE(run.failed);
   EXPECT_EQ(f.feed.log, (std::vector<std::string>{"update", "failed tf exploded",
-                                                  "safety degraded failed", "contacts degraded",
-                                                  "rest failed"}));
+                                                  "safety degraded failed", "hand-off",
+                                                  "contacts degraded", "rest failed"}));
   const wp::CycleReport& r = f.monitor.report();
   EXPECT_EQ(r.stamp, kT0 + kSecond / 10);
   EXPECT_EQ(r.eventCount(), 0u);
@@ -150,10 +152,10 @@ TEST(CycleRunner, AnOutputThatThrowsFailsTheCycleWhichReportsAgain) {
   f.out.throw_in_contacts = true;
   const wp::CycleRun run = f.runner.run(kT0, &f.feed, &f.out);
   EXPECT_TRUE(run.failed);
-  EXPECT_EQ(f.feed.log, (std::vector<std::string>{"update", "safety", "contacts",
+  EXPECT_EQ(f.feed.log, (std::vector<std::string>{"update", "safety", "hand-off", "contacts",
                                                   "failed publisher gone",
-                                                  "safety degraded failed", "contacts degraded",
-                                                  "rest failed"}));
+                                                  "safety degraded failed", "hand-off",
+                                                  "contacts degraded", "rest failed"}));
 }
 
 TEST(CycleRunner, TheStagesAreLappedWithinTheCycleAndOffCycleStagesNoted) {
@@ -163,14 +165,20 @@ TEST(CycleRunner, TheStagesAreLappedWithinTheCycleAndOffCycleStagesNoted) {
   const wp::CycleTiming& t = f.runner.timing();
   // Input, near, ssm, safety, predict, report and contacts are consecutive laps from the
   // cycle's start: together no longer than the whole cycle, which ends after the rest.
-  double laps = 0.0;
+  double laps = 0.0, to_safety = 0.0;
   for (wp::CycleStage s : {wp::CycleStage::kInput, wp::CycleStage::kNear, wp::CycleStage::kSsm,
                            wp::CycleStage::kSafety, wp::CycleStage::kPredict,
                            wp::CycleStage::kReport, wp::CycleStage::kContacts}) {
     EXPECT_GE(t.last(s), 0.0) << wp::CycleTiming::name(s);
     laps += t.last(s);
+    if (s == wp::CycleStage::kSafety) to_safety = laps;
   }
   EXPECT_LE(laps, f.runner.lastCycleMs());
+  // The start to the safety output: read after the first three laps and within the fourth
+  // (which also holds the hand-off).
+  EXPECT_GE(t.last(wp::CycleStage::kToSafety),
+            (to_safety - t.last(wp::CycleStage::kSafety)) * (1.0 - 1e-12));
+  EXPECT_LE(t.last(wp::CycleStage::kToSafety), to_safety * (1.0 + 1e-12));
   // The broad phase is part of the predict lap (the world's own stage times).
   EXPECT_LE(t.last(wp::CycleStage::kBroad), t.last(wp::CycleStage::kPredict));
   // Every stage has its own name in the summary.

@@ -69,6 +69,7 @@ class ProximityMonitor : private CycleOutput {
   // speed_override, stop actions, the Twist filter); then the contacts; then, unless the cycle
   // failed, the markers' schedule. /diagnostics comes after the cycle (cycle()).
   void safety(const CycleReport& report, const ProximityWorld& world, const CycleRun& run) override;
+  void handOff() override;
   void contacts(const CycleReport& report, const ProximityWorld& world) override;
   void rest(const CycleReport& report, const ProximityWorld& world, const CycleRun& run) override;
   void publishSsm(const CycleReport& report, const ProximityWorld& world);

@@ -61,6 +61,10 @@ class CycleOutput {
   virtual void safety(const CycleReport& report, const ProximityWorld& world, const CycleRun& run) {
     (void)report, (void)world, (void)run;
   }
+  /// Right after safety(), before the contacts are predicted: the transport's chance to
+  /// deliver the safety output (the ROS bridge lets roscpp's poll thread write it). Timed in
+  /// CycleStage::kSafety but not in kToSafety, which ends when safety() returns.
+  virtual void handOff() {}
   /// The contacts: after the safety output and the events' prediction; timed as
   /// CycleStage::kContacts.
   virtual void contacts(const CycleReport& report, const ProximityWorld& world) = 0;

@@ -27,6 +27,9 @@ enum class CycleStage : int {
                ///< the tracker's stamp is older than its publication)
   kBroad,      ///< part of kPredict: the broad phase with the world's pair cache (WorldStats)
   kSerialise,  ///< part of kContacts: the contacts' publish() (serialisation, hand-off)
+  kToSafety,   ///< the cycle's start to the safety output published (input + near + ssm +
+               ///< safety but its hand-off), one sample per cycle: the monitor's own part of
+               ///< a controller's reaction time
   kCount
 };
 
