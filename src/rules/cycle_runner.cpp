@@ -24,7 +24,7 @@ CycleRun CycleRunner::run(Stamp now, CycleFeed* feed, CycleOutput* out) {
     // (thousands of events at high density) and everything after them must not delay it.
     const CycleReport& report = monitor_->beginCycle(now, &clock);
     if (out != nullptr) out->safety(report, monitor_->world(), run);
-    // The start to the safety output handed over, as one sample: its p99 is the monitor's part
+    // The start to the safety output published, as one sample: its p99 is the monitor's part
     // of a controller's wait, which the stages' own p99s do not add up to.
     timing_.add(CycleStage::kToSafety, std::chrono::duration<double, std::milli>(
                                            StageClock::Clock::now() - start).count());
