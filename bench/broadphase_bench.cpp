@@ -1141,11 +1141,19 @@ struct PeerDef {
 std::vector<PeerDef> allPeers() {
   std::vector<PeerDef> peers;
   peers.push_back({"ours (SweepAndPrune)", [] { return std::make_unique<OursPeer>(); }, 1.3, 1 << 30});
-  // The same with a coasting run's end in one update (spread_updates 0: before issue 26's
-  // next arrays), for the tail's before/after in one run.
+  // The same with a coasting run's end in one update (spread_updates 0, steady_lead false:
+  // before issue 26's next arrays), for the tail's before/after in one run.
   peers.push_back({"ours, run's end at once (spread_updates 0)", [] {
                      wp::SweepAndPruneConfig c;
                      c.spread_updates = 0;
+                     c.steady_lead = false;
+                     return std::make_unique<OursPeer>(c);
+                   }, 1.3, 1 << 30});
+  // The same without the steady lead (steady_lead false: a lead of 8 whatever the runs, as
+  // before session 23), for the steady rows' before/after in one run.
+  peers.push_back({"ours, no steady lead (steady_lead false)", [] {
+                     wp::SweepAndPruneConfig c;
+                     c.steady_lead = false;
                      return std::make_unique<OursPeer>(c);
                    }, 1.3, 1 << 30});
   // A longer lead (coast_updates 16: runs of 16 updates of steady motion, long enough to
@@ -2004,12 +2012,15 @@ int main(int argc, char** argv) {
           "- ours: moveProxy per moved box (destroyProxy / createProxy for churn), update(), walk "
           "pairs(), mapping proxy ids to the caller's ids. Default configuration: coasting on "
           "(the arrays hold bounds enlarged ahead of each box's motion, 8 updates of its own "
-          "displacement, 16 while its runs last their longest; pairs() filters their candidates "
+          "displacement, 16 while its runs last their longest, 24 while they end together before "
+          "16 updates (the steady lead); pairs() filters their candidates "
           "to the exact overlaps every cycle), so "
           "its cycles column says how often a cycle rebuilt and how often it re-sorted anything "
-          "at all (\"sorted\": a few boxes moved alone, or everybody enlarged again). Two more "
-          "rows of ours, same driver: \"run's end at once\" (spread_updates 0: every coasting "
-          "run's end in one cycle, as before issue 26's next arrays) and \"lead 16\" "
+          "at all (\"sorted\": a few boxes moved alone, or everybody enlarged again). Three more "
+          "rows of ours, same driver: \"run's end at once\" (spread_updates 0 and no steady lead: "
+          "every coasting run's end in one cycle, as before issue 26's next arrays), \"no steady "
+          "lead\" (steady_lead false: a lead of 8 whatever the runs, as before session 23) and "
+          "\"lead 16\" "
           "(coast_updates 16, the proximity monitor's ~broad_phase_lead: runs twice as long, "
           "spread when they last 16 updates or more; 32 while they last their longest).\n"
           "- sort-and-sweep (scratch): copy the moved boxes, std::sort of all boxes by lower x, sweep "

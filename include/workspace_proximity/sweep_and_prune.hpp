@@ -53,7 +53,13 @@
 /// spread over up to twice spread_updates; the first judged run shorter than 4 coast_updates
 /// brings the configured lead back (SweepAndPruneStats::lead says which is in use). Each run's
 /// end costs about a re-sort of everybody: under jitter they came every 28-29 updates, at
-/// their longest.
+/// their longest. The steady lead (SweepAndPruneConfig::steady_lead): when a judged run ends
+/// before 16 updates because its proxies left their bounds together (steady motion: a lead of
+/// 8 ends runs every 7-9 updates), the enlargement that ends it takes three times the lead
+/// (when that is at most 24), so that runs last long enough for their ends to be spread; a run
+/// at it shorter than 16 updates (the lead's cap), or costing more than not coasting, brings
+/// the configured lead back and blocks the steady one for 8 judged runs (twice as many after
+/// each such run in a row); a run at it that lasts 4 coast_updates brings it back unblocked.
 ///
 /// Long runs (at least 16 updates: tracker jitter around rest or a slow drift, where runs last
 /// their longest) end without a dear update: the next arrays are built over
@@ -66,8 +72,9 @@
 /// alone (or, when more than a few are, everybody is enlarged at once), and that update's
 /// began and ended pairs come from the given bounds against the last update's pairs. An
 /// insertion, a removal, or everybody enlarged at once abandons the build (the run then ends
-/// at once). Shorter runs (steady motion: everybody leaves together every 7-9 updates) end at
-/// once: a build squeezed into them costs more than it spreads. SweepAndPruneConfig::
+/// at once). Shorter runs (steady motion at a lead of 8: everybody leaves together every 7-9
+/// updates, until the steady lead lengthens them) end at once: a build squeezed into them
+/// costs more than it spreads. SweepAndPruneConfig::
 /// spread_updates bounds the slices (0: every run ends at once).
 ///
 /// The state is private: flat arrays by proxy id behind one pointer, and one file pair per job
@@ -106,6 +113,15 @@ struct SweepAndPruneConfig {
   /// updates when runs are short: under half of a run's; twice as many at the long lead); 0
   /// enlarges everybody and re-sorts in one update, as the run ends.
   int spread_updates = 16;
+  /// The steady lead: when coasting's runs end before 16 updates because the proxies leave
+  /// their bounds together (steady motion), the lead triples (when that makes at most 24
+  /// updates), so that runs last long enough for their ends to be spread (spread_updates);
+  /// back to coast_updates when a run at it is shorter than 16 updates (the lead's cap), costs
+  /// more than not coasting, or lasts 4 coast_updates. The monitor's lead of 16 never takes it
+  /// (its steady runs are long enough). Uniform 1 %, N = 1 000: p99 / median 13x -> 3.5x,
+  /// mean 30-40 % lower, median 15-30 % higher (bench/results/NOTES.md section 33). false: the
+  /// lead is coast_updates (or the long lead under jitter) whatever the runs.
+  bool steady_lead = true;
   /// Coasting off, a rebuild streak whose estimate says it beats insertion sort by less than
   /// the rebuild of all three axes it would take to leave it is checked against the measured
   /// costs of both (steady_clock around the re-sort: insertion sort is tried once in a while

@@ -296,6 +296,10 @@ Sorted handleEscapers(State& s) {
   // Many: everybody gets new enlarged bounds now, so that they leave them together again.
   validateFlags(s);
   s.last_estimate = -1;
+  if (s.coast.steadyLeadDue(s.updates)) {
+    s.coast.takeSteadyLead(steadyLeadCapped(s, CoastPolicy::kSteadyLead * s.config.coast_updates,
+                                            CoastPolicy::kMinSpreadRun));
+  }
   enlargeAll(s, s.coast.lead());
   s.stats.enlarged_all = true;
   resort(s, true, false);  // every axis in order: moveEscapers needs them
@@ -316,7 +320,7 @@ Sorted handleEscapers(State& s) {
 void resortAll(State& s) { resort(s, true, false); }
 
 State::State(const SweepAndPruneConfig& c)
-    : config(c), cands(c.initial_pair_capacity), coast(c.coast_updates) {
+    : config(c), cands(c.initial_pair_capacity), coast(c.coast_updates, c.steady_lead) {
   reserveSlots(static_cast<std::size_t>(std::max(c.initial_proxy_capacity, 1)));
   keepHeadroom(*this);
   for (int axis = 0; axis < 3; ++axis) {

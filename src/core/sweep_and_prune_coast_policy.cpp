@@ -8,6 +8,10 @@ namespace sap {
 
 void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
   const bool spread = end != End::kAtOnce;
+  // The run that ends here was enlarged with run_lead_; the one that starts here with lead_
+  // (a lead changed below applies from the next enlargement on).
+  const double ended_lead = run_lead_;
+  run_lead_ = lead_;
   // This enlargement and its re-sort: the work the next run starts with.
   const double endpoints = 2.0 * r.live;
   double work = kEnlargeWork * r.live + kSwapWork * static_cast<double>(r.swaps);
@@ -52,7 +56,17 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
     // it saved, for the retry after a failure.
     episode_work_ += run_work_;
     episode_without_ += without * run;
-    if (run_work_ / run > without) {
+    const bool steady_run = steadyLead() && ended_lead == lead_;
+    // The steady lead taken for this enlargement (endsAtOnce()): its runs are expected about
+    // kSteadyLead times as long as this one, so that the first one's end is spread too.
+    if (steadyLead() && ended_lead != lead_) {
+      expected_run_ = std::min(longestRun(), static_cast<std::uint32_t>(kSteadyLead * run));
+    }
+    if (run_work_ / run > without && steady_run) {
+      // The steady lead's larger bounds cost more than they saved (more candidates scanned):
+      // back to the configured lead, which paid, rather than off.
+      leaveSteadyLead();
+    } else if (run_work_ / run > without) {
       failures_ = std::min(failures_ + 1, 2);
       episode_ratio_ = episode_work_ / episode_without_;
       episode_work_ = episode_without_ = 0.0;
@@ -62,6 +76,7 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
       ref_open_ = true;
       off_swaps_ = -1.0;
       lead_ = 0.0;
+      kind_ = LeadKind::kConfigured;
       retry_at_ = update + backoff_;
       backoff_ = std::min<std::uint32_t>(2 * backoff_, kMaxBackoff);
     } else {
@@ -70,20 +85,45 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
       // longest (or was swapped out just before), back when a run ends in fewer updates than
       // that. (A run ended early by a swap counts: its build was due by the expected run, so a
       // steady motion whose runs at the long lead are spread, 16-20 updates, comes back.)
-      const double longest = longestRunOf(coast_updates_);
+      const double longest = longestRunOf(LeadKind::kConfigured);
       if (longLead()) {
         if (run < longest) {
           lead_ = coast_updates_;
+          kind_ = LeadKind::kConfigured;
           expected_run_ = std::min(expected_run_, longestRun());
+        }
+      } else if (steadyLead()) {
+        // (A run enlarged before the lead became the steady one says nothing of it.)
+        if (steady_run && run < kMinSpreadRun) {
+          leaveSteadyLead();
+        } else if (steady_run && run >= longest) {
+          lead_ = coast_updates_;
+          kind_ = LeadKind::kConfigured;
+        } else if (steady_run) {
+          steady_backoff_ = kSteadyBlock;
         }
       } else if (kLongLead * coast_updates_ <= kLongLeadAtMost && run + kSwapMargin + 1 >= longest) {
         lead_ = kLongLead * coast_updates_;
+        kind_ = LeadKind::kLong;
         expected_run_ = longestRun();
+      } else if (steady_block_ > 0) {
+        --steady_block_;
       }
     }
   }
   run_work_ = work;
   last_global_ = update;
+}
+
+bool CoastPolicy::steadyLeadDue(std::uint32_t update) const {
+  if (!steady_allowed_ || unjudged_ > 0 || kind_ != LeadKind::kConfigured || !(lead_ > 0.0) ||
+      steady_block_ > 0 || kSteadyLead * coast_updates_ > kSteadyLeadAtMost) {
+    return false;
+  }
+  // Steady motion: the proxies left their bounds together, too soon for the run's end to be
+  // spread (and not at its longest, which the long lead answers).
+  const std::uint32_t run = update - last_global_;
+  return run < kMinSpreadRun && run + kSwapMargin + 1 < longestRunOf(LeadKind::kConfigured);
 }
 
 bool CoastPolicy::repeatsFailure(std::uint32_t update, int live) {

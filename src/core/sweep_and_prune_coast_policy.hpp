@@ -7,10 +7,12 @@
 ///
 /// The lead ahead of a side that moved outward is `coast_updates` updates of its own
 /// displacement per update, capped at a fraction of the box's largest extent; a side that moved
-/// inward gets one update's, a resting side none (room()). An update with no escaper does
-/// nothing; up to 1 + n / 32 escapers move alone; more, or a run of 4 coast_updates updates
-/// (coast_updates while on probation; 6 at the long lead: kLongLead), enlarge everybody again
-/// (step()). Each enlargement of everybody ends a run, which is judged
+/// inward gets one update's, a resting side none (room()); the lead is the configured one, or
+/// twice it while runs last their longest (the long lead: jitter), or three times it while
+/// runs end together too soon to spread (the steady lead: steady motion). An update with no
+/// escaper does nothing; up to 1 + n / 32 escapers move alone; more, or a run of 4
+/// coast_updates updates (coast_updates while on probation; 6 at the long lead: kLongLead),
+/// enlarge everybody again (step()). Each enlargement of everybody ends a run, which is judged
 /// with a cost model in work units against what the same updates would have cost without
 /// coasting; a run that cost more switches coasting off for 64 updates, twice as long after
 /// each failure in a row (up to 4 096), then it is tried again (postponeRetry(): not when the
@@ -49,8 +51,10 @@ class CoastPolicy {
   /// nothing yet of what coasting costs.
   static constexpr int kProbationRuns = 3;
 
-  /// `coast_updates`: SweepAndPruneConfig::coast_updates (0: never coast).
-  explicit CoastPolicy(double coast_updates) : coast_updates_(coast_updates), lead_(coast_updates) {}
+  /// `coast_updates`: SweepAndPruneConfig::coast_updates (0: never coast); `steady_lead`:
+  /// SweepAndPruneConfig::steady_lead (false: never the steady lead).
+  explicit CoastPolicy(double coast_updates, bool steady_lead = true)
+      : coast_updates_(coast_updates), lead_(coast_updates), steady_allowed_(steady_lead) {}
 
   /// The lead (in updates of displacement) of enlargements now; 0 while coasting is off (the
   /// arrays then hold the given bounds).
@@ -82,6 +86,7 @@ class CoastPolicy {
       if (!moved) return Step::kNothing;
       if (!(coast_updates_ > 0.0 && update >= retry_at_)) return Step::kResort;
       lead_ = coast_updates_;
+      kind_ = LeadKind::kConfigured;
       unjudged_ = 1 + kProbationRuns;  // the run starts here, on probation
       settled_ = false;
       expected_run_ = longestRun();
@@ -90,7 +95,7 @@ class CoastPolicy {
     // A run lasts at most 4 coast_updates updates (6 at the long lead, coast_updates on
     // probation): then everybody is enlarged again, with leads measured anew (stale ones only
     // cost tests), and the run is judged.
-    const double run_length = unjudged_ > 0 ? coast_updates_ : longestRunOf(lead_);
+    const double run_length = unjudged_ > 0 ? coast_updates_ : longestRunOf(kind_);
     const bool run_over = update - last_global_ >= run_length;
     if (escapers == 0 && !run_over) return Step::kNothing;
     // A few: move their endpoints alone (a pass over the arrays costs more).
@@ -170,10 +175,28 @@ class CoastPolicy {
   /// ended (many left their bounds, or its longest) or before (when it was expected to end).
   enum class End : std::uint8_t { kAtOnce, kSpreadAtEnd, kSpreadEarly };
   void enlargedAll(std::uint32_t update, const Resort& r, End end = End::kAtOnce);
+  /// The run under way ends at `update` with everybody enlarged at once (asked before that
+  /// enlargement, so that it can take the lead chosen then): true when it is a judged run at
+  /// the configured lead that ended before kMinSpreadRun updates, and the steady lead (see
+  /// kSteadyLead) is allowed, at most kSteadyLeadAtMost and not blocked.
+  bool steadyLeadDue(std::uint32_t update) const;
+  /// Takes the steady lead when it is due; or, when `capped` (the proxies' motion would leave
+  /// bounds enlarged with it within kMinSpreadRun updates anyway: the lead's cap), blocks it as
+  /// a run at it that was too short would (steadyLeadCapped() in sweep_and_prune_coasting.hpp:
+  /// at 5 % motion a lead of 24 hits the cap of half the box, and each try cost a run).
+  void takeSteadyLead(bool capped) {
+    if (capped) {
+      steady_block_ = steady_backoff_ + 1;  // (the run ending now counts one off: enlargedAll())
+      steady_backoff_ = std::min(2 * steady_backoff_, kMaxSteadyBlock);
+      return;
+    }
+    lead_ = kSteadyLead * coast_updates_;
+    kind_ = LeadKind::kSteady;
+  }
 
   /// Judged runs last at most this many updates: 4 coast_updates, 6 at the long lead.
   std::uint32_t longestRun() const {
-    return static_cast<std::uint32_t>(std::max(2.0, std::min(1e6, longestRunOf(lead_))));
+    return static_cast<std::uint32_t>(std::max(2.0, std::min(1e6, longestRunOf(kind_))));
   }
   /// The long lead, in leads: while judged runs last their longest at the configured lead
   /// (nobody leaves their bounds: tracker jitter around rest, a slow drift), the lead doubles
@@ -193,7 +216,28 @@ class CoastPolicy {
   /// each moved alone while the next build's slices ran).
   static constexpr double kLongRuns = 3.0;
   /// True while the lead is the long one.
-  bool longLead() const { return lead_ > coast_updates_; }
+  bool longLead() const { return kind_ == LeadKind::kLong; }
+  /// The steady lead, in leads: a judged run at the configured lead that ended at once, before
+  /// kMinSpreadRun updates, because its proxies left their bounds together (steady motion: 1-5 %
+  /// of the box size per update ends runs at a lead of 8 every 7-9 updates) triples the lead
+  /// (when that makes at most kSteadyLeadAtMost), so that runs last long enough for their ends
+  /// to be spread over the updates before (the next arrays). A run at the steady lead shorter
+  /// than kMinSpreadRun (the lead hit its cap, max_lead_fraction, or the motion sped up) or
+  /// failing the cost model brings the configured lead back, and the steady lead is not tried
+  /// again for kSteadyBlock judged runs (twice as many after each such run in a row, up to
+  /// kMaxSteadyBlock); one that lasts its longest (4 coast_updates: the motion slowed) brings
+  /// it back at once. Uniform 1 %, N = 1 000, lead 24 against 8: p99 / median 2.9x against
+  /// 13x, means 30 % lower, medians 23 % higher (bench/results/NOTES.md sections 29 and 33).
+  static constexpr double kSteadyLead = 3.0;
+  /// The steady lead is taken only when it is at most this many updates (the monitor's 16 makes
+  /// steady runs of about 16 updates, long enough to spread, and keeps it).
+  static constexpr double kSteadyLeadAtMost = 24.0;
+  /// Judged runs before the steady lead is tried again after it did not pay, at first.
+  static constexpr std::uint32_t kSteadyBlock = 8;
+  /// ... and at most.
+  static constexpr std::uint32_t kMaxSteadyBlock = 512;
+  /// True while the lead is the steady one.
+  bool steadyLead() const { return kind_ == LeadKind::kSteady; }
   /// The next arrays (sweep_and_prune_next.hpp): true when a build spread over `slices`
   /// updates is due to start at `update`, so that it is swapped in kSwapMargin updates before
   /// the run under way is expected to end (as long as the last judged run that ended at once,
@@ -209,7 +253,8 @@ class CoastPolicy {
   /// ends its runs every 7-9 updates (everybody leaves together): a build squeezed into 4-6
   /// updates fell behind the proxies leaving (their run then ended at once anyway), and its
   /// means were 1.3-1.5 times those of runs ended at once (bench/results/NOTES.md section 21).
-  /// Tracker jitter around rest or a slow drift makes runs of 32 updates.
+  /// Tracker jitter around rest or a slow drift makes runs of 32 updates; the steady lead
+  /// (kSteadyLead) makes steady motion's runs long enough.
   static constexpr std::uint32_t kMinSpreadRun = 16;
   /// A build is due to be swapped in this many updates before the run's expected end: one
   /// that takes longer than estimated still has the updates between to be done and swapped
@@ -260,7 +305,21 @@ class CoastPolicy {
 
  private:
   double coast_updates_;
-  double lead_;                              // coast_updates_ (or kLongLead times it) while coasting, else 0
+  // coast_updates_ (or kLongLead or kSteadyLead times it) while coasting, else 0
+  double lead_;
+  enum class LeadKind : std::uint8_t { kConfigured, kLong, kSteady };
+  LeadKind kind_ = LeadKind::kConfigured;     // which lead_ is (kConfigured while off)
+  bool steady_allowed_;                       // SweepAndPruneConfig::steady_lead
+  double run_lead_ = lead_;                   // the lead the run under way was enlarged with
+  std::uint32_t steady_block_ = 0;            // judged runs before the steady lead may be taken
+  std::uint32_t steady_backoff_ = kSteadyBlock; // the block after the next one that did not pay
+  // Back to the configured lead from the steady one, blocking the steady lead for a while.
+  void leaveSteadyLead() {
+    lead_ = coast_updates_;
+    kind_ = LeadKind::kConfigured;
+    steady_block_ = steady_backoff_;
+    steady_backoff_ = std::min(2 * steady_backoff_, kMaxSteadyBlock);
+  }
   std::uint32_t last_global_ = 0;            // update of the last enlargement of everybody
   std::uint32_t retry_at_ = 0;               // coasting off: the update that tries it again
   std::uint32_t backoff_ = kFirstBackoff;    // updates it stays off after failing
@@ -277,9 +336,9 @@ class CoastPolicy {
   double ref_swaps_ = -1.0;                   // swaps per update off after that failure (-1: none)
   bool ref_open_ = false;                     // that reference is still being measured
   double off_swaps_ = -1.0;                   // swaps per update off, recent average (-1: none)
-  // The longest judged run at `lead` (the configured one while coasting is off).
-  double longestRunOf(double lead) const {
-    return lead > coast_updates_ ? kLongRuns * lead : 4.0 * coast_updates_;
+  // The longest judged run at a lead of that kind (the configured one while coasting is off).
+  double longestRunOf(LeadKind kind) const {
+    return kind == LeadKind::kLong ? kLongRuns * kLongLead * coast_updates_ : 4.0 * coast_updates_;
   }
   // The first retry due after a failure ends the stretch off that measures the reference.
   void closeReference() {

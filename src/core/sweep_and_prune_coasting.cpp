@@ -206,6 +206,33 @@ bool runsTooShort(const State& s, double lead) {
   return 4 * short_runs > live;
 }
 
+bool steadyLeadCapped(const State& s, double lead, std::uint32_t min_run) {
+  // base holds each proxy's bounds at its last enlargement, `elapsed` updates ago: its fastest
+  // side's displacement per update. Bounds enlarged with `lead` hold it for min(lead, cap / d)
+  // updates. (A proxy enlarged in this update has no displacement yet: not counted.)
+  const double run = std::min(lead, static_cast<double>(min_run));
+  std::size_t short_runs = 0, live = 0;
+  for (std::size_t p = 0, slots = s.info.size(); p < slots; ++p) {
+    const ProxyInfo& info = s.info[p];
+    if (info.state != ProxyState::kLive) continue;
+    ++live;
+    const std::uint32_t elapsed = s.updates - info.enlarged_at;
+    if (elapsed == 0) continue;
+    const std::uint64_t* t = s.tight.data() + 6 * p;
+    const std::uint64_t* b = s.base.data() + 6 * p;
+    double extent = 0.0, fastest = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double lo = unsortable64(t[2 * axis]), hi = unsortable64(t[2 * axis + 1]);
+      extent = std::max(extent, hi - lo);
+      fastest = std::max(fastest, std::abs(lo - unsortable64(b[2 * axis])));
+      fastest = std::max(fastest, std::abs(hi - unsortable64(b[2 * axis + 1])));
+    }
+    // (Not a number anywhere: not counted as short.)
+    short_runs += s.config.max_lead_fraction * extent * static_cast<double>(elapsed) < run * fastest;
+  }
+  return 4 * short_runs > live;
+}
+
 void validateFlags(State& s) {
   // Somebody is enlarged in this update: from here on candidates and pairs may differ, and each
   // candidate's `touching` must say what it was. Not kept so far, the candidates were the pairs

@@ -73,6 +73,10 @@ void enlargeAll(State& s, double lead);
 /// room ahead is capped at max_lead_fraction of the box's largest extent). One pass over the
 /// proxies, no allocation.
 bool runsTooShort(const State& s, double lead);
+/// Coasting on, before everybody is enlarged at once: true when more than a quarter of the live
+/// proxies, moving as they did since their last enlargement, would leave bounds enlarged with
+/// `lead` (capped at max_lead_fraction of their largest extent) within `min_run` updates.
+bool steadyLeadCapped(const State& s, double lead, std::uint32_t min_run);
 /// Makes every candidate's `touching` flag valid (before anybody is enlarged).
 void validateFlags(State& s);
 /// pairs(), beganPairs() and endedPairs() from the candidates and their changes.

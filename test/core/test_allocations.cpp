@@ -281,6 +281,43 @@ TEST(Allocations, SweepAndPruneSteadyStateAllocatesNothing) {
   EXPECT_GE(steady_swapped, 5);
   EXPECT_GE(finished, 1);
   EXPECT_EQ(steady_allocations, 0);
+
+  // Steady motion with the default lead of 8: boxes of one size at one speed (1 % of their
+  // size per update on each axis). Their first runs are long (the jitter bounds learnt from the
+  // first displacements are forgotten slowly) and their ends spread; once runs end together
+  // before 16 updates, the steady lead (24) takes over and their ends are spread again: nothing
+  // allocated through all of it.
+  BoxScene u;
+  wp::SweepAndPrune tripled(config);
+  for (int k = 0; k < 2000; ++k) {
+    wp_test::Walker w;
+    w.position = rng.vector(1, 29);
+    const Eigen::Vector3d d = rng.vector(-1, 1);
+    w.velocity = Eigen::Vector3d(d.x() < 0 ? -1 : 1, d.y() < 0 ? -1 : 1, d.z() < 0 ? -1 : 1);
+    u.centre.push_back(w);
+    u.half.push_back(Eigen::Vector3d::Constant(0.5));
+    u.ids.push_back(tripled.createProxy(u.box(u.centre.size() - 1)));
+  }
+  auto tripled_cycle = [&] {
+    u.advance(0.01);
+    for (std::size_t k = 0; k < u.centre.size(); ++k) tripled.moveProxy(u.ids[k], u.box(k));
+    tripled.update();
+  };
+  for (int j = 0; j < 80; ++j) tripled_cycle();
+  const long before_tripled = wp_test::allocationCount();
+  int tripled_swapped = 0, at_steady_lead = 0;
+  for (int j = 0; j < 500; ++j) {
+    tripled_cycle();
+    const bool steady_lead = tripled.stats().lead == 3.0 * config.coast_updates;
+    at_steady_lead += steady_lead;
+    tripled_swapped += steady_lead && tripled.stats().swapped_next;
+  }
+  const long tripled_allocations = wp_test::allocationCount() - before_tripled;
+  std::printf("lead 8: %d updates at the steady lead, %d swapped in there\n", at_steady_lead,
+              tripled_swapped);
+  EXPECT_GE(at_steady_lead, 200);
+  EXPECT_GE(tripled_swapped, 5);
+  EXPECT_EQ(tripled_allocations, 0);
 }
 
 TEST(Allocations, EventTrackerSteadyStateAllocatesNothing) {

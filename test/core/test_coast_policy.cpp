@@ -14,6 +14,12 @@ namespace {
 using workspace_proximity::sap::CoastPolicy;
 using Step = CoastPolicy::Step;
 
+// The caller's side of a run that ends at once (SweepAndPrune's update): the steady lead is
+// taken when due, the proxies' motion (`capped`) not leaving its bounds before 16 updates.
+void endsAtOnce(CoastPolicy* p, std::uint32_t update, bool capped = false) {
+  if (p->steadyLeadDue(update)) p->takeSteadyLead(capped);
+}
+
 // A re-sort after an enlargement of everybody, by insertion sort unless `rebuilt`.
 CoastPolicy::Resort resort(int live, std::int64_t swaps, std::int64_t estimate, std::size_t pairs,
                            bool rebuilt = false, std::int64_t sweep_tests = 1000,
@@ -529,6 +535,119 @@ TEST(CoastPolicy, TheLeadDoublesWhileRunsLastTheirLongestAndComesBackWhenOneIsSh
   r.enlargedAll(32, cheap);
   EXPECT_DOUBLE_EQ(r.lead(), 8.0);
   EXPECT_EQ(r.longestRun(), 24u);
+}
+
+// Issue 26 (the tail of steady motion): the steady lead. Expected values from the documented
+// rules: a judged run at the configured lead that ends at once before kMinSpreadRun (16)
+// updates takes kSteadyLead (3) times the lead for the enlargement that ends it, when that is
+// at most kSteadyLeadAtMost (24); the next runs are expected 3 times as long. A run at it
+// shorter than 16 updates, or costing more than not coasting, brings the configured lead back
+// and blocks the steady lead for 8 judged runs (16 after a second such run in a row); one that
+// lasts its longest (4 coast_updates) brings it back without a block. One whose proxies would
+// leave it before 16 updates anyway (the cap) is not taken and blocked alike.
+TEST(CoastPolicy, TheLeadTriplesWhenRunsEndTogetherTooSoonToSpreadAndComesBack) {
+  EXPECT_DOUBLE_EQ(CoastPolicy::kSteadyLead, 3.0);
+  EXPECT_DOUBLE_EQ(CoastPolicy::kSteadyLeadAtMost, 24.0);
+  EXPECT_EQ(CoastPolicy::kSteadyBlock, 8u);
+  CoastPolicy p(8.0);
+  const CoastPolicy::Resort cheap = resort(100, 0, 1000000, 0);
+  // Probation (the first enlargement and three runs): never, however short the runs.
+  for (std::uint32_t u : {8u, 16u, 24u, 32u}) {
+    endsAtOnce(&p, u);
+    EXPECT_FALSE(p.steadyLead());
+    p.enlargedAll(u, cheap);
+  }
+  // A judged run of 9 ends at once: the enlargement that ends it takes 24.
+  endsAtOnce(&p, 41);
+  EXPECT_TRUE(p.steadyLead());
+  EXPECT_FALSE(p.longLead());
+  EXPECT_DOUBLE_EQ(p.lead(), 24.0);
+  p.enlargedAll(41, cheap);
+  EXPECT_DOUBLE_EQ(p.lead(), 24.0);
+  EXPECT_EQ(p.expectedRun(), 27u);  // 3 x 9
+  EXPECT_EQ(p.longestRun(), 32u);
+  EXPECT_EQ(p.nextSlices(16), 11u);  // 27 / 2 - 2
+  EXPECT_EQ(p.step(41 + 31, 0, 100, false, true), Step::kNothing);
+  EXPECT_EQ(p.step(41 + 32, 0, 100, false, true), Step::kEnlargeAll);
+  // A run of 25 at it, swapped in when it ended: it stays, expected 25.
+  p.enlargedAll(66, cheap, CoastPolicy::End::kSpreadAtEnd);
+  EXPECT_DOUBLE_EQ(p.lead(), 24.0);
+  EXPECT_EQ(p.expectedRun(), 25u);
+  // A run of 12 at it (the lead's cap) ends at once: back to 8, blocked for 8 judged runs.
+  endsAtOnce(&p, 78);
+  EXPECT_DOUBLE_EQ(p.lead(), 24.0);  // (only a run at the configured lead takes it)
+  p.enlargedAll(78, cheap);
+  EXPECT_FALSE(p.steadyLead());
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  std::uint32_t u = 78;
+  for (int i = 0; i < 8; ++i) {
+    u += 9;
+    endsAtOnce(&p, u);
+    EXPECT_DOUBLE_EQ(p.lead(), 8.0) << "judged run " << i << " after the block began";
+    p.enlargedAll(u, cheap);
+  }
+  u += 9;
+  endsAtOnce(&p, u);
+  EXPECT_DOUBLE_EQ(p.lead(), 24.0);
+  p.enlargedAll(u, cheap);
+  // A run at it that costs more than not coasting (a million candidates scanned): back to 8,
+  // not off, and blocked for 16 judged runs (a second run in a row that did not pay).
+  u += 20;
+  p.scanned(1000000);
+  endsAtOnce(&p, u);
+  p.enlargedAll(u, resort(100, 0, 0, 0));
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  for (int i = 0; i < 16; ++i) {
+    u += 9;
+    endsAtOnce(&p, u);
+    EXPECT_DOUBLE_EQ(p.lead(), 8.0) << "judged run " << i << " after the second block began";
+    p.enlargedAll(u, cheap);
+  }
+  u += 9;
+  endsAtOnce(&p, u);
+  EXPECT_DOUBLE_EQ(p.lead(), 24.0);
+  p.enlargedAll(u, cheap);
+  // A run at it that lasts its longest (the motion slowed): back to 8 without a block.
+  u += 32;
+  p.enlargedAll(u, cheap);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  u += 9;
+  endsAtOnce(&p, u);
+  EXPECT_DOUBLE_EQ(p.lead(), 24.0);
+  // A run of 16 or more at the configured lead never takes it (long enough to spread), nor does
+  // one at its longest (the long lead), nor a lead whose triple is over 24, nor steady_lead off.
+  CoastPolicy q(8.0), r(16.0), t(8.0, false);
+  for (CoastPolicy* c : {&q, &r, &t}) {
+    for (std::uint32_t v : {16u, 32u, 48u, 64u}) c->enlargedAll(v, cheap);
+  }
+  endsAtOnce(&q, 80);
+  EXPECT_DOUBLE_EQ(q.lead(), 8.0);
+  q.enlargedAll(80, cheap);
+  EXPECT_DOUBLE_EQ(q.lead(), 8.0);
+  endsAtOnce(&q, 112);
+  EXPECT_DOUBLE_EQ(q.lead(), 8.0);
+  q.enlargedAll(112, cheap);
+  EXPECT_TRUE(q.longLead());
+  endsAtOnce(&r, 73);
+  EXPECT_DOUBLE_EQ(r.lead(), 16.0);
+  endsAtOnce(&t, 73);
+  EXPECT_DOUBLE_EQ(t.lead(), 8.0);
+  EXPECT_FALSE(t.steadyLeadDue(73));
+  // Due, but the motion would leave bounds enlarged with it before 16 updates (its cap): not
+  // taken, and blocked for 8 judged runs, as after a run at it that was too short.
+  CoastPolicy w(8.0);
+  for (std::uint32_t v : {8u, 16u, 24u, 32u}) w.enlargedAll(v, cheap);
+  EXPECT_TRUE(w.steadyLeadDue(41));
+  endsAtOnce(&w, 41, true);
+  EXPECT_DOUBLE_EQ(w.lead(), 8.0);
+  w.enlargedAll(41, cheap);
+  u = 41;
+  for (int i = 0; i < 8; ++i) {
+    u += 9;
+    EXPECT_FALSE(w.steadyLeadDue(u)) << "judged run " << i << " after the block began";
+    w.enlargedAll(u, cheap);
+  }
+  EXPECT_TRUE(w.steadyLeadDue(u + 9));
 }
 
 TEST(CoastPolicy, NoCoastUpdatesNeverCoasts) {

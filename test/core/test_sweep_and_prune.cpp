@@ -1052,7 +1052,8 @@ struct CoastCounts {
   int swapped = 0, building = 0;  // the next arrays swapped in; updates that built a slice
   int finished = 0;  // builds finished at once when their run ended first
   int tight_candidates = 0;  // updates with no candidate beyond pairs()
-  int long_lead = 0;  // updates after which the lead was the long one (above `configured`)
+  int long_lead = 0;  // updates after which the lead was above `configured` (long or steady)
+  int steady_lead = 0;  // updates after which the lead was the steady one (3 `configured`)
   double configured = 8.0;  // the configuration's coast_updates
 
   void add(const SweepAndPrune& sap) {
@@ -1067,6 +1068,7 @@ struct CoastCounts {
     finished += s.finished_next;
     tight_candidates += s.candidates == static_cast<int>(sap.pairs().size());
     long_lead += s.lead > configured;
+    steady_lead += s.lead == 3.0 * configured;
     EXPECT_GE(s.candidates, static_cast<int>(sap.pairs().size()));
   }
 };
@@ -1075,13 +1077,17 @@ struct CoastCounts {
 
 // Steady motion: most updates sort nothing or move a few proxies alone, everybody is enlarged
 // again every few updates, and pairs, began and ended equal brute force in every update. With
-// coasting off the same scene re-sorts in every update.
+// coasting off the same scene re-sorts in every update. Without the steady lead every run ends
+// at once; with it (the default), once a judged run has ended before 16 updates the lead is 24
+// and a run's end is spread.
 TEST(SweepAndPrune, SteadyMotionCoastsBetweenEnlargementsAndEqualsBruteForce) {
-  for (double coast : {8.0, 0.0}) {
-    SCOPED_TRACE(testing::Message() << "coast_updates " << coast);
+  for (const auto& [coast, steady] :
+       {std::pair<double, bool>{8.0, false}, {8.0, true}, {0.0, true}}) {
+    SCOPED_TRACE(testing::Message() << "coast_updates " << coast << ", steady_lead " << steady);
     Rng rng(170017);
     SweepAndPruneConfig cfg;
     cfg.coast_updates = coast;
+    cfg.steady_lead = steady;
     Harness h(cfg, true);
     DriftScene scene(600, rng, h);
     h.updateAndCheck();
@@ -1092,23 +1098,63 @@ TEST(SweepAndPrune, SteadyMotionCoastsBetweenEnlargementsAndEqualsBruteForce) {
       if (::testing::Test::HasFatalFailure()) return;
       counts.add(h.sap());
     }
-    std::printf("coast %.0f: %d updates, %d coasted, %d moved a few alone, %d enlarged all, "
-                "%d rebuilt, %d next arrays swapped in\n", coast, counts.updates, counts.coasted,
-                counts.moved_alone, counts.enlarged_all, counts.rebuilt, counts.swapped);
+    std::printf("coast %.0f, steady lead %d: %d updates, %d coasted, %d moved a few alone, "
+                "%d enlarged all, %d rebuilt, %d next arrays swapped in, %d at the steady lead\n",
+                coast, steady ? 1 : 0, counts.updates, counts.coasted, counts.moved_alone,
+                counts.enlarged_all, counts.rebuilt, counts.swapped, counts.steady_lead);
     if (coast > 0.0) {
       EXPECT_GE(counts.coasted + counts.moved_alone, 55);
       EXPECT_LE(counts.enlarged_all, 20);
       EXPECT_GE(counts.enlarged_all, 5);
-      // Runs of a few updates (everybody leaves together) end at once: too short to spread
-      // (CoastPolicy::kMinSpreadRun).
-      EXPECT_EQ(counts.swapped, 0);
-      EXPECT_EQ(counts.building, 0);
+      if (!steady) {
+        // Runs of a few updates (everybody leaves together) end at once: too short to spread
+        // (CoastPolicy::kMinSpreadRun).
+        EXPECT_EQ(counts.swapped, 0);
+        EXPECT_EQ(counts.building, 0);
+        EXPECT_EQ(counts.steady_lead, 0);
+      } else {
+        // Four enlargements before runs are judged (about 8 updates each), a judged run of
+        // about 8 that takes the steady lead, then runs of about 24 that are spread.
+        EXPECT_GE(counts.steady_lead, 25);
+        EXPECT_GE(counts.swapped, 1);
+        EXPECT_GE(counts.building, 6);
+      }
     } else {
       EXPECT_EQ(counts.coasted, 0);
       EXPECT_EQ(counts.moved_alone, 0);
       EXPECT_EQ(counts.tight_candidates, counts.updates);
     }
   }
+}
+
+// Steady motion too fast for the steady lead: 24 updates of it would pass the lead's cap (half
+// the box) within 16 updates, so runs at it could not be spread either; the lead stays 8 (the
+// steady lead is refused, then blocked) and coasting goes on. Pairs, began and ended equal brute
+// force in every update.
+TEST(SweepAndPrune, SteadyMotionAtTheLeadsCapKeepsTheConfiguredLeadAndEqualsBruteForce) {
+  Rng rng(170017);
+  SweepAndPruneConfig cfg;
+  Harness h(cfg, true);
+  DriftScene scene(600, rng, h);
+  // 3/64 m per update on every axis: 3-9 % of a box's size (the lead's cap, half the largest
+  // extent, is 0.25-0.75 m: 24 updates of it pass the cap, 16 pass most caps).
+  for (Eigen::Vector3d& v : scene.velocity) {
+    for (int k = 0; k < 3; ++k) v[k] = v[k] >= 0.0 ? 3.0 / 64 : -3.0 / 64;
+  }
+  h.updateAndCheck();
+  CoastCounts counts;
+  for (int cycle = 0; cycle < 200; ++cycle) {
+    scene.step(h);
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    counts.add(h.sap());
+  }
+  std::printf("3/64 m per update: %d enlarged all, %d coasted, %d moved a few alone, %d at the "
+              "steady lead, %d with coasting off\n", counts.enlarged_all, counts.coasted,
+              counts.moved_alone, counts.steady_lead, counts.updates - counts.coasted -
+              counts.moved_alone - counts.enlarged_all);
+  EXPECT_GE(counts.enlarged_all, 10);  // coasting stayed on
+  EXPECT_EQ(counts.steady_lead, 0);
 }
 
 // Steady motion with a lead of 16 updates: runs of about 16 updates, long enough to spread

@@ -143,6 +143,10 @@ class Harness {
     // harness 222 s instead of 8 (libFuzzer's inputs grow to the longest seed); crowd() and
     // noisyUpdates() reach it in 29 bytes (the committed seed crowd_slabs).
     if (((b >> 4) & 7) == 7 && c.coast_updates > 0.0) c.coast_updates = 4.0;
+    // The steady lead (on by default: a lead of 8 triples when runs end together before 16
+    // updates, 4 to 12) is left off with the factor 1e-3, so that runs ended at once keep
+    // being fuzzed as well.
+    c.steady_lead = ((b >> 4) & 7) != 6;
     return c;
   }
 
