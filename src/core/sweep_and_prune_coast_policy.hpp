@@ -222,12 +222,14 @@ class CoastPolicy {
   /// of the box size per update ends runs at a lead of 8 every 7-9 updates) triples the lead
   /// (when that makes at most kSteadyLeadAtMost), so that runs last long enough for their ends
   /// to be spread over the updates before (the next arrays). A run at the steady lead shorter
-  /// than kMinSpreadRun (the lead hit its cap, max_lead_fraction, or the motion sped up) or
-  /// failing the cost model brings the configured lead back, and the steady lead is not tried
+  /// than kMinSpreadRun (the lead hit its cap, max_lead_fraction, or the motion sped up),
+  /// costing more per update than the last judged run at the configured lead (its larger bounds
+  /// give more candidates to scan), or failing the cost model brings the configured lead back,
+  /// and the steady lead is not tried
   /// again for kSteadyBlock judged runs (twice as many after each such run in a row, up to
   /// kMaxSteadyBlock); one that lasts its longest (4 coast_updates: the motion slowed) brings
-  /// it back at once. Uniform 1 %, N = 1 000, lead 24 against 8: p99 / median 2.9x against
-  /// 13x, means 30 % lower, medians 23 % higher (bench/results/NOTES.md sections 29 and 33).
+  /// it back at once. Uniform 1 %, N = 1 000, one run beside the lead of 8: p99 / median 4x
+  /// against 20x, mean 29 % lower, median 51 % higher (bench/results/NOTES.md section 33).
   static constexpr double kSteadyLead = 3.0;
   /// The steady lead is taken only when it is at most this many updates (the monitor's 16 makes
   /// steady runs of about 16 updates, long enough to spread, and keeps it).
@@ -313,6 +315,7 @@ class CoastPolicy {
   double run_lead_ = lead_;                   // the lead the run under way was enlarged with
   std::uint32_t steady_block_ = 0;            // judged runs before the steady lead may be taken
   std::uint32_t steady_backoff_ = kSteadyBlock; // the block after the next one that did not pay
+  double configured_rate_ = 0.0;  // work per update of the last judged run at coast_updates_
   // Back to the configured lead from the steady one, blocking the steady lead for a while.
   void leaveSteadyLead() {
     lead_ = coast_updates_;

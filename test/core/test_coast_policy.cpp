@@ -541,8 +541,9 @@ TEST(CoastPolicy, TheLeadDoublesWhileRunsLastTheirLongestAndComesBackWhenOneIsSh
 // rules: a judged run at the configured lead that ends at once before kMinSpreadRun (16)
 // updates takes kSteadyLead (3) times the lead for the enlargement that ends it, when that is
 // at most kSteadyLeadAtMost (24); the next runs are expected 3 times as long. A run at it
-// shorter than 16 updates, or costing more than not coasting, brings the configured lead back
-// and blocks the steady lead for 8 judged runs (16 after a second such run in a row); one that
+// shorter than 16 updates, costing more per update than the last judged run at the configured
+// lead, or costing more than not coasting, brings the configured lead back and blocks the
+// steady lead for 8 judged runs (16 after a second such run in a row); one that
 // lasts its longest (4 coast_updates) brings it back without a block. One whose proxies would
 // leave it before 16 updates anyway (the cap) is not taken and blocked alike.
 TEST(CoastPolicy, TheLeadTriplesWhenRunsEndTogetherTooSoonToSpreadAndComesBack) {
@@ -648,6 +649,20 @@ TEST(CoastPolicy, TheLeadTriplesWhenRunsEndTogetherTooSoonToSpreadAndComesBack) 
     w.enlargedAll(u, cheap);
   }
   EXPECT_TRUE(w.steadyLeadDue(u + 9));
+  // A run at it that cost more per update than the last judged run at 8 (which cost 2 900
+  // units over 9 updates: enlarging 100 proxies, 20 each, and a pass over 3 axes of 200
+  // endpoints, 1.5 each), though less than not coasting (a rebuild of one axis, 3 900 units
+  // per update): 2 900 + 2 000 candidates scanned at 4 units over 25 updates is 436 a
+  // update. Back to 8, blocked.
+  CoastPolicy z(8.0);
+  for (std::uint32_t v : {8u, 16u, 24u, 32u}) z.enlargedAll(v, cheap);
+  endsAtOnce(&z, 41);
+  z.enlargedAll(41, cheap);
+  EXPECT_DOUBLE_EQ(z.lead(), 24.0);
+  z.scanned(2000);
+  z.enlargedAll(66, cheap, CoastPolicy::End::kSpreadAtEnd);
+  EXPECT_DOUBLE_EQ(z.lead(), 8.0);
+  EXPECT_FALSE(z.steadyLeadDue(75));
 }
 
 TEST(CoastPolicy, NoCoastUpdatesNeverCoasts) {

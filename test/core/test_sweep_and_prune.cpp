@@ -1113,11 +1113,11 @@ TEST(SweepAndPrune, SteadyMotionCoastsBetweenEnlargementsAndEqualsBruteForce) {
         EXPECT_EQ(counts.building, 0);
         EXPECT_EQ(counts.steady_lead, 0);
       } else {
-        // Four enlargements before runs are judged (about 8 updates each), a judged run of
-        // about 8 that takes the steady lead, then runs of about 24 that are spread.
-        EXPECT_GE(counts.steady_lead, 25);
-        EXPECT_GE(counts.swapped, 1);
-        EXPECT_GE(counts.building, 6);
+        // Four enlargements before runs are judged (about 8 updates each), then a judged run
+        // of about 8 that takes the steady lead. (Here many boxes reach the lead's cap at it:
+        // its run lasts 16 updates and costs more per update than one at 8, which brings 8
+        // back; SteadyMotionAtTheSteadyLeadSpreadsRunEndsAndEqualsBruteForce keeps it.)
+        EXPECT_GE(counts.steady_lead, 10);
       }
     } else {
       EXPECT_EQ(counts.coasted, 0);
@@ -1125,6 +1125,34 @@ TEST(SweepAndPrune, SteadyMotionCoastsBetweenEnlargementsAndEqualsBruteForce) {
       EXPECT_EQ(counts.tight_candidates, counts.updates);
     }
   }
+}
+
+// Steady motion at the core's lead of 8 whose runs end together every 8-9 updates, slow
+// enough for three times that lead (1/64 m per update on each axis, boxes of 0.5-1.5 m): the
+// steady lead (24) is taken and kept, its runs last about 24 updates and their ends are
+// spread; pairs, began and ended equal brute force in every update.
+TEST(SweepAndPrune, SteadyMotionAtTheSteadyLeadSpreadsRunEndsAndEqualsBruteForce) {
+  Rng rng(170017);
+  SweepAndPruneConfig cfg;
+  Harness h(cfg, true);
+  DriftScene scene(600, rng, h);
+  for (Eigen::Vector3d& v : scene.velocity) {
+    for (int k = 0; k < 3; ++k) v[k] = v[k] >= 0.0 ? 1.0 / 64 : -1.0 / 64;
+  }
+  h.updateAndCheck();
+  CoastCounts counts;
+  for (int cycle = 0; cycle < 200; ++cycle) {
+    scene.step(h);
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    counts.add(h.sap());
+  }
+  std::printf("1/64 m per update: %d enlarged all, %d at the steady lead, %d next arrays "
+              "swapped in, %d slices built\n", counts.enlarged_all, counts.steady_lead,
+              counts.swapped, counts.building);
+  EXPECT_GE(counts.steady_lead, 120);
+  EXPECT_GE(counts.swapped, 4);
+  EXPECT_GE(counts.building, 24);
 }
 
 // Steady motion too fast for the steady lead: 24 updates of it would pass the lead's cap (half
