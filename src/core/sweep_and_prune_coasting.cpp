@@ -182,41 +182,22 @@ void enlargeAll(State& s, double lead) {
   }
 }
 
-bool runsTooShort(const State& s, double lead) {
-  // While coasting is off, moveProxy keeps each proxy's bounds before its last move in base:
-  // its last displacement per side. A side moving d per update gets min(cap, lead |d|) of room,
-  // so the proxy stays inside for min(lead, cap / |d|) updates of its fastest side.
-  const double min_run = std::min(lead, CoastPolicy::kMinRun);
-  std::size_t short_runs = 0, live = 0;
-  for (std::size_t p = 0, slots = s.info.size(); p < slots; ++p) {
-    if (s.info[p].state != ProxyState::kLive) continue;
-    ++live;
-    const std::uint64_t* t = s.tight.data() + 6 * p;
-    const std::uint64_t* b = s.base.data() + 6 * p;
-    double extent = 0.0, fastest = 0.0;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double lo = unsortable64(t[2 * axis]), hi = unsortable64(t[2 * axis + 1]);
-      extent = std::max(extent, hi - lo);
-      fastest = std::max(fastest, std::abs(lo - unsortable64(b[2 * axis])));
-      fastest = std::max(fastest, std::abs(hi - unsortable64(b[2 * axis + 1])));
-    }
-    // (Not a number anywhere: not counted as short; the retry then decides.)
-    short_runs += s.config.max_lead_fraction * extent < min_run * fastest;
-  }
-  return 4 * short_runs > live;
-}
+namespace {
 
-bool steadyLeadCapped(const State& s, double lead, std::uint32_t min_run) {
-  // base holds each proxy's bounds at its last enlargement, `elapsed` updates ago: its fastest
-  // side's displacement per update. Bounds enlarged with `lead` hold it for min(lead, cap / d)
-  // updates. (A proxy enlarged in this update has no displacement yet: not counted.)
-  const double run = std::min(lead, static_cast<double>(min_run));
+// True when more than a quarter of the live proxies would leave bounds enlarged ahead of their
+// fastest side within `run` updates: a side moving d per update gets min(cap, lead |d|) of room
+// (cap: max_lead_fraction of the largest extent), so it stays inside for min(lead, cap / |d|)
+// updates, and `run` <= lead. d is the displacement from base (the bounds `elapsed` updates
+// ago: 1 for the last move while coasting is off; since the last enlargement while it is on).
+// A proxy without a displacement (enlarged in this update) or with a NaN anywhere is not
+// counted as short.
+bool quarterLeaveWithin(const State& s, double run, bool since_enlargement) {
   std::size_t short_runs = 0, live = 0;
   for (std::size_t p = 0, slots = s.info.size(); p < slots; ++p) {
     const ProxyInfo& info = s.info[p];
     if (info.state != ProxyState::kLive) continue;
     ++live;
-    const std::uint32_t elapsed = s.updates - info.enlarged_at;
+    const std::uint32_t elapsed = since_enlargement ? s.updates - info.enlarged_at : 1;
     if (elapsed == 0) continue;
     const std::uint64_t* t = s.tight.data() + 6 * p;
     const std::uint64_t* b = s.base.data() + 6 * p;
@@ -227,10 +208,22 @@ bool steadyLeadCapped(const State& s, double lead, std::uint32_t min_run) {
       fastest = std::max(fastest, std::abs(lo - unsortable64(b[2 * axis])));
       fastest = std::max(fastest, std::abs(hi - unsortable64(b[2 * axis + 1])));
     }
-    // (Not a number anywhere: not counted as short.)
     short_runs += s.config.max_lead_fraction * extent * static_cast<double>(elapsed) < run * fastest;
   }
   return 4 * short_runs > live;
+}
+
+}  // namespace
+
+bool runsTooShort(const State& s, double lead) {
+  // While coasting is off, moveProxy keeps each proxy's bounds before its last move in base:
+  // its last displacement per side. (A NaN leaves the decision to the retry.)
+  return quarterLeaveWithin(s, std::min(lead, CoastPolicy::kMinRun), false);
+}
+
+bool steadyLeadCapped(const State& s, double lead, std::uint32_t min_run) {
+  // While coasting, base holds each proxy's bounds at its last enlargement.
+  return quarterLeaveWithin(s, std::min(lead, static_cast<double>(min_run)), true);
 }
 
 void validateFlags(State& s) {

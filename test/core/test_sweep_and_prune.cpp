@@ -1127,60 +1127,54 @@ TEST(SweepAndPrune, SteadyMotionCoastsBetweenEnlargementsAndEqualsBruteForce) {
   }
 }
 
+namespace {
+
+// 600 boxes of the drift scene, every one moving `speed` m per update along each axis (the
+// signs of its random velocity), at the core's default configuration, for 200 updates checked
+// against brute force after each; the coasting counts.
+CoastCounts steadyDrift(double speed) {
+  Rng rng(170017);
+  SweepAndPruneConfig cfg;
+  Harness h(cfg, true);
+  DriftScene scene(600, rng, h);
+  for (Eigen::Vector3d& v : scene.velocity) {
+    for (int k = 0; k < 3; ++k) v[k] = v[k] >= 0.0 ? speed : -speed;
+  }
+  h.updateAndCheck();
+  CoastCounts counts;
+  for (int cycle = 0; cycle < 200; ++cycle) {
+    scene.step(h);
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) break;
+    counts.add(h.sap());
+  }
+  std::printf("%.4f m per update: %d enlarged all, %d coasted, %d moved a few alone, %d at the "
+              "steady lead, %d next arrays swapped in, %d slices built\n", speed,
+              counts.enlarged_all, counts.coasted, counts.moved_alone, counts.steady_lead,
+              counts.swapped, counts.building);
+  return counts;
+}
+
+}  // namespace
+
 // Steady motion at the core's lead of 8 whose runs end together every 8-9 updates, slow
 // enough for three times that lead (1/64 m per update on each axis, boxes of 0.5-1.5 m): the
 // steady lead (24) is taken and kept, its runs last about 24 updates and their ends are
 // spread; pairs, began and ended equal brute force in every update.
 TEST(SweepAndPrune, SteadyMotionAtTheSteadyLeadSpreadsRunEndsAndEqualsBruteForce) {
-  Rng rng(170017);
-  SweepAndPruneConfig cfg;
-  Harness h(cfg, true);
-  DriftScene scene(600, rng, h);
-  for (Eigen::Vector3d& v : scene.velocity) {
-    for (int k = 0; k < 3; ++k) v[k] = v[k] >= 0.0 ? 1.0 / 64 : -1.0 / 64;
-  }
-  h.updateAndCheck();
-  CoastCounts counts;
-  for (int cycle = 0; cycle < 200; ++cycle) {
-    scene.step(h);
-    h.updateAndCheck();
-    if (::testing::Test::HasFatalFailure()) return;
-    counts.add(h.sap());
-  }
-  std::printf("1/64 m per update: %d enlarged all, %d at the steady lead, %d next arrays "
-              "swapped in, %d slices built\n", counts.enlarged_all, counts.steady_lead,
-              counts.swapped, counts.building);
+  const CoastCounts counts = steadyDrift(1.0 / 64);
   EXPECT_GE(counts.steady_lead, 120);
   EXPECT_GE(counts.swapped, 4);
   EXPECT_GE(counts.building, 24);
 }
 
-// Steady motion too fast for the steady lead: 24 updates of it would pass the lead's cap (half
-// the box) within 16 updates, so runs at it could not be spread either; the lead stays 8 (the
-// steady lead is refused, then blocked) and coasting goes on. Pairs, began and ended equal brute
-// force in every update.
+// Steady motion too fast for the steady lead: 3/64 m per update on every axis, 3-9 % of a box's
+// size (the lead's cap, half the largest extent, is 0.25-0.75 m: 24 updates of it pass the
+// cap, 16 pass most caps), so runs at it could not be spread either; the lead stays 8 (the
+// steady lead is refused, then blocked) and coasting goes on. Pairs, began and ended equal
+// brute force in every update.
 TEST(SweepAndPrune, SteadyMotionAtTheLeadsCapKeepsTheConfiguredLeadAndEqualsBruteForce) {
-  Rng rng(170017);
-  SweepAndPruneConfig cfg;
-  Harness h(cfg, true);
-  DriftScene scene(600, rng, h);
-  // 3/64 m per update on every axis: 3-9 % of a box's size (the lead's cap, half the largest
-  // extent, is 0.25-0.75 m: 24 updates of it pass the cap, 16 pass most caps).
-  for (Eigen::Vector3d& v : scene.velocity) {
-    for (int k = 0; k < 3; ++k) v[k] = v[k] >= 0.0 ? 3.0 / 64 : -3.0 / 64;
-  }
-  h.updateAndCheck();
-  CoastCounts counts;
-  for (int cycle = 0; cycle < 200; ++cycle) {
-    scene.step(h);
-    h.updateAndCheck();
-    if (::testing::Test::HasFatalFailure()) return;
-    counts.add(h.sap());
-  }
-  std::printf("3/64 m per update: %d enlarged all, %d coasted, %d moved a few alone, %d at the "
-              "steady lead, %d with coasting off\n", counts.enlarged_all, counts.coasted,
-              counts.moved_alone, counts.steady_lead, counts.updates - counts.coasted -
-              counts.moved_alone - counts.enlarged_all);
+  const CoastCounts counts = steadyDrift(3.0 / 64);
   EXPECT_GE(counts.enlarged_all, 10);  // coasting stayed on
   EXPECT_EQ(counts.steady_lead, 0);
 }
