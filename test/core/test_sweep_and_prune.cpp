@@ -1129,14 +1129,14 @@ TEST(SweepAndPrune, SteadyMotionCoastsBetweenEnlargementsAndEqualsBruteForce) {
 
 namespace {
 
-// 600 boxes of the drift scene, every one moving `speed` m per update along each axis (the
+// 300 boxes of the drift scene, every one moving `speed` m per update along each axis (the
 // signs of its random velocity), at the core's default configuration, for 200 updates checked
 // against brute force after each; the coasting counts.
 CoastCounts steadyDrift(double speed) {
   Rng rng(170017);
   SweepAndPruneConfig cfg;
   Harness h(cfg, true);
-  DriftScene scene(600, rng, h);
+  DriftScene scene(300, rng, h);
   for (Eigen::Vector3d& v : scene.velocity) {
     for (int k = 0; k < 3; ++k) v[k] = v[k] >= 0.0 ? speed : -speed;
   }
