@@ -56,10 +56,13 @@
 /// their longest. The steady lead (SweepAndPruneConfig::steady_lead): when a judged run ends
 /// before 16 updates because its proxies left their bounds together (steady motion: a lead of
 /// 8 ends runs every 7-9 updates), the enlargement that ends it takes three times the lead
-/// (when that is at most 24), so that runs last long enough for their ends to be spread; a run
-/// at it shorter than 16 updates (the lead's cap), or costing more than not coasting, brings
-/// the configured lead back and blocks the steady one for 8 judged runs (twice as many after
-/// each such run in a row); a run at it that lasts 4 coast_updates brings it back unblocked.
+/// (when that is at most 24), so that runs last long enough for their ends to be spread. It is
+/// refused (and blocked) when more than a quarter of the proxies would pass bounds that long,
+/// capped at max_lead_fraction, within 16 updates; a run at it shorter than 16 updates, costing
+/// more per update than the last run at the configured lead, or costing more than not coasting
+/// brings the configured lead back and blocks the steady one for 8 judged runs (twice as many
+/// after each such run in a row); a run at it that lasts 4 coast_updates brings it back
+/// unblocked.
 ///
 /// Long runs (at least 16 updates: tracker jitter around rest or a slow drift, where runs last
 /// their longest) end without a dear update: the next arrays are built over
@@ -115,12 +118,14 @@ struct SweepAndPruneConfig {
   int spread_updates = 16;
   /// The steady lead: when coasting's runs end before 16 updates because the proxies leave
   /// their bounds together (steady motion), the lead triples (when that makes at most 24
-  /// updates), so that runs last long enough for their ends to be spread (spread_updates);
-  /// back to coast_updates when a run at it is shorter than 16 updates (the lead's cap), costs
-  /// more than not coasting, or lasts 4 coast_updates. The monitor's lead of 16 never takes it
-  /// (its steady runs are long enough). Uniform 1 %, N = 1 000: p99 / median 13x -> 3.5x,
-  /// mean 30-40 % lower, median 15-30 % higher (bench/results/NOTES.md section 33). false: the
-  /// lead is coast_updates (or the long lead under jitter) whatever the runs.
+  /// updates), so that runs last long enough for their ends to be spread (spread_updates).
+  /// Refused when the motion would pass the lead's cap (max_lead_fraction) within 16 updates;
+  /// back to coast_updates when a run at it is shorter than 16 updates, costs more per update
+  /// than a run at coast_updates did or more than not coasting, or lasts 4 coast_updates. The
+  /// monitor's lead of 16 never takes it (its steady runs are long enough). Uniform 1 %,
+  /// N = 1 000, one run beside it off: p99 / median 20x -> 4x, mean 27 % lower, median 47 %
+  /// higher (bench/results/NOTES.md section 33). false: the lead is coast_updates (or the long
+  /// lead under jitter) whatever the runs.
   bool steady_lead = true;
   /// Coasting off, a rebuild streak whose estimate says it beats insertion sort by less than
   /// the rebuild of all three axes it would take to leave it is checked against the measured

@@ -57,7 +57,7 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
     episode_work_ += run_work_;
     episode_without_ += without * run;
     const bool steady_run = steadyLead() && ended_lead == lead_;
-    // The steady lead taken for this enlargement (endsAtOnce()): its runs are expected about
+    // The steady lead taken for this enlargement (takeSteadyLead()): its runs are expected about
     // kSteadyLead times as long as this one, so that the first one's end is spread too.
     if (steadyLead() && ended_lead != lead_) {
       expected_run_ = std::min(longestRun(), static_cast<std::uint32_t>(kSteadyLead * run));
