@@ -3,10 +3,21 @@
 reports (bench/results/broadphase*.md): per configuration, ours and the best peer from the
 report's headline, ours' p99 / median (wall clock and thread CPU time; in CPU time also without
 the first cycle of each round-robin block, which runs after the other peers with cold caches),
-and the two other rows of ours measured in the same run: every run's end at once (spread_updates 0) and lead 16
-(coast_updates 16). Usage: python3 bench/tail_table.py REPORT.md [REPORT.md ...] > table.md"""
+and the other rows of ours measured in the same run: every run's end at once (spread_updates 0),
+no steady lead (steady_lead false) and lead 16 (coast_updates 16). Every row of ours is matched
+by its own name: a row whose name the script does not know is an error, never taken for ours. Usage: python3 bench/tail_table.py REPORT.md [REPORT.md ...] > table.md"""
 import re
 import sys
+
+
+# The rows of ours in a report, by their exact names (broadphase_bench.cpp's peers).
+ROWS = {
+    'ours (SweepAndPrune)': 'ours',
+    "ours, run's end at once (spread_updates 0)": 'once',
+    'ours, no steady lead (steady_lead false)': 'nosteady',
+    'ours, lead 16 (coast_updates 16)': 'lead16',
+    'ours as in the baseline (WP_BENCH_BASELINE)': 'baseline',
+}
 
 
 def parse(path):
@@ -29,7 +40,9 @@ def parse(path):
             cells = [c.strip() for c in line.strip('|').split('|')]
             cpu = re.search(r'CPU time: median ([\d.]+), p99 ([\d.]+), ([\d.]+)×', cells[-1])
             warm = re.search(r"without each block's first cycle: p99 ([\d.]+), ([\d.]+)×", cells[-1])
-            key = 'once' if 'at once' in cells[0] else 'lead16' if 'lead 16' in cells[0] else 'ours'
+            key = ROWS.get(cells[0])
+            if key is None:
+                sys.exit(f'tail_table.py: {path}: unknown row of ours: {cells[0]!r}')
             rows.setdefault(cur, {})[key] = dict(median=float(cells[1]), p99=float(cells[2]),
                                                  mean=float(cells[3]),
                                                  cpu=cpu.groups() if cpu else None,
@@ -84,11 +97,12 @@ for path in sys.argv[1:]:
         warm_s = f'{fmt(float(warm[0]))}, {warm[1]}×' if warm else '–'
         out.append(f"| {s} | {fmt(o['median'])} | {best} | {fmt(o['p99'])} | "
                    f"{o['p99'] / o['median']:.1f}× | {cpu_s} | {warm_s} | {other(r.get('once'))} | "
-                   f"{other(r.get('lead16'))} |")
+                   f"{other(r.get('nosteady'))} | {other(r.get('lead16'))} |")
 print('| scene | ours median | best peer | its median | ratio | means: ours, best peer, ratio | '
       'ours p99 | p99 / median | ours in CPU time: median, p99, p99 / median | '
       "the same without each round-robin block's first cycle: p99, p99 / median | "
       "run's end at once (same run): median, mean, p99, p99 / median in CPU time | "
+      'no steady lead (same run): median, mean, p99, p99 / median in CPU time | '
       'lead 16 (same run): median, mean, p99, p99 / median in CPU time |')
-print('|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|')
+print('|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|')
 print('\n'.join(out))
