@@ -113,8 +113,8 @@ struct SweepAndPruneConfig {
   /// A coasting run's end spread over up to this many updates (the next arrays: each proxy's
   /// next enlarged bounds, the sorted endpoint arrays and their candidates, built a slice per
   /// update beside the current ones before the run is expected to end, then swapped in; fewer
-  /// updates when runs are short: under half of a run's; twice as many at the long lead); 0
-  /// enlarges everybody and re-sorts in one update, as the run ends.
+  /// updates when runs are short: under half of a run's; at the long lead twice as many, under
+  /// two thirds of its run's); 0 enlarges everybody and re-sorts in one update, as the run ends.
   int spread_updates = 16;
   /// The steady lead: when coasting's runs end before 16 updates because the proxies leave
   /// their bounds together (steady motion), the lead triples (when that makes at most 24

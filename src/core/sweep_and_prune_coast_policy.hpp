@@ -263,15 +263,22 @@ class CoastPolicy {
   /// before the run ends (at its longest, or when its proxies leave their bounds).
   static constexpr std::uint32_t kSwapMargin = 3;
   /// Updates a build may take, at most `spread` (twice that at the long lead): under half of a
-  /// run's updates (at least 6), so that most updates carry no slice: spread over the whole run
-  /// (29 of 32 updates) the p99 was as high in microseconds, and the medians 1.5-1.7 times and
-  /// the means 5-15 % higher (bench/results/NOTES.md section 21). (The long lead's runs of 48
-  /// updates in 16 slices made the p99, a slice, 3.4 times the median at N = 10 000; in 22,
-  /// 2.3-2.8 times.) 0: runs too short to spread their end.
+  /// run's updates (at least 6), under two thirds at the long lead. Spread over the whole run
+  /// (29 of 32 updates) the p99 was as high in microseconds and the means 5-15 % higher
+  /// (bench/results/NOTES.md section 21): most updates should carry no slice. The long lead's
+  /// runs (tracker jitter around rest or a slow drift, up to 48 updates) are the most
+  /// predictable: in 30 slices of 48 instead of 22 their p99 fell 3-22 % in microseconds, to
+  /// 1.9-2.8 times the median (2.3-4.2 before), the means within 3 %, the medians 9-30 %
+  /// higher (section 34). Steady motion and walkers at the steady lead lost from builds that
+  /// early: a box that turns after its slice leaves its next bounds at the swap (walkers at
+  /// N = 10 000: the p99 1.5 times, the mean 8 % higher; a steady drift between walls lost the
+  /// steady lead). (The long lead's runs of 48 updates in 16 slices made the p99, a slice, 3.4
+  /// times the median at N = 10 000.) 0: runs too short to spread their end.
   std::uint32_t nextSlices(std::uint32_t spread) const {
     if (expected_run_ < kMinSpreadRun) return 0;
     const std::uint32_t most = longLead() ? static_cast<std::uint32_t>(kLongLead) * spread : spread;
-    return std::min({most, expected_run_ - kSwapMargin - 2, std::max<std::uint32_t>(6, expected_run_ / 2 - 2)});
+    const std::uint32_t share = longLead() ? 2 * expected_run_ / 3 : expected_run_ / 2;
+    return std::min({most, expected_run_ - kSwapMargin - 2, std::max<std::uint32_t>(6, share - 2)});
   }
   /// The update that swaps in a build started at `update` over `slices` updates.
   std::uint32_t nextSwapAt(std::uint32_t update, std::uint32_t slices) const {

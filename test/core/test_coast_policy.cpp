@@ -496,7 +496,7 @@ TEST(CoastPolicy, TheLeadDoublesWhileRunsLastTheirLongestAndComesBackWhenOneIsSh
   EXPECT_DOUBLE_EQ(p.lead(), 16.0);
   EXPECT_EQ(p.longestRun(), 48u);
   EXPECT_EQ(p.expectedRun(), 48u);
-  EXPECT_EQ(p.nextSlices(16), 22u);  // 48 / 2 - 2: up to twice spread_updates at the long lead
+  EXPECT_EQ(p.nextSlices(16), 30u);  // 2 x 48 / 3 - 2 at the long lead: up to twice spread_updates
   EXPECT_EQ(p.nextSlices(8), 16u);
   // Its runs end at 48 updates, nothing leaving.
   EXPECT_EQ(p.step(119 + 47, 0, 100, false, true), Step::kNothing);
