@@ -268,11 +268,11 @@ class CoastPolicy {
   /// (bench/results/NOTES.md section 21): most updates should carry no slice. The long lead's
   /// runs (tracker jitter around rest or a slow drift, up to 48 updates) are the most
   /// predictable: in 30 slices of 48 instead of 22 their p99 fell 3-22 % in microseconds, to
-  /// 1.9-2.8 times the median (2.3-4.2 before), the means within 3 %, the medians 9-30 %
-  /// higher (section 34). Steady motion and walkers at the steady lead lost from builds that
-  /// early: a box that turns after its slice leaves its next bounds at the swap (walkers at
-  /// N = 10 000: the p99 1.5 times, the mean 8 % higher; a steady drift between walls lost the
-  /// steady lead). (The long lead's runs of 48 updates in 16 slices made the p99, a slice, 3.4
+  /// 1.9-2.8 times the median (2.3-4.2 before), the means 7 % lower to 3 % higher, the
+  /// medians 9-30 % higher (section 34). Steady motion and walkers at the steady lead lost
+  /// from builds that early: a box that turns after its slice leaves its next bounds at the
+  /// swap (walkers at N = 10 000: the p99 1.5 times, the mean 8 % higher; a steady drift
+  /// between walls lost the steady lead). (The long lead's runs of 48 updates in 16 slices made the p99, a slice, 3.4
   /// times the median at N = 10 000.) 0: runs too short to spread their end.
   std::uint32_t nextSlices(std::uint32_t spread) const {
     if (expected_run_ < kMinSpreadRun) return 0;
