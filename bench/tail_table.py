@@ -5,7 +5,8 @@ report's headline, ours' p99 / median (wall clock and thread CPU time; in CPU ti
 the first cycle of each round-robin block, which runs after the other peers with cold caches),
 and the other rows of ours measured in the same run: every run's end at once (spread_updates 0),
 no steady lead (steady_lead false) and lead 16 (coast_updates 16). Every row of ours is matched
-by its own name: a row whose name the script does not know is an error, never taken for ours. Usage: python3 bench/tail_table.py REPORT.md [REPORT.md ...] > table.md"""
+by its own name: a row whose name the script does not know is an error, never taken for ours.
+Usage: python3 bench/tail_table.py REPORT.md [REPORT.md ...] > table.md"""
 import re
 import sys
 

@@ -272,8 +272,9 @@ class CoastPolicy {
   /// medians 9-30 % higher (section 34). Steady motion and walkers at the steady lead lost
   /// from builds that early: a box that turns after its slice leaves its next bounds at the
   /// swap (walkers at N = 10 000: the p99 1.5 times, the mean 8 % higher; a steady drift
-  /// between walls lost the steady lead). (The long lead's runs of 48 updates in 16 slices made the p99, a slice, 3.4
-  /// times the median at N = 10 000.) 0: runs too short to spread their end.
+  /// between walls lost the steady lead). (The long lead's runs of 48 updates in 16 slices
+  /// made the p99, a slice, 3.4 times the median at N = 10 000.) 0: runs too short to spread
+  /// their end.
   std::uint32_t nextSlices(std::uint32_t spread) const {
     if (expected_run_ < kMinSpreadRun) return 0;
     const std::uint32_t most = longLead() ? static_cast<std::uint32_t>(kLongLead) * spread : spread;
