@@ -110,7 +110,7 @@ void gatherSorted(const std::uint64_t* sorted, std::vector<std::uint64_t>& keys,
 
 std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
                               std::size_t from, std::int64_t max_work, std::int64_t* swaps,
-                              std::int64_t swap_work) {
+                              const InsertionWork& weights, std::int64_t* work_done) {
   // Plain insertion sort, no pair events.
   std::uint64_t* key = keys->data();
   std::uint32_t* owner = owners->data();
@@ -118,7 +118,7 @@ std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std:
   std::int64_t work = 0, moved = 0;
   std::size_t i = std::max<std::size_t>(from, 1);
   for (; i < last && work < max_work; ++i) {
-    ++work;
+    work += weights.position;
     const std::uint64_t k = key[i];
     if (key[i - 1] <= k) continue;
     const std::uint32_t o = owner[i];
@@ -130,10 +130,11 @@ std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std:
     } while (key[j - 1] > k);
     key[j] = k;
     owner[j] = o;
-    work += swap_work * static_cast<std::int64_t>(i - j);
+    work += weights.moved + weights.swap * static_cast<std::int64_t>(i - j);
     moved += static_cast<std::int64_t>(i - j);
   }
   *swaps += moved;
+  if (work_done != nullptr) *work_done += work;
   return i;
 }
 

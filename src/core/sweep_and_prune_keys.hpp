@@ -164,13 +164,22 @@ void beginRadixSort(const std::vector<std::uint64_t>& keys, RadixSteps* job);
 bool radixSortStep(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
                    SortScratch* scratch, RadixSteps* job);
 
+/// What insertionSortFrom() counts as work: each position it reads, each endpoint it moves
+/// (the branch that ends its move guesses wrong once), each place one moves by (a shift of a
+/// key and an owner along memory it has just read).
+struct InsertionWork {
+  std::int64_t position = 1;
+  std::int64_t moved = 0;
+  std::int64_t swap = 1;
+};
 /// Insertion sort without pair events of one endpoint array (sentinels in place) from position
 /// `from` on, the positions before it in order already: stops at the high sentinel or once
-/// `max_work` is done (a position counts 1, a swap `swap_work`). Returns the next position to
-/// insert; adds the swaps to *swaps. (Resumable: the next arrays sort a slice at a time.)
+/// `max_work` is done (counted with `work`). Returns the next position to insert; adds the
+/// swaps to *swaps and, when given, the work done to *work_done. (Resumable: the next arrays
+/// sort a slice at a time.)
 std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
                               std::size_t from, std::int64_t max_work, std::int64_t* swaps,
-                              std::int64_t swap_work = 1);
+                              const InsertionWork& work = InsertionWork(), std::int64_t* work_done = nullptr);
 
 /// Sorts one axis' endpoint array (sentinels in place) from scratch: radix sort by the 32
 /// most significant bits that vary over the axis, then an insertion pass for the endpoints

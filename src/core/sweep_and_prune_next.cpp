@@ -16,7 +16,8 @@ using Stage = NextArrays::Stage;
 
 // Work units of a build's parts (about a nanosecond each on the benchmark machine, as
 // CoastPolicy's): one proxy enlarged; one endpoint copied with its next key (and sampled for
-// the swap estimate); one position of the insertion sort and one of its swaps; one endpoint
+// the swap estimate); one position of the insertion sort, one endpoint it moves and one place
+// that endpoint moves by; one endpoint
 // swept, and one pair it finds; a proxy ranked and a pair ordered for the table. Each stage is
 // priced against enlarging (the anchor, 60 a proxy): a slice's budget buys the same time in
 // every stage, so that no update carries a dearer slice than the others. Timed per stage at
@@ -25,12 +26,22 @@ using Stage = NextArrays::Stage;
 // units an endpoint it was given before, the table's order 1.8-2.6 times, a pair found by the
 // sweep ~30 units where 3 were counted (the +-5 % rows' sweeps took twice the +-1 % rows' per
 // endpoint); earlier, on an AMD EPYC, a build's sort took 55 us by insertion (1.2-1.4 swaps
-// per endpoint: a swap ~5 ns, most of it the branch that guesses wrong) and 37 us by radix
-// sort, for 6 000 endpoints (section 22).
+// per endpoint) and 37 us by radix sort, for 6 000 endpoints (section 22). An endpoint the
+// insertion sort moves costs its branch's wrong guess (~7 ns), each place it moves by ~0.5 ns
+// (timed on the walkers' slices, AMD EPYC VM, section 35): priced 5 units a place before, the
+// walkers' heights (4 values, a few nanometres apart: one radix prefix each) took 7 slices
+// of ~80 us for ~30 places per endpoint moved, the build missed its swap and the run ended at
+// once (N = 10 000: 4-6 ms, the p99).
 constexpr double kEnlargeUnits = 60.0;
 constexpr double kCopyUnits = 2.0;
 constexpr double kSortUnits = 1.0;
-constexpr double kSwapUnits = 5.0;
+constexpr double kMoveUnits = 6.0;
+constexpr double kSwapUnits = 0.5;
+// insertionSortFrom() counts whole numbers: half units.
+constexpr double kHalfUnits = 2.0;
+constexpr InsertionWork kInsertionWork{static_cast<std::int64_t>(kHalfUnits * kSortUnits),
+                                       static_cast<std::int64_t>(kHalfUnits * kMoveUnits),
+                                       static_cast<std::int64_t>(kHalfUnits * kSwapUnits)};
 constexpr double kSweepUnits = 14.0;
 constexpr double kRadixUnits = 8.0;  // per endpoint: a radix sort of one axis from scratch
 // Its steps (RadixSteps), per endpoint: the prefixes (the axis' range, then a conversion and a
@@ -170,7 +181,10 @@ double sortSome(State& s, double budget, double full) {
       // compares them with the scans and searches coasting cost; they also choose the sort).
       const std::int64_t estimate = estimateSwapsOf(keys);
       n.jump_swaps += estimate;
-      n.radix = kSortUnits * static_cast<double>(size) + kSwapUnits * static_cast<double>(estimate) >
+      // (Each endpoint moved at most once: past one swap per endpoint the swaps are places.)
+      const double swaps = static_cast<double>(estimate);
+      n.radix = kSortUnits * static_cast<double>(size) + kMoveUnits * std::min(swaps, static_cast<double>(size)) +
+                    kSwapUnits * swaps >
                 kRadixUnits * static_cast<double>(size);
       if (n.radix) beginRadixSort(keys, &n.radix_steps);
       n.cursor = 1;
@@ -185,13 +199,10 @@ double sortSome(State& s, double budget, double full) {
       continue;
     }
     // Within the slice's budget (after a radix sort: the endpoints that share a prefix).
-    static_assert(kSwapUnits >= kSortUnits, "swap work in whole positions");
-    const std::int64_t before = n.sort_swaps;
-    const std::size_t from = n.cursor;
-    n.cursor = insertionSortFrom(&keys, &owners, from, static_cast<std::int64_t>(budget / kSortUnits) + 1,
-                                 &n.sort_swaps, static_cast<std::int64_t>(kSwapUnits / kSortUnits));
-    budget -= kSortUnits * static_cast<double>(n.cursor - from) +
-              kSwapUnits * static_cast<double>(n.sort_swaps - before);
+    std::int64_t done = 0;
+    n.cursor = insertionSortFrom(&keys, &owners, n.cursor, static_cast<std::int64_t>(kHalfUnits * budget) + 1,
+                                 &n.sort_swaps, kInsertionWork, &done);
+    budget -= static_cast<double>(done) / kHalfUnits;
     if (n.cursor >= last) {
       n.cursor = 0;
       if (++n.axis == 3) {

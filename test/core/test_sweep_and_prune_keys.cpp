@@ -71,7 +71,7 @@ std::int64_t sortInSteps(Axis* a, sap::SortScratch* scratch, std::int64_t chunk,
   }
   std::int64_t swaps = 0;
   std::size_t pos = 1;
-  while (pos < a->keys.size() - 1) pos = sap::insertionSortFrom(&a->keys, &a->owners, pos, chunk, &swaps, 5);
+  while (pos < a->keys.size() - 1) pos = sap::insertionSortFrom(&a->keys, &a->owners, pos, chunk, &swaps, {1, 0, 5});
   return swaps;
 }
 
@@ -140,6 +140,52 @@ TEST(SweepAndPruneKeys, RadixSortInStepsHandlesTiesCrowdsAndInfiniteBounds) {
     const auto oracle = sortedPairs(a);
     sortInSteps(&a, &scratch, 50, &steps);
     expectSortedLike(a, oracle);
+  }
+}
+
+// What insertionSortFrom() counts, against counts taken from the unsorted array alone: an
+// endpoint moves when a larger key stands anywhere before it (it is not a running maximum),
+// and the places moved are the inversions (brute force, every pair). A slice resumed after
+// any amount of work counts the same in total.
+TEST(SweepAndPruneKeys, InsertionSortCountsPositionsMovesAndPlacesAsWeighted) {
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> coordinate(-5.0, 5.0);
+  std::uniform_int_distribution<int> few(0, 3);
+  std::normal_distribution<double> nudge(0.0, 1e-9);
+  const sap::InsertionWork weights{2, 12, 1};
+  for (int scene = 0; scene < 3; ++scene) {
+    SCOPED_TRACE(scene);
+    // Random order; four heights a few nanometres apart (the walkers' upright extents: one
+    // radix prefix each); nearly in order (each key a little off its place).
+    Axis given = scene == 0 ? makeAxis(600, &rng, [&](std::mt19937_64& r) { return coordinate(r); })
+                 : scene == 1 ? makeAxis(600, &rng, [&](std::mt19937_64& r) { return 0.5 * few(r) + nudge(r); })
+                              : makeAxis(600, &rng, [&](std::mt19937_64&) { return 0.0; });
+    if (scene == 2) {
+      for (std::size_t i = 1; i + 1 < given.keys.size(); ++i) {
+        given.keys[i] = sap::lower64(0.01 * static_cast<double>(i) + (i % 7 == 0 ? 0.05 : 0.0));
+      }
+    }
+    const std::size_t last = given.keys.size() - 1;
+    std::int64_t inversions = 0, moved = 0;
+    for (std::size_t i = 1; i < last; ++i) {
+      bool larger_before = false;
+      for (std::size_t j = 1; j < i; ++j) {
+        inversions += given.keys[j] > given.keys[i];
+        larger_before = larger_before || given.keys[j] > given.keys[i];
+      }
+      moved += larger_before;
+    }
+    const std::int64_t positions = static_cast<std::int64_t>(last - 1);
+    const std::int64_t expected = weights.position * positions + weights.moved * moved + weights.swap * inversions;
+    for (std::int64_t chunk : {std::numeric_limits<std::int64_t>::max(), std::int64_t{1}, std::int64_t{37}}) {
+      Axis a = given;
+      std::int64_t swaps = 0, work = 0;
+      std::size_t pos = 1;
+      while (pos < last) pos = sap::insertionSortFrom(&a.keys, &a.owners, pos, chunk, &swaps, weights, &work);
+      expectSortedLike(a, sortedPairs(given));
+      EXPECT_EQ(swaps, inversions);
+      EXPECT_EQ(work, expected) << "chunk " << chunk;
+    }
   }
 }
 
