@@ -13,6 +13,10 @@ void enlarge(State& s, ProxyId id, double lead) {
 
 namespace {
 
+// The drift: the centre's displacement per update averaged over about kDriftMemory updates
+// (a few runs), so that one run's noise does not set it.
+constexpr double kDriftMemory = 16.0;
+
 // enlargeInto()'s work; kAhead false: `ahead` is 0 (every enlargement but the next arrays'),
 // and its terms drop out (exactly: they add +0 or nothing). A run's end enlarges everybody
 // with it, ~40 % of that end in a steady scene (bench/results/NOTES.md section 29).
@@ -33,6 +37,23 @@ bool enlargeBody(State& s, ProxyId id, double lead, std::vector<std::uint64_t>* 
       std::uint64_t* e = ends[axis].data() + o;
       e[0] = b[2 * axis] = t[2 * axis];
       e[1] = b[2 * axis + 1] = t[2 * axis + 1];
+      s.max_width[axis] = std::max(s.max_width[axis], unsortable64(e[1]) - unsortable64(e[0]));
+    }
+    return false;
+  }
+  ProxyMotion& m = s.motion[static_cast<std::size_t>(id)];
+  // At rest since the last enlargement, with no jitter or drift learnt (a shelf, a parked
+  // cart, a fixed link: most of a warehouse): what follows would give it no room on any side
+  // (its bounds are finite: moveProxy and createProxy check them) and learn nothing but the
+  // memory's length. The same in a few instructions (enlarging everybody in the warehouse
+  // scene: 53 -> 29 us at N = 1 000; bench/results/NOTES.md section 35).
+  if (m.jitter == 0.0f && m.drift[0] == 0.0f && m.drift[1] == 0.0f && m.drift[2] == 0.0f &&
+      std::equal(t, t + 6, b)) {
+    m.memory = static_cast<float>(std::min(kDriftMemory, static_cast<double>(elapsed) + static_cast<double>(m.memory)));
+    for (int axis = 0; axis < 3; ++axis) {
+      std::uint64_t* e = ends[axis].data() + o;
+      e[0] = t[2 * axis];
+      e[1] = t[2 * axis + 1];
       s.max_width[axis] = std::max(s.max_width[axis], unsortable64(e[1]) - unsortable64(e[0]));
     }
     return false;
@@ -61,7 +82,6 @@ bool enlargeBody(State& s, ProxyId id, double lead, std::vector<std::uint64_t>* 
   // every side gets kJitterRoom times it on top of its lead, and the lead is sized from the
   // displacement beyond it, so that a box that comes back inside the bounds it had costs
   // nothing.
-  ProxyMotion& m = s.motion[static_cast<std::size_t>(id)];
   const double span = static_cast<double>(elapsed);
   double centre[3], u[3];
   for (int axis = 0; axis < 3; ++axis) {
@@ -103,9 +123,6 @@ bool enlargeBody(State& s, ProxyId id, double lead, std::vector<std::uint64_t>* 
   auto beyond = [explained](double d) {
     return d > explained ? d - explained : d < -explained ? d + explained : 0.0;
   };
-  // The drift: the centre's displacement per update averaged over about kDriftMemory updates
-  // (a few runs), so that one run's noise does not set it.
-  constexpr double kDriftMemory = 16.0;
   const double memory = static_cast<double>(m.memory);
   const double weight = 1.0 / std::max(1.0, span + memory);
   m.memory = static_cast<float>(std::min(kDriftMemory, span + memory));

@@ -1449,6 +1449,54 @@ TEST(SweepAndPrune, EnlargedBoundsStayFiniteNearTheLargestDouble) {
   }
 }
 
+// Resting boxes that never moved get no room: their enlarged bounds are their given ones after
+// every run's end, while boxes in a steady motion among them are enlarged ahead of it and a
+// box that jittered before it came to rest keeps room on every side (the jitter is forgotten
+// slowly). Every update is checked against brute force.
+TEST(SweepAndPrune, BoxesAtRestWithoutJitterGetNoRoom) {
+  SweepAndPruneConfig config;
+  Harness h(config, true);
+  const Eigen::Vector3d half(0.5, 0.5, 0.5);
+  std::vector<int> resting, moving;
+  for (int i = 0; i < 30; ++i) resting.push_back(h.create(gridBox(Eigen::Vector3d(1.5 * i, 0.0, 0.0), half)));
+  for (int i = 0; i < 30; ++i) moving.push_back(h.create(gridBox(Eigen::Vector3d(1.5 * i, 0.75, 0.0), half)));
+  const Eigen::Vector3d shaky_centre(-3.0, 0.0, 0.0);
+  const int shaky = h.create(gridBox(shaky_centre, half));
+  h.updateAndCheck();
+  const double noise[4] = {0.02, -0.015, 0.01, -0.02};
+  int runs_ended = 0;
+  // (90 updates: past them the cost model turns coasting off in a scene this small.)
+  for (int update = 1; update <= 90; ++update) {
+    for (int i = 0; i < 30; ++i) {
+      h.move(moving[i], gridBox(Eigen::Vector3d(1.5 * i + 0.02 * update, 0.75, 0.0), half));
+    }
+    // Jitter of 1-2 % of the box on every axis for 60 updates, then exactly at rest.
+    const double n = update <= 60 ? noise[update % 4] : 0.0;
+    h.move(shaky, gridBox(shaky_centre + Eigen::Vector3d(n, -n, n), half));
+    h.updateAndCheck();
+    if (::testing::Test::HasFatalFailure()) return;
+    runs_ended += h.sap().stats().enlarged_all || h.sap().stats().swapped_next;
+    if (h.sap().stats().lead <= 0.0) continue;
+    for (int obj : resting) {
+      const Aabb e = h.sap().enlargedBounds(obj);
+      const Aabb given = h.sap().storedBounds(obj);
+      ASSERT_EQ(e.lower, given.lower) << "resting box " << obj << ", update " << update;
+      ASSERT_EQ(e.upper, given.upper) << "resting box " << obj << ", update " << update;
+    }
+  }
+  ASSERT_GE(runs_ended, 4) << "the test needs coasting runs to end";
+  ASSERT_GT(h.sap().stats().lead, 0.0) << "the test needs coasting at its end";
+  int ahead = 0;
+  for (int obj : moving) ahead += h.sap().enlargedBounds(obj).upper.x() > h.sap().storedBounds(obj).upper.x();
+  EXPECT_EQ(ahead, 30);
+  const Aabb e = h.sap().enlargedBounds(shaky);
+  const Aabb given = h.sap().storedBounds(shaky);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_LT(e.lower[k], given.lower[k]) << "axis " << k;
+    EXPECT_GT(e.upper[k], given.upper[k]) << "axis " << k;
+  }
+}
+
 // Two overlapping boxes among resting ones jump together, again and again: only their
 // endpoints move (two proxies left their bounds), and while the first moves it passes the
 // second's old endpoints, yet their pair must neither end nor begin.
