@@ -43,9 +43,9 @@ void keepHeadroom(State& s) {
   if (s.cands.capacity() < s.next.cands.capacity()) s.cands.reserve(s.next.cands.capacity());
   const std::size_t cap = s.cands.capacity();
   for (std::vector<BroadPair>* v : {&s.next.found, &s.next.ordered}) {
-    if (v->capacity() < cap) v->reserve(cap);
+    if (v->capacity() < cap) reserveWritten(v, cap);
   }
-  if (s.next.order_of.capacity() < cap) s.next.order_of.reserve(cap);
+  if (s.next.order_of.capacity() < cap) reserveWritten(&s.next.order_of, cap);
   for (std::vector<BroadPair>* v : {&s.cand_began, &s.cand_ended, &s.exact, &s.began, &s.ended}) {
     if (v->capacity() < cap) v->reserve(cap);
   }

@@ -366,12 +366,12 @@ void trackNextFlags(State& s) {
 }
 
 void NextArrays::reserve(std::size_t slots) {
-  first_of.reserve(2 * slots + 1);
-  rank.reserve(slots);
+  reserveWritten(&first_of, 2 * slots + 1);
+  reserveWritten(&rank, slots);
   for (int axis = 0; axis < 3; ++axis) {
-    ends[axis].reserve(2 * slots);
-    keys[axis].reserve(2 * slots + 2);
-    owners[axis].reserve(2 * slots + 2);
+    reserveWritten(&ends[axis], 2 * slots);
+    reserveWritten(&keys[axis], 2 * slots + 2);
+    reserveWritten(&owners[axis], 2 * slots + 2);
   }
 }
 
