@@ -115,7 +115,7 @@ std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std:
   std::uint64_t* key = keys->data();
   std::uint32_t* owner = owners->data();
   const std::size_t last = keys->size() - 1;  // the high sentinel
-  std::int64_t work = 0, moved = 0;
+  std::int64_t work = 0, places = 0;
   std::size_t i = std::max<std::size_t>(from, 1);
   for (; i < last && work < max_work; ++i) {
     work += weights.position;
@@ -131,9 +131,9 @@ std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std:
     key[j] = k;
     owner[j] = o;
     work += weights.moved + weights.swap * static_cast<std::int64_t>(i - j);
-    moved += static_cast<std::int64_t>(i - j);
+    places += static_cast<std::int64_t>(i - j);
   }
-  *swaps += moved;
+  *swaps += places;
   if (work_done != nullptr) *work_done += work;
   return i;
 }

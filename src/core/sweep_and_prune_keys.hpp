@@ -174,12 +174,12 @@ struct InsertionWork {
 };
 /// Insertion sort without pair events of one endpoint array (sentinels in place) from position
 /// `from` on, the positions before it in order already: stops at the high sentinel or once
-/// `max_work` is done (counted with `work`). Returns the next position to insert; adds the
+/// `max_work` is done (counted with `weights`). Returns the next position to insert; adds the
 /// swaps to *swaps and, when given, the work done to *work_done. (Resumable: the next arrays
 /// sort a slice at a time.)
 std::size_t insertionSortFrom(std::vector<std::uint64_t>* keys, std::vector<std::uint32_t>* owners,
                               std::size_t from, std::int64_t max_work, std::int64_t* swaps,
-                              const InsertionWork& work = InsertionWork(), std::int64_t* work_done = nullptr);
+                              const InsertionWork& weights = InsertionWork(), std::int64_t* work_done = nullptr);
 
 /// Sorts one axis' endpoint array (sentinels in place) from scratch: radix sort by the 32
 /// most significant bits that vary over the axis, then an insertion pass for the endpoints

@@ -15,23 +15,22 @@ namespace {
 using Stage = NextArrays::Stage;
 
 // Work units of a build's parts (about a nanosecond each on the benchmark machine, as
-// CoastPolicy's): one proxy enlarged; one endpoint copied with its next key (and sampled for
-// the swap estimate); one position of the insertion sort, one endpoint it moves and one place
-// that endpoint moves by; one endpoint
-// swept, and one pair it finds; a proxy ranked and a pair ordered for the table. Each stage is
-// priced against enlarging (the anchor, 60 a proxy): a slice's budget buys the same time in
-// every stage, so that no update carries a dearer slice than the others. Timed per stage at
-// +-0.5 %, +-1 % and +-5 % jitter, N = 1 000 and 10 000, on an Intel Xeon (bench/results/
-// NOTES.md section 28): per unit of the anchor, a radix sort of one axis 1.7-2.4 times the 4
-// units an endpoint it was given before, the table's order 1.8-2.6 times, a pair found by the
-// sweep ~30 units where 3 were counted (the +-5 % rows' sweeps took twice the +-1 % rows' per
-// endpoint); earlier, on an AMD EPYC, a build's sort took 55 us by insertion (1.2-1.4 swaps
-// per endpoint) and 37 us by radix sort, for 6 000 endpoints (section 22). An endpoint the
-// insertion sort moves costs its branch's wrong guess (~7 ns), each place it moves by ~0.5 ns
-// (timed on the walkers' slices, AMD EPYC VM, section 35): priced 5 units a place before, the
-// walkers' heights (4 values, a few nanometres apart: one radix prefix each) took 7 slices
-// of ~80 us for ~30 places per endpoint moved, the build missed its swap and the run ended at
-// once (N = 10 000: 4-6 ms, the p99).
+// CoastPolicy's): one proxy enlarged; one endpoint copied with its next key (and sampled for the
+// swap estimate); one position of the insertion sort, one endpoint it moves and one place that
+// endpoint moves by; one endpoint swept, and one pair it finds; a proxy ranked and a pair ordered
+// for the table. Each stage is priced against enlarging (the anchor, 60 a proxy): a slice's budget
+// buys the same time in every stage, so that no update carries a dearer slice than the others.
+// Timed per stage at +-0.5 %, +-1 % and +-5 % jitter, N = 1 000 and 10 000, on an Intel Xeon
+// (bench/results/NOTES.md section 28): per unit of the anchor, a radix sort of one axis 1.7-2.4
+// times the 4 units an endpoint it was given before, the table's order 1.8-2.6 times, a pair found
+// by the sweep ~30 units where 3 were counted (the +-5 % rows' sweeps took twice the +-1 % rows'
+// per endpoint); earlier, on an AMD EPYC, a build's sort took 55 us by insertion (1.2-1.4 swaps per
+// endpoint) and 37 us by radix sort, for 6 000 endpoints (section 22). An endpoint the insertion
+// sort moves costs its branch's wrong guess (~7 ns), each place it moves by ~0.5 ns (timed on the
+// walkers' slices, AMD EPYC VM, section 35): priced 5 units a place before, the walkers' heights (4
+// values, a few nanometres apart: one radix prefix each) took 7 slices of ~80 us for ~30 places per
+// endpoint moved, the build missed its swap and the run ended at once (N = 10 000: 4-6 ms, the
+// p99).
 constexpr double kEnlargeUnits = 60.0;
 constexpr double kCopyUnits = 2.0;
 constexpr double kSortUnits = 1.0;
@@ -157,10 +156,11 @@ double radixStepUnits(const RadixSteps& r, std::size_t size) {
 // The endpoint arrays of the next bounds, axis after axis: the current order with the next
 // keys (nearly in order), then insertion sort without pair events, a slice at a time; or, when
 // the swaps estimated from those keys would cost more than sorting from scratch (more than
-// about 1.4 per endpoint: +-5 % jitter at N = 10 000 made 450 000 per axis), a radix sort, a
-// step at a time (the prefixes, the counts, each pass, the gather: each about a quarter of it;
-// whole, one axis' sort was the dearest slice of a build: 29 us at N = 1 000 on the Xeon,
-// against ~20 us slices), then the insertion pass for the endpoints that share a prefix.
+// about 2 per endpoint, 1.4 before session 25: +-5 % jitter at N = 10 000 made 450 000 per
+// axis), a radix sort, a step at a time (the prefixes, the counts, each pass, the gather: each
+// about a quarter of it; whole, one axis' sort was the dearest slice of a build: 29 us at
+// N = 1 000 on the Xeon, against ~20 us slices), then the insertion pass for the endpoints
+// that share a prefix.
 double sortSome(State& s, double budget, double full) {
   NextArrays& n = s.next;
   while (n.stage == Stage::kSort && budget > 0.0) {
