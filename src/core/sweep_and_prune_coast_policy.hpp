@@ -36,15 +36,11 @@ class CoastPolicy {
  public:
   // Work units of the cost model (about a nanosecond each on the benchmark machine: perf
   // profiles of the uniform, walker and robot-cell scenes, bench/results/NOTES.md section 19).
-  // Enlarging, 20 then, learns the jitter and the drift since issue 26: timed at 53-77 ns a
-  // proxy on the AMD EPYC VM (section 35). At 20 the model kept coasting where it lost: the
-  // warehouse at N = 100-1 000 (coasting off 12-15 % cheaper by the mean), uniform 5 % at
-  // N = 100; at 65 it turns coasting off there (p99 / median 4.8-4.9x -> 1.8-2.8x).
   static constexpr double kScanWork = 4.0;     ///< one candidate tested on the given bounds
   static constexpr double kSwapWork = 10.0;    ///< one swap (insertion sort or a relocated endpoint)
   static constexpr double kPassWork = 1.5;     ///< one endpoint read in a pass over an axis
   static constexpr double kSearchWork = 100.0; ///< finding a proxy's six endpoints (binary searches)
-  static constexpr double kEnlargeWork = 65.0; ///< enlarging one proxy
+  static constexpr double kEnlargeWork = 20.0; ///< enlarging one proxy
   static constexpr double kSortWork = 12.0;    ///< one endpoint radix-sorted in a rebuild, per axis
   static constexpr double kTestWork = 1.5;     ///< one overlap test of a rebuild's sweep
   static constexpr double kFoundWork = 25.0;   ///< one pair found (and stamped) by a rebuild

@@ -118,19 +118,19 @@ TEST(CoastPolicy, ARunEndsAfterFourCoastUpdatesUpdates) {
 
 TEST(CoastPolicy, WorkOfARunIsCountedInUnits) {
   CoastPolicy p(8.0);
-  // Enlarging 100 (65 each), 200 swaps (10 each), one pass over 3 axes of 200 endpoints (1.5
-  // each): 6500 + 2000 + 900.
+  // Enlarging 100 (20 each), 200 swaps (10 each), one pass over 3 axes of 200 endpoints (1.5
+  // each): 2000 + 2000 + 900.
   p.enlargedAll(1, resort(100, 200, 300, 50));
-  EXPECT_DOUBLE_EQ(p.runWork(), 9400.0);
+  EXPECT_DOUBLE_EQ(p.runWork(), 4900.0);
   p.scanned(100);  // 4 each
-  EXPECT_DOUBLE_EQ(p.runWork(), 9800.0);
+  EXPECT_DOUBLE_EQ(p.runWork(), 5300.0);
   p.movedFew(2, 30);  // 100 per escaper, 10 per swap
-  EXPECT_DOUBLE_EQ(p.runWork(), 10300.0);
+  EXPECT_DOUBLE_EQ(p.runWork(), 5800.0);
   // A rebuild instead of the pass: 12 per endpoint and axis sorted (3 axes of 200), 1.5 per
-  // overlap test (1000), 25 per candidate (80): 7200 + 1500 + 2000; with enlarging, 17200.
+  // overlap test (1000), 25 per candidate (80): 7200 + 1500 + 2000; with enlarging, 12700.
   CoastPolicy q(8.0);
   q.enlargedAll(1, resort(100, 0, 0, 50, true, 1000, 80));
-  EXPECT_DOUBLE_EQ(q.runWork(), 17200.0);
+  EXPECT_DOUBLE_EQ(q.runWork(), 12700.0);
   EXPECT_DOUBLE_EQ(CoastPolicy::rebuildWork(1.0, 100, 1000, 50.0), 2400.0 + 1500.0 + 1250.0);
 }
 
@@ -139,16 +139,16 @@ TEST(CoastPolicy, ARunCheaperThanNotCoastingKeepsCoasting) {
   p.enlargedAll(0, resort(100, 0, 0, 0));       // coasting starts; three probation runs follow
   p.enlargedAll(0, resort(100, 0, 0, 0));       // the first ends, unjudged
   p.enlargedAll(0, resort(100, 0, 0, 0));       // the second
-  p.enlargedAll(1, resort(100, 200, 300, 50));  // 9400, not judged (the third ends)
+  p.enlargedAll(1, resort(100, 200, 300, 50));  // 4900, not judged (the third ends)
   p.scanned(100);
-  p.movedFew(2, 30);                            // 10300 in all
-  // Judged at update 33 (a run of 32): 10300 / 32 = 321.9 per update, against, without
+  p.movedFew(2, 30);                            // 5800 in all
+  // Judged at update 33 (a run of 32): 5800 / 32 = 181.25 per update, against, without
   // coasting, 4 per pair (50) plus the cheaper of a pass over 3 axes of 200 endpoints with
   // 640 / 32 swaps per update (900 + 200) and a rebuild of one axis (5150): 1300.
   p.enlargedAll(33, resort(100, 0, 640, 50));
   EXPECT_DOUBLE_EQ(p.lead(), 16.0);  // kept, and doubled: the run lasted its longest
   EXPECT_EQ(p.backoff(), 64u);
-  EXPECT_DOUBLE_EQ(p.runWork(), 7400.0);  // the next run: 6500 + 0 + 900
+  EXPECT_DOUBLE_EQ(p.runWork(), 2900.0);  // the next run: 2000 + 0 + 900
 }
 
 TEST(CoastPolicy, ACostlyRunSwitchesCoastingOffThenRetries) {
@@ -157,10 +157,10 @@ TEST(CoastPolicy, ACostlyRunSwitchesCoastingOffThenRetries) {
   p.enlargedAll(1, resort(100, 0, 0, 0));      // the first ends, unjudged
   p.enlargedAll(1, resort(100, 0, 0, 0));      // the second
   p.scanned(1000000);                          // a probation run is not judged, however costly
-  p.enlargedAll(33, resort(100, 0, 640, 50));  // 7400, not judged
+  p.enlargedAll(33, resort(100, 0, 640, 50));  // 2900, not judged
   EXPECT_DOUBLE_EQ(p.lead(), 8.0);
-  p.scanned(20000);                            // + 80000 = 87400
-  // 87400 / 32 = 2731.3 per update > 1300: off until update 65 + 64 = 129, 128 next time.
+  p.scanned(20000);                            // + 80000 = 82900
+  // 82900 / 32 = 2590.6 per update > 1300: off until update 65 + 64 = 129, 128 next time.
   p.enlargedAll(65, resort(100, 0, 640, 50));
   EXPECT_DOUBLE_EQ(p.lead(), 0.0);
   EXPECT_EQ(p.retryAt(), 129u);
@@ -190,7 +190,7 @@ TEST(CoastPolicy, ACostlyRunSwitchesCoastingOffThenRetries) {
   p.enlargedAll(161, resort(100, 0, 640, 50));
   EXPECT_DOUBLE_EQ(p.lead(), 8.0);
   EXPECT_EQ(p.backoff(), 128u);
-  p.enlargedAll(193, resort(100, 0, 640, 50));  // 7400 / 32 < 1300
+  p.enlargedAll(193, resort(100, 0, 640, 50));  // 2900 / 32 < 1300
   EXPECT_DOUBLE_EQ(p.lead(), 16.0);  // (doubled: a run of 32, its longest)
   EXPECT_EQ(p.backoff(), 64u);
 }
@@ -227,10 +227,10 @@ TEST(CoastPolicy, WithoutAnEstimateTheSwapsOfTheReSortStandIn) {
     p->enlargedAll(0, resort(100, 0, 0, 0));   // coasting starts; three probation runs follow
     p->enlargedAll(0, resort(100, 0, 0, 0));
     p->enlargedAll(0, resort(100, 0, 0, 0));
-    p->enlargedAll(1, resort(100, 0, 0, 50));  // 7400 each (6500 + 900), the probation ends
+    p->enlargedAll(1, resort(100, 0, 0, 50));  // 2900 each, the probation ends
   }
-  kept.scanned((67200 - 7400) / 4);
-  off.scanned((67200 + 32 - 7400) / 4);
+  kept.scanned((67200 - 2900) / 4);
+  off.scanned((67200 + 32 - 2900) / 4);
   kept.enlargedAll(33, resort(100, 3200, -1, 50));
   off.enlargedAll(33, resort(100, 3200, -1, 50));
   EXPECT_DOUBLE_EQ(kept.lead(), 16.0);  // kept (the long lead: a run of 32)
@@ -340,8 +340,8 @@ TEST(CoastPolicy, ARetryInTheSceneThatFailedIsPostponedUntilTheSceneChanges) {
 
 TEST(CoastPolicy, ARetryAfterAnEpisodeThatPaidIsTried) {
   // Fails at 33 (off for 64), is retried at 97; after its probation `paid` judged runs of 32
-  // updates pay (7400 each, against 1300 an update without coasting: 41600 a run), then one
-  // fails with `scans` candidates scanned (7400 + 4 scans over its 32 updates).
+  // updates pay (2900 each, against 1300 an update without coasting: 41600 a run), then one
+  // fails with `scans` candidates scanned (2900 + 4 scans over its 32 updates).
   auto episode = [](CoastPolicy* p, int paid, double scans) {
     std::uint32_t at = 1;
     for (int run = 0; run <= CoastPolicy::kProbationRuns; ++run) p->enlargedAll(at, resort(100, 0, 640, 50));
@@ -366,15 +366,15 @@ TEST(CoastPolicy, ARetryAfterAnEpisodeThatPaidIsTried) {
   // The retry's first judged run fails: the episode cost more than not coasting: postponed.
   CoastPolicy none(8.0);
   EXPECT_TRUE(none.repeatsFailure(episode(&none, 0, 1000000), 100));
-  // One run paid, then one far dearer (the robot cells' alternation): (7400 + 4007400) /
+  // One run paid, then one far dearer (the robot cells' alternation): (2900 + 4002900) /
   // (2 x 41600) > 0.9: postponed.
   CoastPolicy one(8.0);
   EXPECT_TRUE(one.repeatsFailure(episode(&one, 1, 1000000), 100));
-  // One run paid, then one a little dearer than not coasting (1631 an update: 11200 scans):
-  // (7400 + 52200) / 83200 = 0.72: the episode saved, the retry is tried.
+  // One run paid, then one a little dearer than not coasting (1400 an update: 11200 scans):
+  // (2900 + 47700) / 83200 = 0.61: the episode saved, the retry is tried.
   CoastPolicy saved(8.0);
   EXPECT_FALSE(saved.repeatsFailure(episode(&saved, 1, 11200), 100));
-  // No run paid and the failing one at 1631 an update: 52200 / 41600 > 0.9: postponed.
+  // No run paid and the failing one at 1400 an update: 47700 / 41600 > 0.9: postponed.
   CoastPolicy marginal(8.0);
   EXPECT_TRUE(marginal.repeatsFailure(episode(&marginal, 0, 11200), 100));
 }
@@ -649,17 +649,17 @@ TEST(CoastPolicy, TheLeadTriplesWhenRunsEndTogetherTooSoonToSpreadAndComesBack) 
     w.enlargedAll(u, cheap);
   }
   EXPECT_TRUE(w.steadyLeadDue(u + 9));
-  // A run at it that cost more per update than the last judged run at 8 (which cost 7 400
-  // units over 9 updates, 822 an update: enlarging 100 proxies, 65 each, and a pass over 3
-  // axes of 200 endpoints, 1.5 each), though less than not coasting (a rebuild of one axis,
-  // 3 900 units per update): 7 400 + 5 000 candidates scanned at 4 units over 25 updates is
-  // 1 096 an update. Back to 8, blocked.
+  // A run at it that cost more per update than the last judged run at 8 (which cost 2 900
+  // units over 9 updates: enlarging 100 proxies, 20 each, and a pass over 3 axes of 200
+  // endpoints, 1.5 each), though less than not coasting (a rebuild of one axis, 3 900 units
+  // per update): 2 900 + 2 000 candidates scanned at 4 units over 25 updates is 436 a
+  // update. Back to 8, blocked.
   CoastPolicy z(8.0);
   for (std::uint32_t v : {8u, 16u, 24u, 32u}) z.enlargedAll(v, cheap);
   endsAtOnce(&z, 41);
   z.enlargedAll(41, cheap);
   EXPECT_DOUBLE_EQ(z.lead(), 24.0);
-  z.scanned(5000);
+  z.scanned(2000);
   z.enlargedAll(66, cheap, CoastPolicy::End::kSpreadAtEnd);
   EXPECT_DOUBLE_EQ(z.lead(), 8.0);
   EXPECT_FALSE(z.steadyLeadDue(75));

@@ -1621,10 +1621,7 @@ TEST(SweepAndPrune, RetriesInTheMotionThatFailedArePostponedUntilItCalms) {
     if (::testing::Test::HasFatalFailure()) return;
     (cycle < 150 ? early : calmed ? calm : same).add(h.sap());
   }
-  // (A quarter moving among boxes at rest: coasting pays less there, 35 updates coasted and 35
-  // with a few moved alone of the calm 300 since enlarging is priced at what it costs, 65 units
-  // a proxy; over 100 at 20.)
-  expectRetriesPutOffUntilCalm("reversing motion", early, same, calm, 50);
+  expectRetriesPutOffUntilCalm("reversing motion", early, same, calm, 100);
 }
 
 TEST(SweepAndPrune, InvalidCoastSettingsAreRejected) {
