@@ -62,13 +62,37 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
     if (steadyLead() && ended_lead != lead_) {
       expected_run_ = std::min(longestRun(), static_cast<std::uint32_t>(kSteadyLead * run));
     }
-    if (run_work_ / run > without && steady_run) {
+    // Runs at the configured lead that end at once, run after run (their ends not spread over
+    // the updates before): each end costs 5-10 times a coasting update, so they coast only
+    // where they save at least a quarter with every update's own part counted (kAtOnceWorth;
+    // see there). A run at its longest ends at once anyway (the motion calmed: tracker
+    // jitter's first run), the one at whose end the steady lead is taken is followed by spread
+    // ones, and a run at another lead ends the row.
+    const double per_update = kProxyWork * static_cast<double>(r.live);
+    const double ratio = (run_work_ / run + per_update) / (without + per_update);
+    if (end == End::kAtOnce && run < longestRunOf(LeadKind::kConfigured) && ended_lead == coast_updates_ &&
+        lead_ == coast_updates_) {
+      once_ratios_[once_runs_ % kAtOnceRuns] = ratio;
+      once_runs_ = std::min(once_runs_ + 1, 2 * kAtOnceRuns);
+    } else {
+      once_runs_ = 0;
+    }
+    double once_mean = 0.0;
+    for (double q : once_ratios_) once_mean += q / kAtOnceRuns;
+    const bool tail_fails = once_runs_ >= kAtOnceRuns && once_mean > kAtOnceWorth;
+    if ((run_work_ / run > without || tail_fails) && steady_run) {
       // The steady lead's larger bounds cost more than they saved (more candidates scanned):
       // back to the configured lead, which paid, rather than off.
       leaveSteadyLead();
-    } else if (run_work_ / run > without) {
+    } else if (run_work_ / run > without || tail_fails) {
+      // A run that cost more on its own starts the row afresh after the retry; a failure of
+      // the row goes on with it (the retry's first judged run that ends at once is judged with
+      // the two before).
+      if (!tail_fails) once_runs_ = 0;
       failures_ = std::min(failures_ + 1, 2);
-      episode_ratio_ = episode_work_ / episode_without_;
+      // (A failure of the tail's rule is judged against kAtOnceWorth when retried, too.)
+      episode_ratio_ = tail_fails ? once_mean : episode_work_ / episode_without_;
+      worth_ = tail_fails ? kAtOnceWorth : kWorthIt;
       episode_work_ = episode_without_ = 0.0;
       failed_live_ = std::max(1, r.live);
       failed_at_ = update;
@@ -134,8 +158,11 @@ bool CoastPolicy::steadyLeadDue(std::uint32_t update) const {
 bool CoastPolicy::repeatsFailure(std::uint32_t update, int live) {
   // A first failure is retried as before: it may have been the scene's start (drifts measured
   // from a few updates, boxes at rest that then jump), after which coasting pays. So is one
-  // that ended an episode in which coasting paid (a rare dear run among cheap ones).
-  if (failures_ < 2 || !(episode_ratio_ > kWorthIt) || update - failed_at_ >= kRetryAnyway) return false;
+  // that ended an episode in which coasting paid (a rare dear run among cheap ones). A failure
+  // of the tail's rule is not the scene's start (three judged runs after probation), and its
+  // retry would end four runs at once again before it is judged: postponed at once.
+  const int retried = worth_ < kWorthIt ? 1 : 2;
+  if (failures_ < retried || !(episode_ratio_ > worth_) || update - failed_at_ >= kRetryAnyway) return false;
   const bool first = ref_open_;
   closeReference();
   // (No reference measured, or none now: the motion is taken for the same.)

@@ -14,10 +14,12 @@
 /// coast_updates updates (coast_updates while on probation; 6 at the long lead: kLongLead),
 /// enlarge everybody again (step()). Each enlargement of everybody ends a run, which is judged
 /// with a cost model in work units against what the same updates would have cost without
-/// coasting; a run that cost more switches coasting off for 64 updates, twice as long after
-/// each failure in a row (up to 4 096), then it is tried again (postponeRetry(): not when the
-/// last displacements show at once that it would fail, nor, after a second failure, in the
-/// scene of an episode that did not save: repeatsFailure()). The first three runs after
+/// coasting; a run that cost more, or the third of runs in a row that ended at once without
+/// saving a quarter (kAtOnceWorth: their ends set the tail), switches coasting off for 64
+/// updates, twice as long after each failure in a row (up to 4 096), then it is tried again
+/// (postponeRetry(): not when the last displacements show at once that it would fail, nor,
+/// after a second failure or one of those rows, in the scene of an episode that did not save:
+/// repeatsFailure()). The first three runs after
 /// coasting starts are on probation (not judged): their leads were measured from an update or
 /// two. They are short (coast_updates updates each), so that each proxy's drift under tracker
 /// jitter is measured again soon, before the long runs: with the leads of the first update or
@@ -44,6 +46,11 @@ class CoastPolicy {
   static constexpr double kSortWork = 12.0;    ///< one endpoint radix-sorted in a rebuild, per axis
   static constexpr double kTestWork = 1.5;     ///< one overlap test of a rebuild's sweep
   static constexpr double kFoundWork = 25.0;   ///< one pair found (and stamped) by a rebuild
+  /// One live proxy's part of every update, coasting or not (its given bounds taken in, and
+  /// its coasting test or its keys written): 19-27 ns measured either way (the broad-phase
+  /// benchmark, AMD EPYC VM, session 26). The same on both sides of a comparison, it changes
+  /// no "costs more" verdict, only the ratios (kAtOnceWorth).
+  static constexpr double kProxyWork = 20.0;
   static constexpr std::uint32_t kFirstBackoff = 64;   ///< updates off after a first failure
   static constexpr std::uint32_t kMaxBackoff = 4096;   ///< updates off at most
   /// Runs after coasting starts that are not judged: their leads (and the bounds on tracker
@@ -127,8 +134,10 @@ class CoastPolicy {
     off_swaps_ = off_swaps_ < 0.0 ? swaps : 0.875 * off_swaps_ + 0.125 * swaps;
   }
   /// The retry due at `update` would repeat the runs that failed: coasting failed before (a
-  /// first failure is retried as before), the episode that failed (its judged runs since
-  /// coasting last started) saved less than a tenth over not coasting (kWorthIt), the scene is
+  /// first failure is retried as before, unless it was a row of runs ended at once), the
+  /// episode that failed (its judged runs since coasting last started) saved less than a tenth
+  /// over not coasting (kWorthIt; for a row of runs ended at once, its mean by kAtOnceWorth's
+  /// ratio was above kAtOnceWorth, as it is whenever such a row fails), the scene is
   /// the one it failed in (the motion no calmer than in the stretch off that followed the
   /// failure, up to the first retry due; the live count within a quarter of the failure's),
   /// and the failure was less than kRetryAnyway updates ago. Then the retry is postponed by
@@ -146,6 +155,20 @@ class CoastPolicy {
   /// fraction of not coasting: below a tenth saved, its runs' ends (5-10 times an update off)
   /// are not worth the saving.
   static constexpr double kWorthIt = 0.9;
+  /// Judged runs at the configured lead that end at once before their longest, kAtOnceRuns in
+  /// a row, fail when they cost on average more than this fraction of not coasting, with every
+  /// update's own part (kProxyWork per live proxy) on both sides. Each such end (everybody
+  /// enlarged and re-sorted in one update) costs 5-10 times a coasting update, and the cost
+  /// model is optimistic about those runs. Beside a peer of the same build that never coasts
+  /// (the broad-phase benchmark, AMD EPYC VM, session 26): rows whose runs ended at once at
+  /// 0.82-1.4 by this ratio cost 1.03-1.2 times not coasting by the measured mean (uniform 1 %
+  /// and 5 %, walkers and the warehouse at N = 100, the warehouse at 1 000, the small robot
+  /// cell); those at 0.56-0.67 cost 0.54-0.71 (uniform 5 % at N = 1 000 and 10 000, which keep
+  /// coasting). The proximity monitor's runs at its lead of 16 are spread (no row: none failed
+  /// in bench-safety's rounds at 1 000 and 10 000 objects).
+  static constexpr double kAtOnceWorth = 0.75;
+  /// Runs ended at once in a row that the rule above looks at (their mean).
+  static constexpr int kAtOnceRuns = 3;
   /// A retry is tried when the swaps per update fell below this fraction of the reference.
   static constexpr double kCalmer = 0.5;
   /// A retry is tried whatever the scene this many updates after the last failure.
@@ -342,6 +365,9 @@ class CoastPolicy {
   double episode_work_ = 0.0;                 // work of the judged runs since coasting started
   double episode_without_ = 0.0;              // the same updates without coasting
   double episode_ratio_ = 0.0;                // their ratio in the episode that last failed
+  double worth_ = kWorthIt;                   // the ratio it had to beat (kAtOnceWorth for the tail's rule)
+  int once_runs_ = 0;                         // judged runs in a row that ended at once (up to 2 kAtOnceRuns)
+  double once_ratios_[kAtOnceRuns] = {};      // their last kAtOnceRuns ratios of the cost model
   int failed_live_ = 0;                       // live proxies when coasting last failed
   std::uint32_t failed_at_ = 0;               // the update it failed at
   double ref_swaps_ = -1.0;                   // swaps per update off after that failure (-1: none)

@@ -665,6 +665,143 @@ TEST(CoastPolicy, TheLeadTriplesWhenRunsEndTogetherTooSoonToSpreadAndComesBack) 
   EXPECT_FALSE(z.steadyLeadDue(75));
 }
 
+// Runs of 8 updates that end at once, judged against not coasting: 4 per pair (50) plus the
+// cheaper of a pass over 3 axes of 200 endpoints with 640 / 8 swaps per update (900 + 800)
+// and a rebuild of one axis (5 150): 1 900 units per update. Each run starts with the 2 900
+// units of its enlargement (100 proxies at 20, the pass at 900); `scans` candidates add 4
+// each. The tail's rule adds every update's own part, 20 units per live proxy (2 000), to
+// both sides. Returns that ratio of the run.
+double runOfEight(CoastPolicy* p, std::uint32_t* update, std::size_t scans) {
+  p->scanned(scans);
+  *update += 8;
+  p->enlargedAll(*update, resort(100, 0, 640, 50));
+  return ((2900.0 + 4.0 * static_cast<double>(scans)) / 8.0 + 2000.0) / (1900.0 + 2000.0);
+}
+
+// Probation: coasting starts at `update` and three runs of 8 follow, unjudged.
+void startCoasting(CoastPolicy* p, std::uint32_t* update) {
+  for (int i = 0; i < 4; ++i) {
+    p->enlargedAll(*update, resort(100, 0, 640, 50));
+    *update += 8;
+  }
+  *update -= 8;
+}
+
+TEST(CoastPolicy, RunsEndingAtOnceInARowCoastOnlyWhereTheySaveAQuarter) {
+  EXPECT_DOUBLE_EQ(CoastPolicy::kAtOnceWorth, 0.75);
+  EXPECT_EQ(CoastPolicy::kAtOnceRuns, 3);
+  EXPECT_DOUBLE_EQ(CoastPolicy::kProxyWork, 20.0);
+  // (steady_lead off: the runs stay at the configured lead and end at once.)
+  // With 1 935 candidates a run costs 1 330 units per update, 0.7 of not coasting: it pays by
+  // the cost model, but with every update's own part it is 0.854, and three in a row switch
+  // coasting off, for 64 updates.
+  CoastPolicy p(8.0, false);
+  std::uint32_t u = 1;
+  startCoasting(&p, &u);
+  EXPECT_NEAR(runOfEight(&p, &u, 1935), 3330.0 / 3900.0, 1e-12);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  runOfEight(&p, &u, 1935);
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  runOfEight(&p, &u, 1935);
+  EXPECT_DOUBLE_EQ(p.lead(), 0.0);
+  EXPECT_EQ(p.retryAt(), u + 64);
+  // The retry due then, in the same scene (no swaps measured off: the same motion; the same
+  // live count), is postponed by 64 updates, though it is the first failure; with a third more
+  // proxies it is tried.
+  const std::uint32_t due = p.retryAt();
+  EXPECT_TRUE(p.repeatsFailure(due, 100));
+  EXPECT_EQ(p.retryAt(), due + 64);
+  EXPECT_FALSE(p.repeatsFailure(due + 64, 134));
+  // The retry: after its probation, its first judged run at 0.854 is the fourth in a row,
+  // and switches coasting off at once, for 128 updates.
+  u = p.retryAt();
+  EXPECT_EQ(p.step(u, 0, 100, false, true), Step::kEnlargeAll);
+  for (int i = 0; i < 3; ++i) {
+    p.enlargedAll(u, resort(100, 0, 640, 50));
+    u += 8;
+  }
+  p.enlargedAll(u, resort(100, 0, 640, 50));
+  EXPECT_DOUBLE_EQ(p.lead(), 8.0);
+  runOfEight(&p, &u, 1935);
+  EXPECT_DOUBLE_EQ(p.lead(), 0.0);
+  EXPECT_EQ(p.retryAt(), u + 128);
+
+  // With 500 candidates (612.5 units per update, 0.67) they keep coasting, however many in a
+  // row.
+  CoastPolicy q(8.0, false);
+  u = 1;
+  startCoasting(&q, &u);
+  for (int i = 0; i < 10; ++i) {
+    EXPECT_NEAR(runOfEight(&q, &u, 500), 2612.5 / 3900.0, 1e-12);
+    EXPECT_DOUBLE_EQ(q.lead(), 8.0) << "run " << i;
+  }
+  EXPECT_EQ(q.backoff(), 64u);
+
+  // The mean of the last three counts: 0.854, 0.670, 0.670 is 0.731, kept; then 0.854 makes
+  // it 0.731 again, kept; another 0.854 makes it 0.793: off.
+  CoastPolicy r(8.0, false);
+  u = 1;
+  startCoasting(&r, &u);
+  runOfEight(&r, &u, 1935);
+  runOfEight(&r, &u, 500);
+  runOfEight(&r, &u, 500);
+  EXPECT_DOUBLE_EQ(r.lead(), 8.0);
+  runOfEight(&r, &u, 1935);
+  EXPECT_DOUBLE_EQ(r.lead(), 8.0);
+  runOfEight(&r, &u, 1935);
+  EXPECT_DOUBLE_EQ(r.lead(), 0.0);
+
+  // A spread run between breaks the row: two more at 0.854 after it do not switch off, a third
+  // does.
+  CoastPolicy t(8.0, false);
+  u = 1;
+  startCoasting(&t, &u);
+  runOfEight(&t, &u, 1935);
+  runOfEight(&t, &u, 1935);
+  u += 8;
+  t.enlargedAll(u, resort(100, 0, 640, 50), CoastPolicy::End::kSpreadAtEnd);
+  runOfEight(&t, &u, 1935);
+  runOfEight(&t, &u, 1935);
+  EXPECT_DOUBLE_EQ(t.lead(), 8.0);
+  runOfEight(&t, &u, 1935);
+  EXPECT_DOUBLE_EQ(t.lead(), 0.0);
+
+  // Runs at their longest (32 updates at a lead of 8) end at once because the motion calmed:
+  // they never count (here (2 900 + 29 600) / 32 = 1 015.6 units per update against 1 300,
+  // with 640 / 32 swaps per update: 0.91 with every update's part).
+  CoastPolicy w(8.0, false);
+  u = 1;
+  startCoasting(&w, &u);
+  for (int i = 0; i < 3; ++i) {
+    w.scanned(7400);
+    u += 32;
+    w.enlargedAll(u, resort(100, 0, 640, 50));
+  }
+  EXPECT_GT(w.lead(), 0.0);
+
+  // Nor does the run at whose end the steady lead is taken (the next ones are spread), and a
+  // run at the steady lead ends the row: here it is too short (8 updates) and brings the
+  // configured lead back from the next enlargement on (the run that enlargement ends was
+  // still enlarged with 24); two runs at 0.854 after those keep coasting, a third does not.
+  CoastPolicy z(8.0);
+  u = 1;
+  startCoasting(&z, &u);
+  z.scanned(1935);
+  u += 8;
+  ASSERT_TRUE(z.steadyLeadDue(u));
+  z.takeSteadyLead(false);
+  z.enlargedAll(u, resort(100, 0, 640, 50));
+  EXPECT_TRUE(z.steadyLead());
+  runOfEight(&z, &u, 1935);
+  EXPECT_DOUBLE_EQ(z.lead(), 8.0);
+  runOfEight(&z, &u, 1935);
+  runOfEight(&z, &u, 1935);
+  runOfEight(&z, &u, 1935);
+  EXPECT_DOUBLE_EQ(z.lead(), 8.0);
+  runOfEight(&z, &u, 1935);
+  EXPECT_DOUBLE_EQ(z.lead(), 0.0);
+}
+
 TEST(CoastPolicy, NoCoastUpdatesNeverCoasts) {
   CoastPolicy p(0.0);
   EXPECT_DOUBLE_EQ(p.lead(), 0.0);
