@@ -72,8 +72,9 @@ void CoastPolicy::enlargedAll(std::uint32_t update, const Resort& r, End end) {
     const double ratio = (run_work_ / run + per_update) / (without + per_update);
     if (end == End::kAtOnce && run < longestRunOf(LeadKind::kConfigured) && ended_lead == coast_updates_ &&
         lead_ == coast_updates_) {
-      once_ratios_[once_runs_ % kAtOnceRuns] = ratio;
-      once_runs_ = std::min(once_runs_ + 1, 2 * kAtOnceRuns);
+      once_ratios_[once_next_] = ratio;
+      once_next_ = (once_next_ + 1) % kAtOnceRuns;
+      once_runs_ = std::min(once_runs_ + 1, kAtOnceRuns);
     } else {
       once_runs_ = 0;
     }

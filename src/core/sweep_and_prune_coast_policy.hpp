@@ -366,8 +366,9 @@ class CoastPolicy {
   double episode_without_ = 0.0;              // the same updates without coasting
   double episode_ratio_ = 0.0;                // their ratio in the episode that last failed
   double worth_ = kWorthIt;                   // the ratio it had to beat (kAtOnceWorth for the tail's rule)
-  int once_runs_ = 0;                         // judged runs in a row that ended at once (up to 2 kAtOnceRuns)
-  double once_ratios_[kAtOnceRuns] = {};      // their last kAtOnceRuns ratios of the cost model
+  int once_runs_ = 0;                         // judged runs in a row that ended at once (up to kAtOnceRuns)
+  int once_next_ = 0;                         // the slot of once_ratios_ the next one takes
+  double once_ratios_[kAtOnceRuns] = {};      // the last kAtOnceRuns of their ratios (kAtOnceWorth's)
   int failed_live_ = 0;                       // live proxies when coasting last failed
   std::uint32_t failed_at_ = 0;               // the update it failed at
   double ref_swaps_ = -1.0;                   // swaps per update off after that failure (-1: none)

@@ -736,6 +736,12 @@ TEST(CoastPolicy, RunsEndingAtOnceInARowCoastOnlyWhereTheySaveAQuarter) {
     EXPECT_DOUBLE_EQ(q.lead(), 8.0) << "run " << i;
   }
   EXPECT_EQ(q.backoff(), 64u);
+  // ... until the last three of the row are dear enough: one at 0.854 after ten at 0.670
+  // keeps it (0.731), a second switches it off (0.793).
+  runOfEight(&q, &u, 1935);
+  EXPECT_DOUBLE_EQ(q.lead(), 8.0);
+  runOfEight(&q, &u, 1935);
+  EXPECT_DOUBLE_EQ(q.lead(), 0.0);
 
   // The mean of the last three counts: 0.854, 0.670, 0.670 is 0.731, kept; then 0.854 makes
   // it 0.731 again, kept; another 0.854 makes it 0.793: off.
