@@ -33,6 +33,8 @@ constexpr ParamRow kParams[] = {
      "the broad phase's bounds lead each box by this many cycles of its own motion; 0: off"},
     {"pair_threads", WP_M(pair_threads), kStartup, 1, 16, nullptr, "threads", "",
      "threads for the per-pair stages (contact window, narrow phase) from 2 048 pairs on"},
+    {"safety_handoff", WP_M(safety_handoff), kStartup, 0.0, 0.01, nullptr, "s", "",
+     "the cycle leaves its core this long after the safety outputs, before the contacts"},
     {"input_topics", WP_M(input_topics), kWiring, 0, 0, nullptr, "", "",
      "TrackedBoxArray topics; empty: the single topic tracked_objects"},
     {"perception_status_topics", WP_M(perception_status_topics), kWiring, 0, 0, nullptr, "", "",

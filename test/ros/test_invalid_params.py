@@ -44,6 +44,8 @@ CASES = [
     ("source_timeout_zero", ["_source_timeout:=0.0"], {}, ["source_timeout"]),
     ("max_future_negative", ["_max_future:=-1.0"], {}, ["max_future"]),
     ("max_tracks_zero", ["_max_tracks:=0"], {}, ["max_tracks"]),
+    ("safety_handoff_negative", ["_safety_handoff:=-0.0001"], {}, ["safety_handoff"]),
+    ("safety_handoff_too_long", ["_safety_handoff:=0.5"], {}, ["safety_handoff"]),
     # tf2 refuses frame ids starting with '/' in every lookup: refused at start, named.
     ("fixed_frame_leading_slash", ["_fixed_frame:=/map"], {}, ["fixed_frame"]),
     ("robot_body_frame_leading_slash", [],

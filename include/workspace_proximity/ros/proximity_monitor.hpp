@@ -10,6 +10,7 @@
 /// The rules below the wiring are ROS-free: CycleRunner (reset, failure, timing), CycleTrigger
 /// (~cycle_trigger: input), MarkerSchedule (~marker_rate).
 
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -118,6 +119,7 @@ class ProximityMonitor : private CycleOutput {
   std::vector<std::string> topics_;
   ros::Timer timer_;       // timer trigger: every period; input trigger: one-shot floor
   bool input_trigger_ = false;
+  std::chrono::duration<double> handoff_{0.0};  // ~safety_handoff (start-up only)
   int trigger_source_ = 0;  // index of the trigger topic
   CycleTrigger trigger_;    // the input trigger's token bucket and floor
   ros::Timer marker_timer_;

@@ -45,6 +45,12 @@ class SsmPublisher {
   void setFingerprint(const std::string& fingerprint) { msg_.config_fingerprint = fingerprint; }
   /// Protective stops so far (transitions into a scale of 0).
   std::uint64_t stops() const { return stops_; }
+  /// Whether speed_scale, speed_override or safety_status has a subscriber now.
+  bool listened() const {
+    return scale_pub_.getNumSubscribers() + override_pub_.getNumSubscribers() +
+               status_pub_.getNumSubscribers() >
+           0;
+  }
 
  private:
   void stopActions(const CycleReport& report);
