@@ -35,6 +35,8 @@ CycleRun CycleRunner::run(Stamp now, CycleFeed* feed, CycleOutput* out) {
     timing_.add(CycleStage::kBroad, 1e-6 * static_cast<double>(stats.ns_broad));
     if (out != nullptr) out->contacts(report, monitor_->world());
     clock.lap(CycleStage::kContacts);
+    timing_.add(CycleStage::kToContacts, std::chrono::duration<double, std::milli>(
+                                             StageClock::Clock::now() - start).count());
     if (out != nullptr) out->rest(report, monitor_->world(), run);
     last_cycle_ms_ =
         std::chrono::duration<double, std::milli>(StageClock::Clock::now() - start).count();

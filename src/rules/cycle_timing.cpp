@@ -43,6 +43,7 @@ const char* CycleTiming::name(CycleStage stage) {
     case CycleStage::kBroad: return "broad";
     case CycleStage::kSerialise: return "serialise";
     case CycleStage::kToSafety: return "to_safety";
+    case CycleStage::kToContacts: return "to_contacts";
     default: return "?";
   }
 }

@@ -179,6 +179,9 @@ TEST(CycleRunner, TheStagesAreLappedWithinTheCycleAndOffCycleStagesNoted) {
   EXPECT_GE(t.last(wp::CycleStage::kToSafety),
             (to_safety - t.last(wp::CycleStage::kSafety)) * (1.0 - 1e-12));
   EXPECT_LE(t.last(wp::CycleStage::kToSafety), to_safety * (1.0 + 1e-12));
+  // The start to the contacts published: after every lap, within the whole cycle.
+  EXPECT_GE(t.last(wp::CycleStage::kToContacts), laps * (1.0 - 1e-12));
+  EXPECT_LE(t.last(wp::CycleStage::kToContacts), f.runner.lastCycleMs() * (1.0 + 1e-12));
   // The broad phase is part of the predict lap (the world's own stage times).
   EXPECT_LE(t.last(wp::CycleStage::kBroad), t.last(wp::CycleStage::kPredict));
   // Every stage has its own name in the summary.

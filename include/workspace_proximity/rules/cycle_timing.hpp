@@ -30,6 +30,8 @@ enum class CycleStage : int {
   kToSafety,   ///< the cycle's start to the safety output published (input + near + ssm +
                ///< safety but its hand-off), one sample per cycle: the monitor's own part of
                ///< a controller's reaction time
+  kToContacts, ///< the cycle's start to the contacts published, one sample per cycle: the
+               ///< monitor's own part of a contacts reader's wait (the hand-off included)
   kCount
 };
 
