@@ -119,6 +119,12 @@ std::vector<std::string> validate(const MonitorParams& p) {
     errors.push_back("~marker_lifetime: must be longer than the marker period 1 / min(~marker_rate, "
                      "~rate) (markers would blink)");
   }
+  // The hand-off sleeps in every cycle: at most a quarter of the period (the default's 0.2 ms
+  // passes at the highest rate, 1 000 Hz).
+  if (p.rate > 0.0 && p.safety_handoff > 0.25 / p.rate) {
+    errors.push_back("~safety_handoff: must be at most a quarter of the cycle period 0.25 / ~rate "
+                     "(the cycle sleeps this long every period)");
+  }
   if (p.cycle_trigger != "timer" && p.cycle_trigger != "input") {
     errors.push_back("~cycle_trigger = '" + p.cycle_trigger + "': must be 'timer' or 'input'");
   }

@@ -29,6 +29,19 @@ wp::RobotBodySpec gripper(const char* frame, const Eigen::Vector3d& half, double
 
 TEST(MonitorParams, DefaultsAreValid) { EXPECT_TRUE(wp::validate(wp::MonitorParams()).empty()); }
 
+// The hand-off's sleep against the period: the default passes at the highest rate, and a
+// quarter of the period passes exactly.
+TEST(MonitorParams, SafetyHandoffFitsTheCycle) {
+  wp::MonitorParams p;
+  p.rate = 1000.0;
+  EXPECT_TRUE(wp::validate(p).empty());
+  p.rate = 200.0;
+  p.safety_handoff = 0.25 / 200.0;
+  EXPECT_TRUE(wp::validate(p).empty());
+  p.safety_handoff = 0.0;
+  EXPECT_TRUE(wp::validate(p).empty());
+}
+
 TEST(MonitorParams, EachBadValueIsNamed) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   struct Case {
@@ -47,6 +60,12 @@ TEST(MonitorParams, EachBadValueIsNamed) {
       {"~marker_lifetime", [](wp::MonitorParams& p) { p.marker_lifetime = 0; }},
       {"~marker_rate", [](wp::MonitorParams& p) { p.marker_rate = 0; }},
       {"~marker_lifetime", [](wp::MonitorParams& p) { p.marker_lifetime = 0.05; }},
+      {"~safety_handoff", [](wp::MonitorParams& p) { p.safety_handoff = -0.001; }},
+      {"~safety_handoff: must be at most a quarter",
+       [](wp::MonitorParams& p) {
+         p.rate = 200.0;  // a period of 5 ms
+         p.safety_handoff = 0.0013;
+       }},
       {"~fixed_frame", [](wp::MonitorParams& p) { p.fixed_frame.clear(); }},
       {"~fixed_frame = '/map'", [](wp::MonitorParams& p) { p.fixed_frame = "/map"; }},
       {"~input_topics", [](wp::MonitorParams& p) { p.input_topics = {"a", "a"}; }},
