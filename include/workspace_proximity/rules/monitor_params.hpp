@@ -104,8 +104,8 @@ struct MonitorParams {
   /// the threads that deliver them (roscpp's poll thread, a controller's threads woken onto
   /// the monitor's core) run first instead of waiting up to a scheduler slice behind the
   /// prediction. Only while the safety outputs have a subscriber; 0: the cycle only yields.
-  /// 200 us: at 1 000 objects on the 2-vCPU benchmark VM the speed_scale p99 was 0.95-1.23 ms
-  /// in 13 runs of 13, against 1.17-2.04 ms with the yield alone; 50 us did not help, 100 us
+  /// 200 us: at 1 000 objects on the 2-vCPU benchmark VM the speed_scale p99 was 0.95-1.33 ms
+  /// in 16 runs of 16, against 1.17-2.04 ms with the yield alone; 50 us did not help, 100 us
   /// did (bench/results/safety_latency.md, session 28).
   double safety_handoff = 0.0002;
   /// When a cycle runs: "timer" (every 1 / rate s) or "input" (as soon as an array of
