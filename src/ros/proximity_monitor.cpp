@@ -282,12 +282,12 @@ void ProximityMonitor::safety(const CycleReport& report, const ProximityWorld& w
 void ProximityMonitor::handOff() {
   // roscpp writes a published message from its poll thread, not from here, and the reader's
   // own poll and spinner threads then wake in turn. A kernel that queues them on this busy core
-  // (this VM's packs tasks onto busy vCPUs) makes them wait behind the contacts' prediction
-  // for up to a scheduler slice. A yield lets the first run, not the two after it; leaving the
-  // core idle for ~safety_handoff lets all three (1 000 objects, 2 vCPUs: speed_scale p99
-  // 1.2-1.9 -> 1.1 ms; yield alone: 1.8 -> 1.3-1.6 ms in session 10).
+  // (the benchmark VM's packs woken tasks onto busy vCPUs) makes them wait behind the contacts'
+  // prediction for up to a scheduler slice. A yield lets the first run, not the two after it;
+  // leaving the core idle for ~safety_handoff lets all three (1 000 objects, 2 vCPUs: speed_scale
+  // p99 1.17-2.04 -> 0.95-1.33 ms, session 28; the yield alone: 1.8 -> 1.3-1.6 ms, session 10).
   if (handoff_.count() > 0.0 && ssm_ != nullptr &&
-      (ssm_->listened() || twist_filter_ != nullptr)) {
+      (twist_filter_ != nullptr || ssm_->listened())) {
     std::this_thread::sleep_for(handoff_);
   } else {
     std::this_thread::yield();
